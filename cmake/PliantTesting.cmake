@@ -1,0 +1,32 @@
+# pliant_add_test(NAME SOURCES a.c ... [LIBS lib ...] [TIMEOUT s])
+# A Check test executable registered with ctest.  Tests see:
+#   PL_SOURCE_DIR  the source tree (scenes, meshes)
+#   PL_BINARY_DIR  the build tree (plugins, bin)
+function(pliant_add_test name)
+  cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE PkgConfig::CHECK ${T_LIBS} m)
+  target_compile_definitions(${name} PRIVATE
+    PL_SOURCE_DIR="${CMAKE_SOURCE_DIR}" PL_BINARY_DIR="${CMAKE_BINARY_DIR}")
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  add_test(NAME ${name} COMMAND ${name})
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 300)
+  endif()
+  # CK_FORK=yes: a crashing test is reported, not fatal to the suite.
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${T_TIMEOUT}
+    ENVIRONMENT "CK_FORK=yes;CK_VERBOSITY=normal;OMP_NUM_THREADS=2")
+endfunction()
+
+# pliant_add_plugin(NAME SOURCES a.c ... [LIBS lib ...])
+# A run-time loaded plugin: build/plugins/lib<NAME>.so, found by
+# <RequiredPlugin name="NAME"/>.  It links libpliant for the SDK functions.
+function(pliant_add_plugin name)
+  cmake_parse_arguments(P "" "" "SOURCES;LIBS" ${ARGN})
+  add_library(${name} MODULE ${P_SOURCES})
+  target_link_libraries(${name} PRIVATE pliant ${P_LIBS})
+  set_target_properties(${name} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${PLIANT_PLUGIN_OUTPUT_DIR}
+    C_VISIBILITY_PRESET hidden)
+  install(TARGETS ${name} LIBRARY DESTINATION lib/pliant/plugins)
+endfunction()

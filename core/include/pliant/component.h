@@ -1,0 +1,118 @@
+/* component.h - components and their type descriptors.
+ *
+ * A component is a C struct whose first member is a pl_component.  Its
+ * pl_type (one static instance per component type) says how big it is,
+ * which fields it has, how its life goes (the lifecycle vtable) and which
+ * roles it plays (role vtables, see roles.h).  Solvers find what they need
+ * by role, never by type name. */
+#ifndef PLIANT_COMPONENT_H
+#define PLIANT_COMPONENT_H
+
+#include <stddef.h>
+#include "error.h"
+#include "field.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct pl_node;
+struct pl_model;
+struct pl_data;
+struct pl_registry;
+struct pl_timers;
+
+/* Roles a component can play; each maps to a vtable type in roles.h. */
+typedef enum pl_role {
+    PL_ROLE_STATE,           /* pl_state_ops */
+    PL_ROLE_MASS,            /* pl_mass_ops */
+    PL_ROLE_TOPOLOGY,        /* pl_topology_ops: provides a mesh */
+    PL_ROLE_LOCAL_TERM,      /* pl_local_term_ops */
+    PL_ROLE_GLOBAL_SOLVER,   /* pl_global_solver_ops */
+    PL_ROLE_CONSTRAINT,      /* pl_constraint_ops */
+    PL_ROLE_CONTACT_SOLVER,  /* pl_contact_solver_ops */
+    PL_ROLE_COLLISION_MODEL, /* pl_collision_model_ops */
+    PL_ROLE_DETECTOR,        /* pl_detector_ops */
+    PL_ROLE_EXPORTER,        /* pl_exporter_ops */
+    PL_ROLE_CONTROLLER,      /* pl_controller_ops */
+    PL_ROLE_PRESCRIBED,      /* pl_prescribed_ops: fixed or moving DOFs */
+    PL_ROLE_ANIMATION_LOOP,  /* pl_animation_loop_ops: advances one step */
+    PL_ROLE_COUNT
+} pl_role;
+
+/* What a lifecycle callback is given. */
+typedef struct pl_ctx {
+    struct pl_model *model;
+    struct pl_data *data;        /* the state being initialised or stepped */
+    struct pl_registry *registry;
+    struct pl_timers *timers;
+    pl_diag *diag;               /* where load-time errors and warnings go */
+} pl_ctx;
+
+typedef struct pl_component pl_component;
+
+/* Lifecycle, called by the core in this order (every callback optional):
+ *   init       after fields are parsed: check fields, load files, declare
+ *              state slots (pl_model_add_slot).  Pre-order over the tree.
+ *   bind       resolve links and find partners by role.  Pre-order.
+ *   reinit     (re)build derived data and write initial state values; also
+ *              after a field changes at run time.  Post-order, so a solver
+ *              at the root sees its children ready.
+ *   begin_step / end_step   around each time step.
+ *   destroy    free what init/bind/reinit allocated (fields are freed by
+ *              the core).
+ * A callback returns PL_OK or an error code with the error recorded in
+ * ctx->diag (load time) or err (step time). */
+typedef struct pl_lifecycle {
+    int (*init)(pl_component *c, pl_ctx *ctx);
+    int (*bind)(pl_component *c, pl_ctx *ctx);
+    int (*reinit)(pl_component *c, pl_ctx *ctx);
+    int (*begin_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
+    int (*end_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
+    void (*destroy)(pl_component *c);
+} pl_lifecycle;
+
+typedef struct pl_type {
+    int abi_version;            /* PL_ABI_VERSION the type was compiled with */
+    const char *name;           /* XML tag, e.g. "MechanicalObject" */
+    const char *help;           /* one-line description */
+    size_t size;                /* sizeof the component struct */
+    const pl_field *fields;     /* field table */
+    int nfields;
+    pl_lifecycle ops;
+    const void *roles[PL_ROLE_COUNT]; /* role vtables; NULL = role not played */
+    const char *plugin;         /* set by the registry: plugin name or "builtin" */
+} pl_type;
+
+struct pl_component {
+    const pl_type *type;
+    char *name;                 /* unique within its node */
+    struct pl_node *node;
+    char *file;                 /* scene file it came from */
+    int line;                   /* its line in that file */
+};
+
+/* Role vtable of c, or NULL if c does not play that role. */
+static inline const void *pl_component_role(const pl_component *c, pl_role r)
+{
+    return (c && c->type) ? c->type->roles[r] : NULL;
+}
+
+/* "root/bar/dofs": node path plus component name, for messages. */
+const char *pl_component_path(const pl_component *c, char *buf, size_t size);
+/* Field descriptor by name (or alias), or NULL. */
+const pl_field *pl_component_field(const pl_component *c, const char *name);
+
+/* Records a load-time error about c (its file, line and path). Returns code. */
+int pl_component_error(const pl_component *c, pl_ctx *ctx, int code, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+void pl_component_warn(const pl_component *c, pl_ctx *ctx, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Fills err about c at step time. Returns code. */
+int pl_component_fail(const pl_component *c, pl_error *err, int code, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,81 @@
+/* model.h - the model (built once) apart from the data (mutable state).
+ *
+ * As MuJoCo separates mjModel from mjData: topology, materials, factors
+ * and everything derived from fields belong to the components, i.e. to the
+ * model.  Everything that evolves in time (positions, velocities,
+ * multipliers, contacts, duals, time itself) lives in a pl_data, as named
+ * byte slots that components declare during init.  A pl_data can be copied,
+ * saved, restored and reset, and several pl_data can step over one model. */
+#ifndef PLIANT_MODEL_H
+#define PLIANT_MODEL_H
+
+#include <stddef.h>
+#include <stdio.h>
+#include "component.h"
+#include "node.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pl_slot_info {
+    char *name;            /* "root/bar/dofs.position" (owner path + name) */
+    pl_component *owner;
+    size_t initial_bytes;
+} pl_slot_info;
+
+typedef struct pl_model {
+    pl_node *root;
+    char *file;                 /* scene file ("<string>" when loaded from text) */
+    pl_slot_info *slots;
+    int nslots, cap_slots;
+    struct pl_data *initial;    /* the state right after loading: what reset restores */
+} pl_model;
+
+typedef struct pl_slot {
+    void *ptr;
+    size_t bytes;
+} pl_slot;
+
+typedef struct pl_data {
+    const pl_model *model;
+    double time;                /* simulated time [s] */
+    long step;                  /* steps taken */
+    pl_slot *slots;             /* model->nslots entries */
+    int nslots;
+} pl_data;
+
+/* Declares a state slot of `bytes` bytes owned by c (during init).  Returns
+ * its index (>= 0) or -1 on allocation failure. */
+int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
+/* Index of the slot named "path.name", or -1. */
+int pl_model_find_slot(const pl_model *m, const char *fullname);
+
+/* A new data with every slot allocated and zeroed; NULL on failure. */
+pl_data *pl_data_create(const pl_model *m);
+/* A deep copy; NULL on failure. */
+pl_data *pl_data_clone(const pl_data *src);
+/* Copies src into dst (same model); resizes dst's slots. */
+int pl_data_copy(pl_data *dst, const pl_data *src);
+void pl_data_free(pl_data *d);
+
+static inline void *pl_data_slot(const pl_data *d, int slot)
+{
+    return d->slots[slot].ptr;
+}
+static inline size_t pl_data_slot_bytes(const pl_data *d, int slot)
+{
+    return d->slots[slot].bytes;
+}
+/* Grows or shrinks a slot (contacts change in number); new bytes are zero. */
+int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
+
+/* Binary save/restore of a whole state (time, step, every slot by name).
+ * Restoring checks that the file belongs to a model with the same slots. */
+int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
+int pl_data_load(pl_data *d, FILE *f, pl_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,227 @@
+/* roles.h - the role interfaces (versioned tables of function pointers).
+ *
+ * Like sqlite3_module, each table starts with a version so it can grow
+ * without breaking plugins built against an older header: a caller checks
+ * `ops->version >= N` before using a member added in version N.  NULL
+ * members mean "not supported".  Arrays cross as pl_buffer descriptors
+ * (host or device, float64 or float32), so the CUDA backend implements the
+ * same roles.  Positions, velocities and right-hand sides are n x 3
+ * row-major blocks over the vertices of the global system. */
+#ifndef PLIANT_ROLES_H
+#define PLIANT_ROLES_H
+
+#include "buffer.h"
+#include "component.h"
+#include "mesh.h"
+#include "model.h"
+#include "rows.h"
+#include "sparse.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- pl_state: a block of DOFs (MechanicalObject) ----------------------- */
+#define PL_STATE_OPS_VERSION 1
+typedef struct pl_state_ops {
+    int version;
+    /* number of vertices */
+    int (*count)(const pl_component *c);
+    /* current positions / velocities in d (n x 3) [m], [m/s] */
+    pl_buffer (*positions)(const pl_component *c, const pl_data *d);
+    pl_buffer (*velocities)(const pl_component *c, const pl_data *d);
+    /* rest positions (model, n x 3) [m] */
+    pl_buffer (*rest_positions)(const pl_component *c);
+    /* first vertex of this state in the global system, -1 before assignment */
+    int (*offset)(const pl_component *c);
+    /* called by the animation loop when it numbers the global system */
+    void (*set_offset)(pl_component *c, int offset);
+} pl_state_ops;
+
+/* ---- pl_mass: lumped masses of a state ---------------------------------- */
+#define PL_MASS_OPS_VERSION 1
+typedef struct pl_mass_ops {
+    int version;
+    /* the state it weighs */
+    pl_component *(*state)(const pl_component *c);
+    /* m[0..n-1] += lumped vertex masses [kg] (n = state count) */
+    int (*add_vertex_masses)(const pl_component *c, double *m, int n, pl_error *err);
+} pl_mass_ops;
+
+/* ---- pl_topology: something that provides a mesh (loaders, generators) -- */
+#define PL_TOPOLOGY_OPS_VERSION 1
+typedef struct pl_topology_ops {
+    int version;
+    const pl_mesh *(*mesh)(const pl_component *c);
+} pl_topology_ops;
+
+/* ---- pl_prescribed: DOFs whose positions are given, not solved ---------- */
+#define PL_PRESCRIBED_OPS_VERSION 1
+typedef struct pl_prescribed_ops {
+    int version;
+    pl_component *(*state)(const pl_component *c);
+    /* local vertex indices (in its state); returns the count */
+    int (*indices)(const pl_component *c, const int **idx);
+    /* positions of those vertices at time t (count x 3) [m] */
+    int (*positions_at)(const pl_component *c, const pl_data *d, double t, double *out,
+                        pl_error *err);
+} pl_prescribed_ops;
+
+/* ---- pl_local_term: a projective term w ||G q - p||^2 (elements, targets) */
+#define PL_LOCAL_TERM_OPS_VERSION 1
+typedef struct pl_local_term_ops {
+    int version;
+    /* the state its vertices belong to */
+    pl_component *(*state)(const pl_component *c);
+    /* adds h2 * w G^T G to the scalar n x n system (global vertex numbering,
+     * this term's vertices start at `offset`); called once per factorisation */
+    int (*add_matrix)(pl_component *c, int offset, double h2, pl_triplets *A, pl_error *err);
+    /* local step: reads q (global n x 3), projects every element in parallel,
+     * updates its duals in d, and adds h2 * w G^T (p - u) to rhs (n x 3).
+     * Deterministic: element results are gathered in a fixed order. */
+    int (*project)(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+                   pl_buffer *rhs, pl_error *err);
+    /* elastic energy psi(q) [J] at q (global n x 3) */
+    double (*energy)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q);
+    /* optional (Newton reference): grad += d psi / dq (n x 3) */
+    int (*add_gradient)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
+                        pl_buffer *grad, pl_error *err);
+    /* optional (Newton reference): H += d2 psi / dq2 over 3n x 3n DOFs (index 3*v+k),
+     * each element block projected to positive semi-definite when psd != 0 */
+    int (*add_hessian)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
+                       int psd, pl_triplets *H, pl_error *err);
+    /* optional: the term changes A when this returns non-zero (refactor) */
+    int (*matrix_changed)(const pl_component *c);
+} pl_local_term_ops;
+
+/* ---- pl_system: what the animation loop shares with solvers -------------- */
+typedef struct pl_system {
+    int nverts;               /* vertices of all states */
+    int nfree;                /* unknowns: vertices not prescribed */
+    const int *free_index;    /* per global vertex: index among unknowns, -1 if prescribed */
+    const int *free_vertex;   /* per unknown: its global vertex */
+    double h;                 /* time step [s] */
+    pl_component *global_solver;
+} pl_system;
+
+/* ---- pl_global_solver: A^-1 for the constant system ---------------------- */
+#define PL_GLOBAL_SOLVER_OPS_VERSION 1
+typedef struct pl_global_solver_ops {
+    int version;
+    /* factors the scalar SPD matrix A (n x n over the unknowns, both triangles
+     * or the lower one given); logs sizes and times into timers */
+    int (*factor)(pl_component *c, const pl_csc *A, struct pl_timers *timers, pl_error *err);
+    /* x = A^-1 b on an n x k row-major block; x may equal b */
+    int (*solve)(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err);
+    /* Y = S P H^T for scalar rows H (m x n, CSR over the unknowns): W = Y^T Y
+     * is then H A^-1 H^T.  Y is returned as CSC (n x m) in the solver's own
+     * (permuted) row space, owned by the caller. */
+    int (*apply_inverse_to_rows)(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err);
+    /* diag[i] = [A^-1]_ii (column norms of S), n values */
+    int (*inverse_diagonal)(pl_component *c, double *diag, pl_error *err);
+    /* number of unknowns factored (0 before factor) */
+    int (*size)(const pl_component *c);
+} pl_global_solver_ops;
+
+/* ---- pl_constraint: emits rows of H once per step ------------------------ */
+#define PL_CONSTRAINT_OPS_VERSION 1
+typedef struct pl_constraint_ops {
+    int version;
+    /* appends this step's rows; q = positions at the start of the step (n x 3) */
+    int (*build_rows)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
+                      pl_rows *rows, pl_error *err);
+    /* receives the step's multipliers of its rows (first .. first+count-1) [N] */
+    void (*accept_multipliers)(pl_component *c, pl_data *d, const pl_rows *rows,
+                               const double *lambda, int first, int count);
+} pl_constraint_ops;
+
+/* ---- pl_contact_solver: the constrained global step (Algorithm 4) -------- */
+#define PL_CONTACT_SOLVER_OPS_VERSION 1
+typedef struct pl_contact_solver_ops {
+    int version;
+    /* once per step: rows are final; builds W (explicit or matrix-free) and
+     * the complementarity scaling; warm-starts lambda.  q_t: positions at the
+     * start of the step. */
+    int (*begin)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
+                 const pl_buffer *q_t, pl_error *err);
+    /* one local-global iteration's constraint part: from q^k and the elastic
+     * right-hand side b^k, updates lambda and writes
+     * q^{k+1} = A^-1 (b^k + h^2 J^T lambda) */
+    int (*iterate)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q_k,
+                   const pl_buffer *b, pl_buffer *q_next, pl_error *err);
+    /* the multipliers of the last iteration (one per row) [N] */
+    const double *(*multipliers)(const pl_component *c, int *count);
+} pl_contact_solver_ops;
+
+/* ---- pl_collision_model: geometry that collides -------------------------- */
+typedef struct pl_collision_geometry {
+    int nverts;
+    const double *x;          /* nverts x 3 current positions [m] */
+    const double *v;          /* nverts x 3 velocities [m/s] (NULL = static) */
+    const int *map_vertex;    /* nverts x 4 global vertices each point follows (-1 unused) */
+    const double *map_weight; /* nverts x 4 barycentric weights */
+    int ntris;
+    const int *tris;          /* ntris x 3 into x */
+    int nedges;
+    const int *edges;         /* nedges x 2 into x */
+    int is_obstacle;          /* no DOFs: moves by prescription only */
+    double mu;                /* friction coefficient */
+    int group;                /* models of one group never collide with each other (0 = none) */
+} pl_collision_geometry;
+
+#define PL_COLLISION_MODEL_OPS_VERSION 1
+typedef struct pl_collision_model_ops {
+    int version;
+    /* refreshes the geometry from the positions q (global n x 3) */
+    int (*update)(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collision_geometry *out,
+                  pl_error *err);
+} pl_collision_model_ops;
+
+/* ---- pl_detector: proximity queries -------------------------------------- */
+#define PL_DETECTOR_OPS_VERSION 1
+typedef struct pl_detector_ops {
+    int version;
+    /* appends the proximities within alarmDistance between the given models */
+    int (*detect)(pl_component *c, pl_ctx *ctx, const pl_collision_geometry *models, int nmodels,
+                  pl_contacts *out, pl_error *err);
+} pl_detector_ops;
+
+/* ---- pl_exporter: writes frames ------------------------------------------ */
+typedef struct pl_export_info {
+    const char *out_dir;      /* directory for outputs (created if missing); NULL = as the scene says */
+    int every;                /* export every k-th step (0 = the exporter's own setting) */
+    long step;                /* steps taken so far */
+    double time;              /* simulated time [s] */
+} pl_export_info;
+
+#define PL_EXPORTER_OPS_VERSION 1
+typedef struct pl_exporter_ops {
+    int version;
+    /* called after loading (step 0) and after every step; decides itself
+     * whether this step is one to write */
+    int (*write)(pl_component *c, pl_ctx *ctx, const pl_export_info *info, pl_error *err);
+    /* called once at the end of a run: close series files (.pvd) */
+    int (*finish)(pl_component *c, pl_ctx *ctx, const pl_export_info *info, pl_error *err);
+    /* the main file written (for "output went to ..."), or NULL */
+    const char *(*output_path)(const pl_component *c);
+} pl_exporter_ops;
+
+/* ---- pl_controller: drives fields over time ------------------------------ */
+#define PL_CONTROLLER_OPS_VERSION 1
+typedef struct pl_controller_ops {
+    int version;
+    /* sets the driven values for time t (start of the step being taken) */
+    int (*apply)(pl_component *c, pl_ctx *ctx, double t, pl_error *err);
+} pl_controller_ops;
+
+/* ---- pl_animation_loop: advances the state by one step ------------------- */
+#define PL_ANIMATION_LOOP_OPS_VERSION 1
+typedef struct pl_animation_loop_ops {
+    int version;
+    int (*step)(pl_component *c, pl_ctx *ctx, double dt, pl_error *err);
+} pl_animation_loop_ops;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,83 @@
+/* sim.h - the embedding API: load a scene, step it, read and change it.
+ * The `pliant` command-line tool is a thin user of these functions.
+ *
+ *     pl_diag diag; pl_diag_init(&diag);
+ *     pl_sim *sim = pl_sim_load_file("scenes/twisting_bar.xml", NULL, &diag);
+ *     if (!sim) { pl_diag_print(&diag, stderr); ... }
+ *     pl_error err;
+ *     pl_sim_step(sim, 100, &err);
+ *     char buf[64]; pl_sim_get(sim, "bar/dofs.position", buf, sizeof buf, &err);
+ *     pl_sim_free(sim);
+ */
+#ifndef PLIANT_SIM_H
+#define PLIANT_SIM_H
+
+#include <stddef.h>
+#include "error.h"
+#include "model.h"
+#include "registry.h"
+#include "timer.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pl_sim pl_sim;
+
+/* A callback a program sets to drive the simulation itself: called at the
+ * start of every step with the time t [s], before the scene's controllers;
+ * it may call pl_sim_set.  Returning non-zero stops the step with an error. */
+typedef int (*pl_sim_callback)(pl_sim *sim, double t, void *user);
+
+typedef struct pl_sim_options {
+    pl_registry *registry;    /* NULL: a private one with the built-ins */
+    const char *out_dir;      /* directory exporters write into; NULL = as the scene says */
+    int export_every;         /* 0 = each exporter's own setting */
+    const char *const *overrides; /* "path.field=value" applied before init */
+    int noverrides;
+} pl_sim_options;
+
+/* Loads and initialises a scene.  On any error returns NULL with every
+ * problem in diag (file:line, component path, the closest valid name). */
+pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *diag);
+/* Same from XML text; `name` stands for the file name in messages. */
+pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
+                           pl_diag *diag);
+void pl_sim_free(pl_sim *sim);
+
+/* Advances nsteps time steps of the scene's dt. */
+int pl_sim_step(pl_sim *sim, int nsteps, pl_error *err);
+/* Advances another state over the same model (several states, one model). */
+int pl_sim_step_data(pl_sim *sim, pl_data *d, int nsteps, pl_error *err);
+/* Flushes exporters (closes .pvd series); called by pl_sim_free too. */
+int pl_sim_finish(pl_sim *sim, pl_error *err);
+
+/* Field access by path "node/sub/component.field" (the root's name may be
+ * left out; a component name unique in the scene may stand alone). */
+int pl_sim_set(pl_sim *sim, const char *path, const char *value, pl_error *err);
+int pl_sim_get(const pl_sim *sim, const char *path, char *buf, size_t size, pl_error *err);
+/* Component by path, or NULL. */
+pl_component *pl_sim_component(const pl_sim *sim, const char *path);
+
+pl_model *pl_sim_model(pl_sim *sim);
+pl_data *pl_sim_data(pl_sim *sim);
+pl_registry *pl_sim_registry(pl_sim *sim);
+pl_timers *pl_sim_timers(pl_sim *sim);
+double pl_sim_time(const pl_sim *sim);
+
+/* Back to the state right after loading. */
+int pl_sim_reset(pl_sim *sim);
+/* Save/restore the current state to/from a file (binary, exact). */
+int pl_sim_save_state(const pl_sim *sim, const char *path, pl_error *err);
+int pl_sim_restore_state(pl_sim *sim, const char *path, pl_error *err);
+
+/* Installs a per-step callback (NULL removes it). */
+void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
+
+/* Paths of the main files exporters wrote (for "output went to ..."). */
+int pl_sim_outputs(const pl_sim *sim, const char **paths, int max);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

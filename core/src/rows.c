@@ -1,0 +1,139 @@
+/* rows.c - growable constraint rows and contact lists. */
+#include "pliant/rows.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pl_rows_init(pl_rows *r)
+{
+    memset(r, 0, sizeof *r);
+}
+
+void pl_rows_free(pl_rows *r)
+{
+    free(r->start);
+    free(r->vertex);
+    free(r->coef);
+    free(r->kind);
+    free(r->d);
+    free(r->compliance);
+    free(r->lo);
+    free(r->hi);
+    free(r->pair);
+    free(r->mu);
+    free(r->owner);
+    memset(r, 0, sizeof *r);
+}
+
+void pl_rows_clear(pl_rows *r)
+{
+    r->n = 0;
+    r->nent = 0;
+    if (r->start) r->start[0] = 0;
+}
+
+#define GROW(ptr, count) \
+    do { void *p_ = realloc((ptr), (size_t)(count) * sizeof *(ptr)); if (!p_) return -1; (ptr) = p_; } while (0)
+
+static int grow_rows(pl_rows *r)
+{
+    int cap = r->cap ? 2 * r->cap : 64;
+    GROW(r->start, cap + 1);
+    GROW(r->kind, cap);
+    GROW(r->d, cap);
+    GROW(r->compliance, cap);
+    GROW(r->lo, cap);
+    GROW(r->hi, cap);
+    GROW(r->pair, cap);
+    GROW(r->mu, cap);
+    GROW(r->owner, cap);
+    if (r->cap == 0) r->start[0] = 0;
+    r->cap = cap;
+    return 0;
+}
+
+int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner)
+{
+    if (r->n == r->cap && grow_rows(r) != 0) return -1;
+    int k = r->n++;
+    r->start[k] = r->nent;
+    r->start[k + 1] = r->nent;
+    r->kind[k] = kind;
+    r->d[k] = 0.0;
+    r->compliance[k] = 0.0;
+    r->lo[k] = -INFINITY;
+    r->hi[k] = INFINITY;
+    r->pair[k] = -1;
+    r->mu[k] = 0.0;
+    r->owner[k] = owner;
+    return k;
+}
+
+int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz)
+{
+    if (r->n == 0) return -1;
+    if (r->nent == r->cap_ent) {
+        int cap = r->cap_ent ? 2 * r->cap_ent : 256;
+        GROW(r->vertex, cap);
+        GROW(r->coef, 3 * cap);
+        r->cap_ent = cap;
+    }
+    int e = r->nent++;
+    r->vertex[e] = vertex;
+    r->coef[3 * e] = cx;
+    r->coef[3 * e + 1] = cy;
+    r->coef[3 * e + 2] = cz;
+    r->start[r->n] = r->nent;
+    return 0;
+}
+
+double pl_rows_dot(const pl_rows *r, int row, const double *q)
+{
+    double s = 0.0;
+    for (int e = r->start[row]; e < r->start[row + 1]; ++e) {
+        const double *c = &r->coef[3 * e], *x = &q[3 * r->vertex[e]];
+        s += c[0] * x[0] + c[1] * x[1] + c[2] * x[2];
+    }
+    return s;
+}
+
+void pl_rows_add_transpose(const pl_rows *r, const double *lambda, double alpha, double *y)
+{
+    for (int row = 0; row < r->n; ++row) {
+        double l = alpha * lambda[row];
+        if (l == 0.0) continue;
+        for (int e = r->start[row]; e < r->start[row + 1]; ++e) {
+            const double *c = &r->coef[3 * e];
+            double *x = &y[3 * r->vertex[e]];
+            x[0] += l * c[0];
+            x[1] += l * c[1];
+            x[2] += l * c[2];
+        }
+    }
+}
+
+void pl_contacts_init(pl_contacts *c)
+{
+    memset(c, 0, sizeof *c);
+}
+
+void pl_contacts_free(pl_contacts *c)
+{
+    free(c->items);
+    memset(c, 0, sizeof *c);
+}
+
+pl_contact *pl_contacts_push(pl_contacts *c)
+{
+    if (c->n == c->cap) {
+        int cap = c->cap ? 2 * c->cap : 64;
+        pl_contact *items = realloc(c->items, (size_t)cap * sizeof *items);
+        if (!items) return NULL;
+        c->items = items;
+        c->cap = cap;
+    }
+    pl_contact *k = &c->items[c->n++];
+    memset(k, 0, sizeof *k);
+    return k;
+}
