@@ -1,7 +1,38 @@
-/* main.c - the pliant command-line tool (being written). */
+/* main.c - `pliant`: run scenes headless, list components, regenerate the
+ * component reference, run regression checks.  A thin user of sim.h. */
 #include <stdio.h>
-int main(void)
+#include <string.h>
+
+#include "cli.h"
+
+static void usage(FILE *f)
 {
-    fprintf(stderr, "pliant: not yet\n");
-    return 1;
+    fputs("usage:\n"
+          "  pliant run SCENE.xml [-n STEPS] [--out DIR] [--export-every K]\n"
+          "             [--timings FILE.json] [--set PATH=VALUE ...] [--quiet]\n"
+          "  pliant list [TYPE]          components and plugins, with their fields\n"
+          "  pliant doc [FILE.md]        regenerate the component reference\n"
+          "  pliant regress LIST [--update] [--refs DIR]\n"
+          "exit codes: 0 ok, 2 bad input, 1 internal error\n",
+          f);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "run")) return cli_run(argc - 2, argv + 2);
+    if (!strcmp(cmd, "list")) return cli_list(argc - 2, argv + 2);
+    if (!strcmp(cmd, "doc")) return cli_doc(argc - 2, argv + 2);
+    if (!strcmp(cmd, "regress")) return cli_regress(argc - 2, argv + 2);
+    if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
+        usage(stdout);
+        return 0;
+    }
+    fprintf(stderr, "pliant: unknown command '%s'\n", cmd);
+    usage(stderr);
+    return 2;
 }

@@ -55,9 +55,11 @@ typedef struct pl_component pl_component;
  *   init       after fields are parsed: check fields, load files, declare
  *              state slots (pl_model_add_slot).  Pre-order over the tree.
  *   bind       resolve links and find partners by role.  Pre-order.
- *   reinit     (re)build derived data and write initial state values; also
- *              after a field changes at run time.  Post-order, so a solver
- *              at the root sees its children ready.
+ *   reinit     (re)build derived model data (weights, factors); called after
+ *              bind and again after a field changes at run time, so it must
+ *              not touch the state.  Post-order: a solver at the root sees
+ *              its children ready.  Initial state values are written in
+ *              init or bind (ctx->data is then the initial state).
  *   begin_step / end_step   around each time step.
  *   destroy    free what init/bind/reinit allocated (fields are freed by
  *              the core).
@@ -70,6 +72,11 @@ typedef struct pl_lifecycle {
     int (*begin_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
     int (*end_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
     void (*destroy)(pl_component *c);
+    /* optional: the current value of a field backed by the state or
+     * computed (positions, outputs such as cableLength) as text; return
+     * PL_EINPUT if `field` is not one it serves (the stored value is used) */
+    int (*get)(const pl_component *c, const struct pl_data *d, const char *field, char *buf,
+               size_t size);
 } pl_lifecycle;
 
 typedef struct pl_type {

@@ -34,6 +34,9 @@ int pl_registry_add_plugin_dir(pl_registry *r, const char *dir);
  * dirs) or a path to a .so.  Loading an already loaded plugin is a no-op.
  * A plugin built for another ABI version is refused with both versions. */
 int pl_registry_load_plugin(pl_registry *r, const char *name_or_path, pl_error *err);
+/* Loads every plugin found in the plugin folders (for `pliant list`);
+ * failures are recorded in diag and do not stop the others. */
+int pl_registry_load_all(pl_registry *r, pl_diag *diag);
 int pl_registry_plugin_count(const pl_registry *r);
 const char *pl_registry_plugin_name(const pl_registry *r, int i);
 const char *pl_registry_plugin_path(const pl_registry *r, int i);

@@ -144,9 +144,11 @@ typedef struct pl_contact_solver_ops {
      * start of the step. */
     int (*begin)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
                  const pl_buffer *q_t, pl_error *err);
-    /* one local-global iteration's constraint part: from q^k and the elastic
-     * right-hand side b^k, updates lambda and writes
-     * q^{k+1} = A^-1 (b^k + h^2 J^T lambda) */
+    /* one local-global iteration's constraint part: from q^k (all vertices,
+     * n x 3) and the elastic right-hand side b^k over the unknowns (nfree x 3,
+     * prescribed contributions -A_fp q_p already in), updates lambda and
+     * writes the unknowns q^{k+1} = A^-1 (b^k + h^2 J^T lambda) (nfree x 3);
+     * rows on prescribed vertices contribute to H q but get no correction */
     int (*iterate)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q_k,
                    const pl_buffer *b, pl_buffer *q_next, pl_error *err);
     /* the multipliers of the last iteration (one per row) [N] */

@@ -1,0 +1,25 @@
+#!/bin/sh
+# Installs the Debian packages Pliant needs, if they are missing.
+# Uses sudo when not root.  Safe to run again: it installs nothing when all
+# packages are present.
+set -eu
+PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
+zlib1g-dev libsiconos-numerics-dev"
+missing=""
+for p in $PKGS; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing="$missing $p"
+  fi
+done
+[ -z "$missing" ] && exit 0
+echo "install-deps: installing$missing"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO=sudo; else
+    echo "install-deps: need root or sudo to install:$missing" >&2; exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+# shellcheck disable=SC2086
+$SUDO apt-get install -y -qq --no-install-recommends $missing

@@ -1,0 +1,137 @@
+/* mesh_loader.c - MeshLoader: reads a mesh file (any supported format,
+ * detected from the content) and provides it to the node. */
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "loader.h"
+
+typedef struct mesh_loader {
+    pl_component base;
+    pl_mesh mesh;          /* first after base: see pl_mesh_provider_ops */
+    char *filename;
+    double scale3d[3], rotation[3], translation[3];
+    int only_attached;
+    int keep_inverted;
+    char *resolved;
+} mesh_loader;
+
+_Static_assert(offsetof(mesh_loader, mesh) == sizeof(pl_component),
+               "pl_mesh_provider_ops expects the mesh right after the pl_component");
+
+static const pl_field FIELDS[] = {
+    PL_FIELD(mesh_loader, filename, "filename", PL_F_STRING, NULL,
+             "mesh file: VTK legacy, VTU, Gmsh .msh v1/v2/v4, OBJ or STL (format read from the "
+             "content); relative to the scene's folder",
+             PL_FIELD_REQUIRED),
+    PL_FIELD(mesh_loader, scale3d, "scale3d", PL_F_VEC3, "1 1 1",
+             "scale applied to the vertices (0.001 0.001 0.001 turns millimetres into metres)", 0),
+    PL_FIELD(mesh_loader, rotation, "rotation", PL_F_VEC3, "0 0 0",
+             "rotation after scaling [deg about x, then y, then z]", 0),
+    PL_FIELD(mesh_loader, translation, "translation", PL_F_VEC3, "0 0 0",
+             "translation after rotation [m]", 0),
+    PL_FIELD(mesh_loader, only_attached, "onlyAttachedPoints", PL_F_BOOL, "0",
+             "drop vertices that no element uses (they would have no mass)", 0),
+    PL_FIELD(mesh_loader, keep_inverted, "keepInverted", PL_F_BOOL, "0",
+             "keep negatively oriented tetrahedra as they are (default: flip them, with a warning)",
+             0),
+};
+
+int pl_resolve_data_file(const char *scene_file, const char *name, char *out, size_t size,
+                         char *tried, size_t tried_size)
+{
+    size_t n = 0;
+    tried[0] = '\0';
+    if (name[0] == '/') {
+        snprintf(out, size, "%s", name);
+        if (access(out, R_OK) == 0) return 0;
+        snprintf(tried, tried_size, "%s", name);
+        return -1;
+    }
+    const char *slash = scene_file ? strrchr(scene_file, '/') : NULL;
+    if (slash)
+        snprintf(out, size, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+    else
+        snprintf(out, size, "%s", name);
+    if (access(out, R_OK) == 0) return 0;
+    n += (size_t)snprintf(tried + n, tried_size - n, "%s", out);
+    snprintf(out, size, "%s", name);
+    if (access(out, R_OK) == 0) return 0;
+    if (n < tried_size) n += (size_t)snprintf(tried + n, tried_size - n, ", ./%s", name);
+    const char *env = getenv("PLIANT_DATA_PATH");
+    if (env && *env) {
+        char *copy = strdup(env), *save = NULL;
+        for (char *d = copy ? strtok_r(copy, ":", &save) : NULL; d; d = strtok_r(NULL, ":", &save)) {
+            snprintf(out, size, "%s/%s", d, name);
+            if (access(out, R_OK) == 0) {
+                free(copy);
+                return 0;
+            }
+            if (n < tried_size) n += (size_t)snprintf(tried + n, tried_size - n, ", %s", out);
+        }
+        free(copy);
+    }
+    return -1;
+}
+
+static int ml_init(pl_component *c, pl_ctx *ctx)
+{
+    mesh_loader *l = (mesh_loader *)c;
+    char path[1024], tried[2048];
+    if (!l->filename || !l->filename[0])
+        return pl_component_error(c, ctx, PL_EINPUT, "filename is empty");
+    if (pl_resolve_data_file(c->file, l->filename, path, sizeof path, tried, sizeof tried) != 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "filename: cannot find '%s' (tried %s)",
+                                  l->filename, tried);
+    if (!(l->resolved = strdup(path))) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_mesh_load_options opt = {l->only_attached, l->keep_inverted};
+    pl_diag diag;
+    pl_diag_init(&diag);
+    int rc = pl_mesh_load(path, &opt, &l->mesh, &diag);
+    /* the loader's messages name the mesh file and line; add which component read it */
+    char where[192], p[160];
+    snprintf(where, sizeof where, "MeshLoader %.170s", pl_component_path(c, p, sizeof p));
+    for (int k = 0; k < diag.count; ++k) {
+        pl_error e = diag.items[k];
+        memcpy(e.where, where, sizeof e.where);
+        pl_diag_add(ctx->diag, &e);
+    }
+    pl_diag_free(&diag);
+    if (rc != PL_OK) {
+        pl_component_error(c, ctx, rc, "could not load '%s' (see the message above)", path);
+        return rc;
+    }
+    pl_mesh_transform(&l->mesh, l->scale3d, l->rotation, l->translation);
+    pl_log_debug("MeshLoader %s: %s: %d vertices, %d tetrahedra, %d triangles", c->name, path,
+                 l->mesh.nverts, l->mesh.ntets, l->mesh.ntris);
+    return PL_OK;
+}
+
+static void ml_destroy(pl_component *c)
+{
+    mesh_loader *l = (mesh_loader *)c;
+    pl_mesh_free(&l->mesh);
+    free(l->resolved);
+}
+
+static const pl_mesh *provider_mesh(const pl_component *c)
+{
+    /* every mesh provider stores its pl_mesh right after the pl_component */
+    return (const pl_mesh *)((const char *)c + sizeof(pl_component));
+}
+
+const pl_topology_ops pl_mesh_provider_ops = {.version = PL_TOPOLOGY_OPS_VERSION,
+                                              .mesh = provider_mesh};
+
+const pl_type pl_mesh_loader_type = {
+    .abi_version = PL_ABI_VERSION,
+    .name = "MeshLoader",
+    .help = "Loads a tetrahedral or triangle mesh from a file (VTK, VTU, Gmsh, OBJ, STL).",
+    .size = sizeof(mesh_loader),
+    .fields = FIELDS,
+    .nfields = sizeof FIELDS / sizeof FIELDS[0],
+    .ops = {.init = ml_init, .destroy = ml_destroy},
+    .roles = {[PL_ROLE_TOPOLOGY] = &pl_mesh_provider_ops},
+};

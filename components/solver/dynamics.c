@@ -1,0 +1,299 @@
+/* dynamics.c - numbering, masses, prescribed DOFs, the constant system and
+ * the incremental potential shared by the scene's solvers. */
+#include "dynamics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct collect {
+    pl_component **items;
+    int n, cap;
+} collect;
+
+static int push(pl_component *c, void *user)
+{
+    collect *l = user;
+    if (l->n == l->cap) {
+        int cap = l->cap ? 2 * l->cap : 8;
+        pl_component **items = realloc(l->items, (size_t)cap * sizeof *items);
+        if (!items) return 1;
+        l->items = items;
+        l->cap = cap;
+    }
+    l->items[l->n++] = c;
+    return 0;
+}
+
+static int gather_role(pl_node *n, pl_role role, pl_component ***out, int *count)
+{
+    collect l = {0};
+    if (pl_node_visit_role(n, role, push, &l)) {
+        free(l.items);
+        return -1;
+    }
+    *out = l.items;
+    *count = l.n;
+    return 0;
+}
+
+static const pl_state_ops *state_ops(const pl_component *s)
+{
+    return pl_component_role(s, PL_ROLE_STATE);
+}
+
+static int find_state_offset(const pl_dynamics *d, const pl_component *s)
+{
+    for (int k = 0; k < d->nstates; ++k)
+        if (d->states[k] == s) return state_ops(s)->offset(s);
+    return -1;
+}
+
+static int number_vertices(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+{
+    d->n = 0;
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        ops->set_offset(d->states[k], d->n);
+        d->n += ops->count(d->states[k]);
+    }
+    if (d->n == 0) return pl_component_error(owner, ctx, PL_EINPUT, "no MechanicalObject below it");
+    d->mass = calloc((size_t)d->n, sizeof *d->mass);
+    d->gravity = calloc((size_t)d->n * 3, sizeof *d->gravity);
+    d->free_index = malloc((size_t)d->n * sizeof *d->free_index);
+    if (!d->mass || !d->gravity || !d->free_index)
+        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        double g[3];
+        pl_node_gravity(d->states[k]->node, g);
+        for (int i = ops->offset(d->states[k]), e = i + ops->count(d->states[k]); i < e; ++i)
+            memcpy(&d->gravity[3 * i], g, sizeof g);
+    }
+    return PL_OK;
+}
+
+static int add_masses(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+{
+    pl_component **masses;
+    int nm;
+    if (gather_role(owner->node, PL_ROLE_MASS, &masses, &nm))
+        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    for (int k = 0; k < nm; ++k) {
+        const pl_mass_ops *ops = pl_component_role(masses[k], PL_ROLE_MASS);
+        pl_component *s = ops->state(masses[k]);
+        int off = s ? find_state_offset(d, s) : -1;
+        pl_error err;
+        if (off < 0) continue; /* its state is outside this solver's subtree */
+        if (ops->add_vertex_masses(masses[k], d->mass + off, state_ops(s)->count(s), &err)) {
+            pl_diag_add(ctx->diag, &err);
+            free(masses);
+            return err.code;
+        }
+    }
+    free(masses);
+    return PL_OK;
+}
+
+static int mark_prescribed(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+{
+    for (int i = 0; i < d->n; ++i) d->free_index[i] = 0;
+    for (int k = 0; k < d->nprescribed; ++k) {
+        const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
+        int off = find_state_offset(d, ops->state(d->prescribed[k]));
+        const int *idx;
+        int m = ops->indices(d->prescribed[k], &idx);
+        for (int j = 0; off >= 0 && j < m; ++j) d->free_index[off + idx[j]] = -1;
+    }
+    d->nfree = 0;
+    for (int i = 0; i < d->n; ++i)
+        if (d->free_index[i] == 0) d->free_index[i] = d->nfree++;
+    d->free_vertex = malloc((size_t)(d->nfree ? d->nfree : 1) * sizeof *d->free_vertex);
+    if (!d->free_vertex) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    for (int i = 0; i < d->n; ++i)
+        if (d->free_index[i] >= 0) d->free_vertex[d->free_index[i]] = i;
+    for (int i = 0; i < d->n; ++i)
+        if (d->free_index[i] >= 0 && !(d->mass[i] > 0))
+            return pl_component_error(owner, ctx, PL_EINPUT,
+                                      "vertex %d has no mass: every free vertex needs one (add a "
+                                      "UniformMass or DiagonalMass to its node)",
+                                      i);
+    return PL_OK;
+}
+
+/* A = M + h^2 sum w G^T G over all vertices, then split into the
+ * free x free and free x prescribed blocks. */
+static int assemble(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+{
+    pl_triplets full, ff, fp;
+    pl_error err;
+    if (pl_triplets_init(&full, d->n, d->n, 16 * d->n) != PL_OK)
+        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    for (int i = 0; i < d->n; ++i) pl_triplets_add(&full, i, i, d->mass[i]);
+    for (int k = 0; k < d->nterms; ++k) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
+        if (ops->add_matrix(d->terms[k], d->term_offset[k], d->h * d->h, &full, &err) != PL_OK) {
+            pl_diag_add(ctx->diag, &err);
+            pl_triplets_free(&full);
+            return err.code;
+        }
+    }
+    pl_csc a;
+    int rc = pl_triplets_to_csc(&full, &a);
+    pl_triplets_free(&full);
+    if (rc) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    rc = pl_triplets_init(&ff, d->nfree, d->nfree, pl_csc_nnz(&a));
+    rc |= pl_triplets_init(&fp, d->nfree, d->n, 16);
+    for (int j = 0; rc == PL_OK && j < d->n; ++j)
+        for (int p = a.p[j]; p < a.p[j + 1]; ++p) {
+            int fi = d->free_index[a.i[p]], fj = d->free_index[j];
+            if (fi < 0) continue;
+            rc |= fj >= 0 ? pl_triplets_add(&ff, fi, fj, a.x[p]) : pl_triplets_add(&fp, fi, j, a.x[p]);
+        }
+    pl_csc_free(&a);
+    if (rc == PL_OK) rc = pl_triplets_to_csc(&ff, &d->A_ff);
+    if (rc == PL_OK) rc = pl_triplets_to_csc(&fp, &d->A_fp);
+    pl_triplets_free(&ff);
+    pl_triplets_free(&fp);
+    return rc ? pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
+}
+
+int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h, int with_matrix)
+{
+    memset(d, 0, sizeof *d);
+    d->h = h;
+    pl_node *root = owner->node;
+    if (gather_role(root, PL_ROLE_STATE, &d->states, &d->nstates) ||
+        gather_role(root, PL_ROLE_PRESCRIBED, &d->prescribed, &d->nprescribed) ||
+        gather_role(root, PL_ROLE_LOCAL_TERM, &d->terms, &d->nterms))
+        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    int rc = number_vertices(d, owner, ctx);
+    if (!rc) rc = add_masses(d, owner, ctx);
+    if (!rc) rc = mark_prescribed(d, owner, ctx);
+    if (rc) return rc;
+    d->term_offset = malloc((size_t)(d->nterms ? d->nterms : 1) * sizeof *d->term_offset);
+    if (!d->term_offset) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    for (int k = 0; k < d->nterms; ++k) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
+        d->term_offset[k] = find_state_offset(d, ops->state(d->terms[k]));
+        if (d->term_offset[k] < 0)
+            return pl_component_error(d->terms[k], ctx, PL_EINPUT,
+                                      "its MechanicalObject is not below the solver %s",
+                                      owner->name);
+    }
+    size_t n3 = (size_t)d->n * 3, f3 = (size_t)(d->nfree ? d->nfree : 1) * 3;
+    d->q = calloc(n3, sizeof(double));
+    d->q_t = calloc(n3, sizeof(double));
+    d->v_t = calloc(n3, sizeof(double));
+    d->sn = calloc(n3, sizeof(double));
+    d->rhs = calloc(n3, sizeof(double));
+    d->qp = calloc(n3, sizeof(double));
+    d->b_free = calloc(f3, sizeof(double));
+    d->q_free = calloc(f3, sizeof(double));
+    if (!d->q || !d->q_t || !d->v_t || !d->sn || !d->rhs || !d->qp || !d->b_free || !d->q_free)
+        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL};
+    return with_matrix ? assemble(d, owner, ctx) : PL_OK;
+}
+
+void pl_dynamics_free(pl_dynamics *d)
+{
+    free(d->states);
+    free(d->terms);
+    free(d->term_offset);
+    free(d->prescribed);
+    free(d->mass);
+    free(d->gravity);
+    free(d->free_index);
+    free(d->free_vertex);
+    pl_csc_free(&d->A_ff);
+    pl_csc_free(&d->A_fp);
+    free(d->q);
+    free(d->q_t);
+    free(d->v_t);
+    free(d->sn);
+    free(d->rhs);
+    free(d->qp);
+    free(d->b_free);
+    free(d->q_free);
+    memset(d, 0, sizeof *d);
+}
+
+void pl_dynamics_gather(pl_dynamics *d, const pl_data *data)
+{
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        pl_buffer x = ops->positions(d->states[k], data), v = ops->velocities(d->states[k], data);
+        size_t bytes = x.rows * 3 * sizeof(double);
+        int off = ops->offset(d->states[k]);
+        memcpy(&d->q_t[3 * off], x.data, bytes);
+        memcpy(&d->v_t[3 * off], v.data, bytes);
+    }
+}
+
+void pl_dynamics_predict(pl_dynamics *d)
+{
+    double h = d->h;
+    for (int i = 0; i < 3 * d->n; ++i) d->sn[i] = d->q_t[i] + h * d->v_t[i] + h * h * d->gravity[i];
+}
+
+int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double *q, pl_error *err)
+{
+    for (int k = 0; k < d->nprescribed; ++k) {
+        const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
+        int off = find_state_offset(d, ops->state(d->prescribed[k]));
+        const int *idx;
+        int m = ops->indices(d->prescribed[k], &idx);
+        if (off < 0 || m == 0) continue;
+        /* qp is scratch big enough for every vertex */
+        int rc = ops->positions_at(d->prescribed[k], data, t, d->qp, err);
+        if (rc) return rc;
+        for (int j = 0; j < m; ++j) memcpy(&q[3 * (off + idx[j])], &d->qp[3 * j], 3 * sizeof(double));
+    }
+    return PL_OK;
+}
+
+void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double damping)
+{
+    double scale = 1.0 / (1.0 + d->h * damping);
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        pl_buffer x = ops->positions(d->states[k], data), v = ops->velocities(d->states[k], data);
+        double *px = pl_buffer_f64(&x), *pv = pl_buffer_f64(&v);
+        int off = ops->offset(d->states[k]);
+        for (size_t i = 0; i < 3 * x.rows; ++i) {
+            size_t g = 3 * (size_t)off + i;
+            pv[i] = scale * (q[g] - d->q_t[g]) / d->h;
+            px[i] = q[g];
+        }
+    }
+}
+
+double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const double *q)
+{
+    double e = 0.0, h2 = d->h * d->h;
+    for (int i = 0; i < d->n; ++i) {
+        if (d->free_index[i] < 0) continue;
+        double dx = q[3 * i] - d->sn[3 * i], dy = q[3 * i + 1] - d->sn[3 * i + 1],
+               dz = q[3 * i + 2] - d->sn[3 * i + 2];
+        e += 0.5 * d->mass[i] * (dx * dx + dy * dy + dz * dz) / h2;
+    }
+    pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
+    for (int k = 0; k < d->nterms; ++k) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
+        e += ops->energy(d->terms[k], data, d->term_offset[k], &qb);
+    }
+    return e;
+}
+
+void pl_dynamics_reduce_rhs(pl_dynamics *d, const double *rhs, const double *q)
+{
+    for (int f = 0; f < d->nfree; ++f)
+        memcpy(&d->b_free[3 * f], &rhs[3 * d->free_vertex[f]], 3 * sizeof(double));
+    /* - A_fp q_p: columns of A_fp are global vertices, non-empty only when prescribed */
+    for (int j = 0; j < d->n; ++j)
+        for (int p = d->A_fp.p[j]; p < d->A_fp.p[j + 1]; ++p) {
+            int f = d->A_fp.i[p];
+            for (int c = 0; c < 3; ++c) d->b_free[3 * f + c] -= d->A_fp.x[p] * q[3 * j + c];
+        }
+}

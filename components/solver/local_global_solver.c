@@ -1,0 +1,177 @@
+/* local_global_solver.c - LocalGlobalSolver: implicit Euler by local-global
+ * iterations (the paper's Algorithms 1-2): each iteration projects every
+ * local term in parallel (local step), assembles the right-hand side
+ *     b = M sn + h^2 sum w G^T (p - u)  (restricted to the unknowns, - A_fp q_p)
+ * and solves the constant system A q = b with the scene's global solver
+ * (the sparse inverse S^T S b, or Cholesky).  v = (q - q_t) / h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics.h"
+#include "solver.h"
+
+typedef struct local_global_solver {
+    pl_component base;
+    int iterations;
+    double tolerance;
+    double damping;
+    int compute_energy;
+    pl_link solver_link;
+    pl_dynamics dyn;
+    pl_component *solver;
+    int ready;
+    int t_local, t_global, t_assembly;
+} local_global_solver;
+
+static const pl_field FIELDS[] = {
+    PL_FIELD(local_global_solver, iterations, "iterations", PL_F_INT, "5",
+             "local-global iterations per time step (the maximum when tolerance > 0)", 0),
+    PL_FIELD(local_global_solver, tolerance, "tolerance", PL_F_DOUBLE, "0",
+             "run to tolerance: stop when the largest position change of an iteration is below "
+             "tolerance times the bounding-box diagonal (0: always run `iterations`)",
+             PL_FIELD_RUNTIME),
+    PL_FIELD(local_global_solver, damping, "damping", PL_F_DOUBLE, "0",
+             "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_RUNTIME),
+    PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
+             "record the incremental potential after each iteration (series \"energy\" in the "
+             "timings file; costs one energy evaluation per iteration)",
+             PL_FIELD_RUNTIME),
+    PL_FIELD(local_global_solver, solver_link, "solver", PL_F_LINK, NULL,
+             "the global solver (default: the first one in this node or below)", 0),
+};
+
+static int find_first(pl_component *c, void *user)
+{
+    *(pl_component **)user = c;
+    return 1;
+}
+
+static int lg_reinit(pl_component *c, pl_ctx *ctx)
+{
+    local_global_solver *s = (local_global_solver *)c;
+    pl_error err;
+    s->ready = 0;
+    pl_dynamics_free(&s->dyn);
+    if (s->iterations < 1) return pl_component_error(c, ctx, PL_EINPUT, "iterations must be >= 1");
+    if (s->tolerance < 0) return pl_component_error(c, ctx, PL_EINPUT, "tolerance must be >= 0");
+    s->solver = s->solver_link.target;
+    if (!s->solver) pl_node_visit_role(c->node, PL_ROLE_GLOBAL_SOLVER, find_first, &s->solver);
+    if (!s->solver || !pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER))
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "needs a global solver (e.g. <SparseInverseSolver/> with "
+                                  "<RequiredPlugin name=\"sparse_inverse\"/>)");
+    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 1);
+    if (rc) return rc;
+    s->dyn.sys.global_solver = s->solver;
+    const pl_global_solver_ops *ops = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    if (s->dyn.nfree > 0 && (rc = ops->factor(s->solver, &s->dyn.A_ff, ctx->timers, &err))) {
+        pl_diag_add(ctx->diag, &err);
+        return rc;
+    }
+    s->t_local = pl_timer_id(ctx->timers, "Local");
+    s->t_assembly = pl_timer_id(ctx->timers, "Assembly");
+    s->t_global = pl_timer_id(ctx->timers, "Global");
+    pl_log_info("LocalGlobalSolver: %d vertices (%d unknowns), %d local terms, %d iterations",
+                s->dyn.n, s->dyn.nfree, s->dyn.nterms, s->iterations);
+    s->ready = 1;
+    return PL_OK;
+}
+
+static void lg_destroy(pl_component *c) { pl_dynamics_free(&((local_global_solver *)c)->dyn); }
+
+static double bbox_diagonal(const double *q, int n)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            if (q[3 * i + k] < lo[k]) lo[k] = q[3 * i + k];
+            if (q[3 * i + k] > hi[k]) hi[k] = q[3 * i + k];
+        }
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return d2 > 0 ? sqrt(d2) : 1.0;
+}
+
+/* One local step: rhs <- M sn + h^2 sum w G^T (p - u). */
+static int local_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    for (int i = 0; i < d->n; ++i)
+        for (int k = 0; k < 3; ++k) d->rhs[3 * i + k] = d->mass[i] * d->sn[3 * i + k];
+    pl_buffer qb = pl_buffer_host_f64(d->q, (size_t)d->n, 3);
+    pl_buffer rb = pl_buffer_host_f64(d->rhs, (size_t)d->n, 3);
+    for (int t = 0; t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        int rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);
+        if (rc) return rc;
+    }
+    return PL_OK;
+}
+
+static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
+{
+    local_global_solver *s = (local_global_solver *)c;
+    pl_dynamics *d = &s->dyn;
+    if (!s->ready) return pl_component_fail(c, err, PL_EINTERNAL, "not initialised");
+    if (fabs(dt - d->h) > 1e-15 * d->h)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "dt changed from %g to %g s: the system must be refactored "
+                                 "(set dt before loading)",
+                                 d->h, dt);
+    const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    pl_dynamics_gather(d, ctx->data);
+    pl_dynamics_predict(d);
+    memcpy(d->q, d->sn, (size_t)d->n * 3 * sizeof(double));
+    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    if (rc) return rc;
+    double scale = s->tolerance > 0 ? bbox_diagonal(d->q_t, d->n) : 1.0;
+    pl_buffer bb = pl_buffer_host_f64(d->b_free, (size_t)d->nfree, 3);
+    pl_buffer xb = pl_buffer_host_f64(d->q_free, (size_t)d->nfree, 3);
+    for (int it = 0; it < s->iterations; ++it) {
+        pl_timer_start(ctx->timers, s->t_local);
+        rc = local_step(s, ctx, err);
+        pl_timer_stop(ctx->timers, s->t_local);
+        if (rc) return rc;
+        pl_timer_start(ctx->timers, s->t_assembly);
+        pl_dynamics_reduce_rhs(d, d->rhs, d->q);
+        pl_timer_stop(ctx->timers, s->t_assembly);
+        pl_timer_start(ctx->timers, s->t_global);
+        rc = d->nfree ? gs->solve(s->solver, &bb, &xb, err) : PL_OK;
+        pl_timer_stop(ctx->timers, s->t_global);
+        if (rc) return rc;
+        double change = 0.0;
+        for (int f = 0; f < d->nfree; ++f)
+            for (int k = 0; k < 3; ++k) {
+                double *qi = &d->q[3 * d->free_vertex[f] + k], nv = d->q_free[3 * f + k];
+                if (!isfinite(nv))
+                    return pl_component_fail(c, err, PL_EINTERNAL,
+                                             "the solution became NaN/inf at iteration %d of "
+                                             "step %ld (vertex %d)",
+                                             it + 1, ctx->data->step + 1, d->free_vertex[f]);
+                double delta = fabs(nv - *qi);
+                if (delta > change) change = delta;
+                *qi = nv;
+            }
+        if (s->compute_energy)
+            pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
+        if (s->tolerance > 0 && change < s->tolerance * scale) break;
+    }
+    pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
+    return PL_OK;
+}
+
+static const pl_animation_loop_ops LOOP = {.version = PL_ANIMATION_LOOP_OPS_VERSION,
+                                           .step = lg_step};
+
+const pl_type pl_local_global_solver_type = {
+    .abi_version = PL_ABI_VERSION,
+    .name = "LocalGlobalSolver",
+    .help = "Implicit Euler by local-global iterations (Projective Dynamics / ADMM-PD) over the "
+            "bodies below it, with a constant system solved by the scene's global solver.",
+    .size = sizeof(local_global_solver),
+    .fields = FIELDS,
+    .nfields = sizeof FIELDS / sizeof FIELDS[0],
+    .ops = {.reinit = lg_reinit, .destroy = lg_destroy},
+    .roles = {[PL_ROLE_ANIMATION_LOOP] = &LOOP},
+};

@@ -1,0 +1,259 @@
+/* newton_solver.c - NewtonSolver: the reference, not the fast path.  It
+ * minimises the same incremental potential as LocalGlobalSolver,
+ *     E(q) = 1/(2h^2) ||M^1/2 (q - sn)||^2 + sum psi(q)
+ * (or, with quasiStatic, the static potential sum psi(q) - sum m g . q),
+ * by Newton's method on the 3n unknowns with each element's Hessian
+ * projected to PSD, CHOLMOD for the linear systems and a backtracking line
+ * search, to a tight tolerance.  Tests use it as ground truth. */
+#include <cholmod.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics.h"
+#include "solver.h"
+
+typedef struct newton_solver {
+    pl_component base;
+    int max_iterations;
+    double tolerance;
+    int quasi_static;
+    pl_dynamics dyn;
+    int ready;
+    double *grad, *dx, *trial;
+    cholmod_common cm;
+    int cm_started;
+} newton_solver;
+
+static const pl_field FIELDS[] = {
+    PL_FIELD(newton_solver, max_iterations, "maxIterations", PL_F_INT, "100",
+             "Newton iterations at most per step", 0),
+    PL_FIELD(newton_solver, tolerance, "tolerance", PL_F_DOUBLE, "1e-10",
+             "stop when the Newton step's largest component is below tolerance times the "
+             "bounding-box diagonal",
+             PL_FIELD_RUNTIME),
+    PL_FIELD(newton_solver, quasi_static, "quasiStatic", PL_F_BOOL, "0",
+             "solve for static equilibrium (no inertia; gravity as an external load)", 0),
+};
+
+static int ns_reinit(pl_component *c, pl_ctx *ctx)
+{
+    newton_solver *s = (newton_solver *)c;
+    s->ready = 0;
+    pl_dynamics_free(&s->dyn);
+    free(s->grad);
+    free(s->dx);
+    free(s->trial);
+    s->grad = s->dx = s->trial = NULL;
+    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 0);
+    if (rc) return rc;
+    for (int t = 0; t < s->dyn.nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(s->dyn.terms[t], PL_ROLE_LOCAL_TERM);
+        if (!ops->add_gradient || !ops->add_hessian)
+            return pl_component_error(c, ctx, PL_EINPUT,
+                                      "%s '%s' provides no gradient/Hessian: the Newton solver "
+                                      "cannot use it",
+                                      s->dyn.terms[t]->type->name, s->dyn.terms[t]->name);
+    }
+    size_t n3 = (size_t)s->dyn.n * 3;
+    s->grad = calloc(n3, sizeof(double));
+    s->dx = calloc(n3, sizeof(double));
+    s->trial = calloc(n3, sizeof(double));
+    if (!s->grad || !s->dx || !s->trial)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (!s->cm_started) {
+        cholmod_start(&s->cm);
+        s->cm.print = 0;
+        s->cm_started = 1;
+    }
+    s->ready = 1;
+    return PL_OK;
+}
+
+static void ns_destroy(pl_component *c)
+{
+    newton_solver *s = (newton_solver *)c;
+    pl_dynamics_free(&s->dyn);
+    free(s->grad);
+    free(s->dx);
+    free(s->trial);
+    if (s->cm_started) cholmod_finish(&s->cm);
+}
+
+static double potential(const newton_solver *s, const pl_data *data, const double *q)
+{
+    const pl_dynamics *d = &s->dyn;
+    if (!s->quasi_static) return pl_dynamics_energy(d, data, q);
+    double e = 0.0;
+    pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
+    for (int t = 0; t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        e += ops->energy(d->terms[t], data, d->term_offset[t], &qb);
+    }
+    for (int i = 0; i < d->n; ++i)
+        if (d->free_index[i] >= 0)
+            for (int k = 0; k < 3; ++k) e -= d->mass[i] * d->gravity[3 * i + k] * q[3 * i + k];
+    return e;
+}
+
+static int gradient(newton_solver *s, const pl_data *data, const double *q, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    double h2 = d->h * d->h;
+    for (int i = 0; i < d->n; ++i)
+        for (int k = 0; k < 3; ++k)
+            s->grad[3 * i + k] = s->quasi_static
+                                     ? -d->mass[i] * d->gravity[3 * i + k]
+                                     : d->mass[i] * (q[3 * i + k] - d->sn[3 * i + k]) / h2;
+    pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
+    pl_buffer gb = pl_buffer_host_f64(s->grad, (size_t)d->n, 3);
+    for (int t = 0; t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        int rc = ops->add_gradient(d->terms[t], data, d->term_offset[t], &qb, &gb, err);
+        if (rc) return rc;
+    }
+    return PL_OK;
+}
+
+/* dx (over all vertices; zero on prescribed ones) = -H^-1 g, H the
+ * PSD-projected Hessian restricted to the unknowns. */
+static int newton_direction(newton_solver *s, const pl_data *data, const double *q, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    int nf3 = 3 * d->nfree;
+    pl_triplets H;
+    if (pl_triplets_init(&H, 3 * d->n, 3 * d->n, 64 * d->n) != PL_OK)
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    double h2 = d->h * d->h;
+    for (int i = 0; i < d->n && !s->quasi_static; ++i)
+        for (int k = 0; k < 3; ++k) pl_triplets_add(&H, 3 * i + k, 3 * i + k, d->mass[i] / h2);
+    pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
+    for (int t = 0; t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        int rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, 1, &H, err);
+        if (rc) {
+            pl_triplets_free(&H);
+            return rc;
+        }
+    }
+    /* keep the lower triangle of the free block, in free numbering */
+    cholmod_triplet *T = cholmod_allocate_triplet((size_t)nf3, (size_t)nf3, (size_t)H.nnz + nf3,
+                                                  -1, CHOLMOD_REAL, &s->cm);
+    if (!T) {
+        pl_triplets_free(&H);
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    }
+    int *Ti = T->i, *Tj = T->j;
+    double *Tx = T->x;
+    for (int e = 0; e < H.nnz; ++e) {
+        int fi = d->free_index[H.i[e] / 3], fj = d->free_index[H.j[e] / 3];
+        if (fi < 0 || fj < 0) continue;
+        int r = 3 * fi + H.i[e] % 3, col = 3 * fj + H.j[e] % 3;
+        if (r < col) continue;
+        Ti[T->nnz] = r, Tj[T->nnz] = col, Tx[T->nnz] = H.x[e], T->nnz++;
+    }
+    /* a tiny shift keeps the factor defined where the projection left a zero
+     * eigenvalue (e.g. quasi-static rigid modes are removed by the boundary) */
+    for (int r = 0; r < nf3; ++r) Ti[T->nnz] = r, Tj[T->nnz] = r, Tx[T->nnz] = 1e-12, T->nnz++;
+    pl_triplets_free(&H);
+    cholmod_sparse *A = cholmod_triplet_to_sparse(T, T->nnz, &s->cm);
+    cholmod_free_triplet(&T, &s->cm);
+    cholmod_dense *b = cholmod_zeros((size_t)nf3, 1, CHOLMOD_REAL, &s->cm);
+    int rc = PL_OK;
+    if (!A || !b) {
+        rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    } else {
+        double *bx = b->x;
+        for (int f = 0; f < d->nfree; ++f)
+            for (int k = 0; k < 3; ++k) bx[3 * f + k] = -s->grad[3 * d->free_vertex[f] + k];
+        cholmod_factor *L = cholmod_analyze(A, &s->cm);
+        if (L) cholmod_factorize(A, L, &s->cm);
+        cholmod_dense *x = (L && s->cm.status == CHOLMOD_OK) ? cholmod_solve(CHOLMOD_A, L, b, &s->cm)
+                                                             : NULL;
+        if (!x) {
+            rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
+                              "NewtonSolver: the Hessian could not be factored (CHOLMOD status %d)",
+                              s->cm.status);
+        } else {
+            memset(s->dx, 0, (size_t)d->n * 3 * sizeof(double));
+            const double *xx = x->x;
+            for (int f = 0; f < d->nfree; ++f)
+                for (int k = 0; k < 3; ++k) s->dx[3 * d->free_vertex[f] + k] = xx[3 * f + k];
+            cholmod_free_dense(&x, &s->cm);
+        }
+        cholmod_free_factor(&L, &s->cm);
+    }
+    cholmod_free_sparse(&A, &s->cm);
+    cholmod_free_dense(&b, &s->cm);
+    return rc;
+}
+
+static double bbox_diagonal(const double *q, int n)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = fmin(lo[k], q[3 * i + k]);
+            hi[k] = fmax(hi[k], q[3 * i + k]);
+        }
+    double s = 0;
+    for (int k = 0; k < 3; ++k) s += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return s > 0 ? sqrt(s) : 1.0;
+}
+
+static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
+{
+    newton_solver *s = (newton_solver *)c;
+    pl_dynamics *d = &s->dyn;
+    if (!s->ready) return pl_component_fail(c, err, PL_EINTERNAL, "not initialised");
+    pl_dynamics_gather(d, ctx->data);
+    pl_dynamics_predict(d);
+    /* start from the current positions: a valid (non-inverted) configuration */
+    memcpy(d->q, d->q_t, (size_t)d->n * 3 * sizeof(double));
+    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    if (rc) return rc;
+    double scale = bbox_diagonal(d->q_t, d->n), e = potential(s, ctx->data, d->q);
+    int it;
+    for (it = 0; it < s->max_iterations; ++it) {
+        if ((rc = gradient(s, ctx->data, d->q, err)) || (rc = newton_direction(s, ctx->data, d->q, err)))
+            return rc;
+        double slope = 0.0, step_max = 0.0;
+        for (int i = 0; i < 3 * d->n; ++i) {
+            slope += s->grad[i] * s->dx[i];
+            step_max = fmax(step_max, fabs(s->dx[i]));
+        }
+        if (step_max < s->tolerance * scale) break;
+        double alpha = 1.0, e_new = INFINITY;
+        for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
+            for (int i = 0; i < 3 * d->n; ++i) s->trial[i] = d->q[i] + alpha * s->dx[i];
+            e_new = potential(s, ctx->data, s->trial);
+            if (isfinite(e_new) && e_new <= e + 1e-4 * alpha * slope) break;
+        }
+        if (!isfinite(e_new) || e_new > e + 1e-4 * alpha * slope) {
+            /* no descent left: we are at the minimum to round-off */
+            break;
+        }
+        memcpy(d->q, s->trial, (size_t)d->n * 3 * sizeof(double));
+        e = e_new;
+    }
+    pl_stat_set(ctx->timers, "newton iterations", it);
+    pl_stat_set(ctx->timers, "newton energy", e);
+    pl_dynamics_scatter(d, ctx->data, d->q, 0.0);
+    return PL_OK;
+}
+
+static const pl_animation_loop_ops LOOP = {.version = PL_ANIMATION_LOOP_OPS_VERSION,
+                                           .step = ns_step};
+
+const pl_type pl_newton_solver_type = {
+    .abi_version = PL_ABI_VERSION,
+    .name = "NewtonSolver",
+    .help = "Reference implicit-Euler (or quasi-static) solver: Newton with PSD-projected element "
+            "Hessians, CHOLMOD and a backtracking line search, to a tight tolerance. Slow; for "
+            "tests and convergence studies.",
+    .size = sizeof(newton_solver),
+    .fields = FIELDS,
+    .nfields = sizeof FIELDS / sizeof FIELDS[0],
+    .ops = {.reinit = ns_reinit, .destroy = ns_destroy},
+    .roles = {[PL_ROLE_ANIMATION_LOOP] = &LOOP},
+};

@@ -1,0 +1,10 @@
+/* solver.h - animation loops: the local-global solver and the Newton reference. */
+#ifndef PLIANT_SOLVER_H
+#define PLIANT_SOLVER_H
+
+#include "pliant/pliant.h"
+
+extern const pl_type pl_local_global_solver_type;
+extern const pl_type pl_newton_solver_type;
+
+#endif

@@ -1,0 +1,64 @@
+/* component.c - paths, field lookup and error helpers for components. */
+#include "pliant/component.h"
+#include "pliant/node.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+const char *pl_component_path(const pl_component *c, char *buf, size_t size)
+{
+    char np[160];
+    if (c->node)
+        snprintf(buf, size, "%s/%s", pl_node_path(c->node, np, sizeof np),
+                 c->name ? c->name : "?");
+    else
+        snprintf(buf, size, "%s", c->name ? c->name : "?");
+    return buf;
+}
+
+const pl_field *pl_component_field(const pl_component *c, const char *name)
+{
+    const pl_type *t = c->type;
+    for (int k = 0; k < t->nfields; ++k)
+        if (!strcmp(t->fields[k].name, name)) return &t->fields[k];
+    for (int k = 0; k < t->nfields; ++k)
+        if (t->fields[k].alias && !strcmp(t->fields[k].alias, name)) return &t->fields[k];
+    return NULL;
+}
+
+int pl_component_error(const pl_component *c, pl_ctx *ctx, int code, const char *fmt, ...)
+{
+    char where[192], what[160];
+    pl_error e;
+    va_list ap;
+    snprintf(where, sizeof where, "%s %s", c->type->name, pl_component_path(c, what, sizeof what));
+    va_start(ap, fmt);
+    pl_error_vset(&e, code, c->file, c->line, where, fmt, ap);
+    va_end(ap);
+    if (ctx && ctx->diag) pl_diag_add(ctx->diag, &e);
+    return code;
+}
+
+void pl_component_warn(const pl_component *c, pl_ctx *ctx, const char *fmt, ...)
+{
+    char where[192], what[160];
+    pl_error e;
+    va_list ap;
+    snprintf(where, sizeof where, "%s %s", c->type->name, pl_component_path(c, what, sizeof what));
+    va_start(ap, fmt);
+    pl_error_vset(&e, PL_OK, c->file, c->line, where, fmt, ap);
+    va_end(ap);
+    if (ctx && ctx->diag) pl_diag_add(ctx->diag, &e);
+}
+
+int pl_component_fail(const pl_component *c, pl_error *err, int code, const char *fmt, ...)
+{
+    char where[192], what[160];
+    va_list ap;
+    snprintf(where, sizeof where, "%s %s", c->type->name, pl_component_path(c, what, sizeof what));
+    va_start(ap, fmt);
+    pl_error_vset(err, code, c->file, c->line, where, fmt, ap);
+    va_end(ap);
+    return code;
+}

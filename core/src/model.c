@@ -1,0 +1,164 @@
+/* model.c - state slots of the model, and pl_data: create, copy, save, load. */
+#include "pliant/model.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes)
+{
+    char path[192], full[256];
+    if (m->nslots == m->cap_slots) {
+        int cap = m->cap_slots ? 2 * m->cap_slots : 16;
+        pl_slot_info *s = realloc(m->slots, (size_t)cap * sizeof *s);
+        if (!s) return -1;
+        m->slots = s;
+        m->cap_slots = cap;
+    }
+    snprintf(full, sizeof full, "%s.%s", owner ? pl_component_path(owner, path, sizeof path) : "",
+             name);
+    pl_slot_info *s = &m->slots[m->nslots];
+    if (!(s->name = strdup(full))) return -1;
+    s->owner = owner;
+    s->initial_bytes = bytes;
+    return m->nslots++;
+}
+
+int pl_model_find_slot(const pl_model *m, const char *fullname)
+{
+    for (int k = 0; k < m->nslots; ++k)
+        if (!strcmp(m->slots[k].name, fullname)) return k;
+    return -1;
+}
+
+pl_data *pl_data_create(const pl_model *m)
+{
+    pl_data *d = calloc(1, sizeof *d);
+    if (!d) return NULL;
+    d->model = m;
+    d->nslots = m->nslots;
+    d->slots = calloc((size_t)(m->nslots ? m->nslots : 1), sizeof *d->slots);
+    if (!d->slots) {
+        free(d);
+        return NULL;
+    }
+    for (int k = 0; k < m->nslots; ++k)
+        if (pl_data_resize_slot(d, k, m->slots[k].initial_bytes) != 0) {
+            pl_data_free(d);
+            return NULL;
+        }
+    return d;
+}
+
+void pl_data_free(pl_data *d)
+{
+    if (!d) return;
+    for (int k = 0; k < d->nslots; ++k) free(d->slots[k].ptr);
+    free(d->slots);
+    free(d);
+}
+
+int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
+{
+    pl_slot *s = &d->slots[slot];
+    if (bytes == s->bytes) return 0;
+    /* never hand out a NULL pointer: an empty slot still owns one byte */
+    void *p = realloc(s->ptr, bytes ? bytes : 1);
+    if (!p) return -1;
+    if (bytes > s->bytes) memset((char *)p + s->bytes, 0, bytes - s->bytes);
+    s->ptr = p;
+    s->bytes = bytes;
+    return 0;
+}
+
+int pl_data_copy(pl_data *dst, const pl_data *src)
+{
+    if (dst->nslots != src->nslots) return -1;
+    for (int k = 0; k < src->nslots; ++k) {
+        if (pl_data_resize_slot(dst, k, src->slots[k].bytes) != 0) return -1;
+        if (src->slots[k].bytes) memcpy(dst->slots[k].ptr, src->slots[k].ptr, src->slots[k].bytes);
+    }
+    dst->time = src->time;
+    dst->step = src->step;
+    return 0;
+}
+
+pl_data *pl_data_clone(const pl_data *src)
+{
+    pl_data *d = pl_data_create(src->model);
+    if (d && pl_data_copy(d, src) != 0) {
+        pl_data_free(d);
+        return NULL;
+    }
+    return d;
+}
+
+/* File layout: magic, version, time, step, nslots, then per slot its name
+ * length, name, byte count and bytes.  Native endianness: a state file is a
+ * checkpoint for the same machine, not an exchange format. */
+static const char MAGIC[8] = {'P', 'L', 'S', 'T', 'A', 'T', 'E', '1'};
+
+int pl_data_save(const pl_data *d, FILE *f, pl_error *err)
+{
+    uint64_t n = (uint64_t)d->nslots;
+    int64_t step = d->step;
+    if (fwrite(MAGIC, 1, 8, f) != 8 || fwrite(&d->time, sizeof d->time, 1, f) != 1 ||
+        fwrite(&step, sizeof step, 1, f) != 1 || fwrite(&n, sizeof n, 1, f) != 1)
+        goto fail;
+    for (int k = 0; k < d->nslots; ++k) {
+        const char *name = d->model->slots[k].name;
+        uint64_t len = strlen(name), bytes = d->slots[k].bytes;
+        if (fwrite(&len, sizeof len, 1, f) != 1 || fwrite(name, 1, len, f) != len ||
+            fwrite(&bytes, sizeof bytes, 1, f) != 1 ||
+            (bytes && fwrite(d->slots[k].ptr, 1, bytes, f) != bytes))
+            goto fail;
+    }
+    return PL_OK;
+fail:
+    return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "cannot write the state file");
+}
+
+int pl_data_load(pl_data *d, FILE *f, pl_error *err)
+{
+    char magic[8], name[512];
+    uint64_t n;
+    int64_t step;
+    double time;
+    if (fread(magic, 1, 8, f) != 8 || memcmp(magic, MAGIC, 8) != 0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "not a Pliant state file");
+    if (fread(&time, sizeof time, 1, f) != 1 || fread(&step, sizeof step, 1, f) != 1 ||
+        fread(&n, sizeof n, 1, f) != 1)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated state file");
+    if (n != (uint64_t)d->nslots)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file has %llu slots, this scene has %d: it belongs to "
+                            "another scene",
+                            (unsigned long long)n, d->nslots);
+    /* read into a scratch copy first so a bad file leaves d untouched */
+    pl_data *tmp = pl_data_create(d->model);
+    if (!tmp) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    for (int k = 0; k < d->nslots; ++k) {
+        uint64_t len, bytes;
+        if (fread(&len, sizeof len, 1, f) != 1 || len >= sizeof name ||
+            fread(name, 1, len, f) != len || fread(&bytes, sizeof bytes, 1, f) != 1)
+            goto truncated;
+        name[len] = '\0';
+        if (strcmp(name, d->model->slots[k].name) != 0) {
+            pl_data_free(tmp);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "the state file's slot %d is '%s', this scene's is '%s'", k,
+                                name, d->model->slots[k].name);
+        }
+        if (bytes > ((uint64_t)1 << 40) || pl_data_resize_slot(tmp, k, (size_t)bytes) != 0 ||
+            (bytes && fread(tmp->slots[k].ptr, 1, (size_t)bytes, f) != bytes))
+            goto truncated;
+    }
+    tmp->time = time;
+    tmp->step = (long)step;
+    pl_data_copy(d, tmp);
+    pl_data_free(tmp);
+    return PL_OK;
+truncated:
+    pl_data_free(tmp);
+    return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated or corrupt state file");
+}

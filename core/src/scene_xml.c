@@ -1,0 +1,367 @@
+/* scene_xml.c - XML scene -> node tree, with every mistake reported.
+ *
+ * Security: scenes are parsed with network access off and without entity
+ * substitution; documents that declare a DTD or entities are refused before
+ * libxml2 sees them, so an entity bomb costs nothing. */
+#include "scene.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <libxml/parser.h>
+#include <libxml/tree.h>
+
+/* Visual and GUI components of SOFA scenes: skipped with a warning. */
+static const char *const IGNORED[] = {"VisualStyle", "OglModel", "OglSceneFrame",
+                                      "BackgroundSetting", "ConstraintAttachButtonSetting",
+                                      "DefaultVisualManagerLoop", "InteractiveCamera",
+                                      "LightManager", "DirectionalLight", NULL};
+
+static const char *const NODE_ATTRS[] = {"name", "dt", "gravity", "animate", NULL};
+
+static int is_ignored(const char *tag)
+{
+    for (int k = 0; IGNORED[k]; ++k)
+        if (!strcmp(tag, IGNORED[k])) return 1;
+    return 0;
+}
+
+static int line_of(xmlNode *x)
+{
+    long l = xmlGetLineNo(x);
+    return l > 0 ? (int)l : 0;
+}
+
+static pl_node *new_node(pl_node *parent, const char *name, const char *file, int line)
+{
+    pl_node *n = calloc(1, sizeof *n);
+    if (!n) return NULL;
+    n->name = strdup(name ? name : "root");
+    n->file = strdup(file);
+    n->line = line;
+    n->parent = parent;
+    if (!n->name || !n->file) {
+        free(n->name);
+        free(n->file);
+        free(n);
+        return NULL;
+    }
+    if (parent) {
+        if (parent->nchildren == parent->cap_children) {
+            int cap = parent->cap_children ? 2 * parent->cap_children : 4;
+            pl_node **c = realloc(parent->children, (size_t)cap * sizeof *c);
+            if (!c) {
+                free(n->name);
+                free(n->file);
+                free(n);
+                return NULL;
+            }
+            parent->children = c;
+            parent->cap_children = cap;
+        }
+        parent->children[parent->nchildren++] = n;
+    }
+    return n;
+}
+
+static void destroy_component(pl_component *c)
+{
+    if (c->type->ops.destroy) c->type->ops.destroy(c);
+    for (int k = 0; k < c->type->nfields; ++k) pl_field_release(&c->type->fields[k], c);
+    free(c->name);
+    free(c->file);
+    free(c);
+}
+
+void pl_scene_free(pl_node *n)
+{
+    if (!n) return;
+    for (int k = 0; k < n->nchildren; ++k) pl_scene_free(n->children[k]);
+    /* components in reverse order: later ones may point at earlier ones */
+    for (int k = n->ncomponents - 1; k >= 0; --k) destroy_component(n->components[k]);
+    free(n->children);
+    free(n->components);
+    free(n->name);
+    free(n->file);
+    free(n);
+}
+
+static int name_taken(const pl_node *n, const char *name)
+{
+    for (int k = 0; k < n->ncomponents; ++k)
+        if (!strcmp(n->components[k]->name, name)) return 1;
+    return 0;
+}
+
+pl_component *pl_scene_new_component(pl_node *n, const pl_type *t, const char *name,
+                                     const char *file, int line, pl_diag *diag)
+{
+    char buf[128];
+    if (!name) {
+        /* SOFA's default name: the type name with a lower-case initial */
+        snprintf(buf, sizeof buf, "%s", t->name);
+        buf[0] = (char)tolower((unsigned char)buf[0]);
+        for (int k = 2; name_taken(n, buf); ++k) {
+            snprintf(buf, sizeof buf, "%s%d", t->name, k);
+            buf[0] = (char)tolower((unsigned char)buf[0]);
+        }
+        name = buf;
+    } else if (name_taken(n, name)) {
+        char np[160];
+        pl_diag_error(diag, PL_EINPUT, file, line, pl_node_path(n, np, sizeof np),
+                      "two components are named '%s' in this node", name);
+        return NULL;
+    }
+    pl_component *c = calloc(1, t->size);
+    if (!c) return NULL;
+    c->type = t;
+    c->node = n;
+    c->line = line;
+    c->name = strdup(name);
+    c->file = strdup(file);
+    if (!c->name || !c->file) goto oom;
+    for (int k = 0; k < t->nfields; ++k) {
+        const pl_field *f = &t->fields[k];
+        if (!f->def) continue;
+        pl_error e;
+        if (pl_field_parse(f, c, f->def, &e) != PL_OK) {
+            /* a bad default is a bug in the component, not the user's fault */
+            pl_diag_error(diag, PL_EINTERNAL, file, line, t->name, "bad default for %s: %s",
+                          f->name, e.msg);
+        }
+    }
+    if (n->ncomponents == n->cap_components) {
+        int cap = n->cap_components ? 2 * n->cap_components : 8;
+        pl_component **cs = realloc(n->components, (size_t)cap * sizeof *cs);
+        if (!cs) goto oom;
+        n->components = cs;
+        n->cap_components = cap;
+    }
+    n->components[n->ncomponents++] = c;
+    return c;
+oom:
+    free(c->name);
+    free(c->file);
+    free(c);
+    return NULL;
+}
+
+/* Best field name for a misspelled attribute. */
+static const char *suggest_field(const pl_type *t, const char *attr)
+{
+    const char *best = NULL;
+    int bestd = 1 << 30;
+    for (int k = 0; k < t->nfields; ++k) {
+        int d = pl_edit_distance(attr, t->fields[k].name);
+        if (d < bestd) bestd = d, best = t->fields[k].name;
+    }
+    return (best && bestd <= 2 + (int)strlen(attr) / 4) ? best : NULL;
+}
+
+static void parse_attributes(pl_component *c, xmlNode *x, const char *file, pl_diag *diag)
+{
+    char where[192], path[160];
+    snprintf(where, sizeof where, "%s %s", c->type->name, pl_component_path(c, path, sizeof path));
+    for (xmlAttr *a = x->properties; a; a = a->next) {
+        const char *an = (const char *)a->name;
+        if (!strcmp(an, "name") || !strcmp(an, "template")) continue; /* template: a hint */
+        xmlChar *v = xmlNodeListGetString(x->doc, a->children, 1);
+        const pl_field *f = pl_component_field(c, an);
+        if (!f) {
+            const char *s = suggest_field(c->type, an);
+            pl_diag_error(diag, PL_EINPUT, file, line_of(x), where,
+                          s ? "unknown attribute '%s' (did you mean %s?)"
+                            : "unknown attribute '%s'%s",
+                          an, s ? s : " (run `pliant list` for the fields of each component)");
+        } else if (f->flags & PL_FIELD_OUTPUT) {
+            pl_diag_error(diag, PL_EINPUT, file, line_of(x), where,
+                          "'%s' is an output of %s and cannot be set", an, c->type->name);
+        } else {
+            pl_error e;
+            if (pl_field_parse(f, c, v ? (const char *)v : "", &e) != PL_OK)
+                pl_diag_error(diag, e.code, file, line_of(x), where, "%s", e.msg);
+        }
+        xmlFree(v);
+    }
+    for (int k = 0; k < c->type->nfields; ++k) {
+        const pl_field *f = &c->type->fields[k];
+        if ((f->flags & PL_FIELD_REQUIRED) && !xmlHasProp(x, (const xmlChar *)f->name) &&
+            !(f->alias && xmlHasProp(x, (const xmlChar *)f->alias)))
+            pl_diag_error(diag, PL_EINPUT, file, line_of(x), where,
+                          "missing required attribute '%s' (%s)", f->name, f->help);
+    }
+}
+
+static void load_required_plugins(xmlNode *x, const char *file, pl_registry *reg, pl_diag *diag)
+{
+    xmlChar *v = xmlGetProp(x, (const xmlChar *)"pluginName");
+    if (!v) v = xmlGetProp(x, (const xmlChar *)"name");
+    if (!v) {
+        pl_diag_error(diag, PL_EINPUT, file, line_of(x), "RequiredPlugin",
+                      "missing attribute 'name' (the plugin to load)");
+        return;
+    }
+    char *list = strdup((const char *)v), *save = NULL;
+    xmlFree(v);
+    if (!list) return;
+    for (char *p = strtok_r(list, " \t\n,", &save); p; p = strtok_r(NULL, " \t\n,", &save)) {
+        pl_error e;
+        if (pl_registry_load_plugin(reg, p, &e) != PL_OK)
+            pl_diag_error(diag, e.code, file, line_of(x), "RequiredPlugin", "%s", e.msg);
+    }
+    free(list);
+}
+
+static void parse_node_attrs(pl_node *n, xmlNode *x, const char *file, pl_diag *diag)
+{
+    char np[160];
+    pl_node_path(n, np, sizeof np);
+    for (xmlAttr *a = x->properties; a; a = a->next) {
+        const char *an = (const char *)a->name;
+        xmlChar *v = xmlNodeListGetString(x->doc, a->children, 1);
+        const char *s = v ? (const char *)v : "";
+        pl_error e;
+        pl_field f = {0};
+        if (!strcmp(an, "dt")) {
+            f = (pl_field){"dt", PL_F_DOUBLE, offsetof(pl_node, dt), NULL, "", 0, NULL, NULL};
+            if (pl_field_parse(&f, n, s, &e) != PL_OK || n->dt <= 0)
+                pl_diag_error(diag, PL_EINPUT, file, line_of(x), np,
+                              "dt: expected a positive time step [s], found '%s'", s);
+            n->has_dt = 1;
+        } else if (!strcmp(an, "gravity")) {
+            f = (pl_field){"gravity", PL_F_VEC3, offsetof(pl_node, gravity), NULL, "", 0, NULL,
+                           NULL};
+            if (pl_field_parse(&f, n, s, &e) != PL_OK)
+                pl_diag_error(diag, PL_EINPUT, file, line_of(x), np, "%s", e.msg);
+            n->has_gravity = 1;
+        } else if (strcmp(an, "name") && strcmp(an, "animate")) {
+            const char *best = NULL;
+            int bestd = 1 << 30;
+            for (int k = 0; NODE_ATTRS[k]; ++k) {
+                int d = pl_edit_distance(an, NODE_ATTRS[k]);
+                if (d < bestd) bestd = d, best = NODE_ATTRS[k];
+            }
+            if (bestd <= 2)
+                pl_diag_error(diag, PL_EINPUT, file, line_of(x), np,
+                              "unknown Node attribute '%s' (did you mean %s?)", an, best);
+            else
+                pl_diag_error(diag, PL_EINPUT, file, line_of(x), np,
+                              "unknown Node attribute '%s' (a Node takes name, dt, gravity)", an);
+        }
+        xmlFree(v);
+    }
+}
+
+static void build_node(pl_node *n, xmlNode *x, const char *file, pl_registry *reg, pl_diag *diag)
+{
+    parse_node_attrs(n, x, file, diag);
+    /* plugins first, wherever they appear in the node, so order does not matter */
+    for (xmlNode *k = x->children; k; k = k->next)
+        if (k->type == XML_ELEMENT_NODE && !strcmp((const char *)k->name, "RequiredPlugin"))
+            load_required_plugins(k, file, reg, diag);
+    for (xmlNode *k = x->children; k; k = k->next) {
+        if (k->type != XML_ELEMENT_NODE) continue;
+        const char *tag = (const char *)k->name;
+        char np[160];
+        pl_node_path(n, np, sizeof np);
+        if (!strcmp(tag, "RequiredPlugin")) continue;
+        if (!strcmp(tag, "Node")) {
+            xmlChar *nm = xmlGetProp(k, (const xmlChar *)"name");
+            pl_node *child = new_node(n, nm ? (const char *)nm : "node", file, line_of(k));
+            xmlFree(nm);
+            if (!child) {
+                pl_diag_error(diag, PL_EINTERNAL, file, line_of(k), np, "out of memory");
+                return;
+            }
+            build_node(child, k, file, reg, diag);
+            continue;
+        }
+        if (is_ignored(tag)) {
+            pl_diag_warn(diag, file, line_of(k), np, "%s is a visual component: ignored", tag);
+            continue;
+        }
+        const pl_type *t = pl_registry_find(reg, tag);
+        if (!t) {
+            const char *s = pl_registry_suggest(reg, tag);
+            if (s)
+                pl_diag_error(diag, PL_EINPUT, file, line_of(k), np,
+                              "unknown component type '%s' (did you mean %s?)", tag, s);
+            else
+                pl_diag_error(diag, PL_EINPUT, file, line_of(k), np,
+                              "unknown component type '%s' (is a <RequiredPlugin name=\"...\"/> "
+                              "missing? `pliant list` shows the known types)",
+                              tag);
+            continue;
+        }
+        xmlChar *nm = xmlGetProp(k, (const xmlChar *)"name");
+        pl_component *c = pl_scene_new_component(n, t, (const char *)nm, file, line_of(k), diag);
+        xmlFree(nm);
+        if (c) parse_attributes(c, k, file, diag);
+    }
+}
+
+/* Refuses DTDs and entity declarations by looking at the raw text. */
+static int has_doctype(const char *xml, size_t len)
+{
+    static const char *const bad[] = {"<!DOCTYPE", "<!ENTITY"};
+    for (int b = 0; b < 2; ++b) {
+        size_t bl = strlen(bad[b]);
+        for (size_t i = 0; i + bl <= len; ++i)
+            if (xml[i] == '<' && !strncmp(xml + i, bad[b], bl)) return 1;
+    }
+    return 0;
+}
+
+pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_registry *reg,
+                        pl_diag *diag)
+{
+    if (len == 0) {
+        pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the scene is empty");
+        return NULL;
+    }
+    if (has_doctype(xml, len)) {
+        pl_diag_error(diag, PL_EINPUT, file, 0, NULL,
+                      "scenes may not declare a DTD or entities (<!DOCTYPE>, <!ENTITY>)");
+        return NULL;
+    }
+    if (len > (size_t)1 << 30) {
+        pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the scene is larger than 1 GiB");
+        return NULL;
+    }
+    xmlParserCtxtPtr ctxt = xmlNewParserCtxt();
+    if (!ctxt) {
+        pl_diag_error(diag, PL_EINTERNAL, file, 0, NULL, "out of memory");
+        return NULL;
+    }
+    int opts = XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_BIG_LINES;
+    xmlDocPtr doc = xmlCtxtReadMemory(ctxt, xml, (int)len, file, NULL, opts);
+    if (!doc) {
+        xmlErrorPtr e = xmlCtxtGetLastError(ctxt);
+        char msg[512] = "malformed XML";
+        if (e && e->message) {
+            snprintf(msg, sizeof msg, "malformed XML: %s", e->message);
+            size_t l = strlen(msg);
+            while (l && (msg[l - 1] == '\n' || msg[l - 1] == ' ')) msg[--l] = '\0';
+        }
+        pl_diag_error(diag, PL_EINPUT, file, e ? e->line : 0, NULL, "%s", msg);
+        xmlFreeParserCtxt(ctxt);
+        return NULL;
+    }
+    xmlNode *x = xmlDocGetRootElement(doc);
+    pl_node *root = NULL;
+    if (!x || strcmp((const char *)x->name, "Node") != 0) {
+        pl_diag_error(diag, PL_EINPUT, file, x ? line_of(x) : 0, NULL,
+                      "the root element must be <Node>, found <%s>",
+                      x ? (const char *)x->name : "nothing");
+    } else {
+        xmlChar *nm = xmlGetProp(x, (const xmlChar *)"name");
+        root = new_node(NULL, nm ? (const char *)nm : "root", file, line_of(x));
+        xmlFree(nm);
+        if (root) build_node(root, x, file, reg, diag);
+    }
+    xmlFreeDoc(doc);
+    xmlFreeParserCtxt(ctxt);
+    return root;
+}

@@ -1,0 +1,28 @@
+/* walk.h - private: tree traversals and field access by path. */
+#ifndef PLIANT_WALK_PRIVATE_H
+#define PLIANT_WALK_PRIVATE_H
+
+#include "pliant/model.h"
+#include "pliant/node.h"
+
+/* Every component, node by node, pre-order (a node's components in scene
+ * order before its children) or post-order (children first).  Stops when fn
+ * returns non-zero and returns that value. */
+int walk_pre(pl_node *n, pl_component_visit fn, void *user);
+int walk_post(pl_node *n, pl_component_visit fn, void *user);
+
+/* The component named by `path` ("root/bar/dofs", "bar/dofs" or a name
+ * unique in the scene).  On failure returns NULL with a message in err. */
+pl_component *pl_walk_component(pl_node *root, const char *path, pl_error *err);
+
+/* Sets "component.field" (or "node.dt", "node.gravity") from text. */
+int pl_walk_set(pl_node *root, const char *path, const char *value, pl_error *err);
+/* Same; *runtime tells whether the field may change without a rebuild. */
+int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int *runtime,
+                        pl_error *err);
+/* Formats the current value of "component.field" (state-backed values come
+ * from d through the component's get hook). */
+int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, size_t size,
+                pl_error *err);
+
+#endif

@@ -1,0 +1,198 @@
+/* test_scene.c - the scene loader: every mistake reported with file:line,
+ * the component path and the closest valid name; broken XML never crashes. */
+#include <check.h>
+#include <pliant/pliant.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static pl_diag diag;
+
+static void setup(void)
+{
+    pl_diag_init(&diag);
+    setenv("PLIANT_PLUGIN_PATH", PL_TEST_PLUGIN_DIR, 1);
+}
+static void teardown(void) { pl_diag_free(&diag); }
+
+/* Loads xml as "scene.xml"; returns the sim (NULL on failure). */
+static pl_sim *load(const char *xml)
+{
+    return pl_sim_load_string(xml, "scene.xml", NULL, &diag);
+}
+
+/* Whether some diagnostic contains all the given fragments. */
+static int has(const char *a, const char *b, int line)
+{
+    for (int k = 0; k < diag.count; ++k) {
+        char buf[2048];
+        pl_error_format(&diag.items[k], buf, sizeof buf);
+        if (strstr(buf, a) && (!b || strstr(buf, b)) && (line <= 0 || diag.items[k].line == line))
+            return 1;
+    }
+    return 0;
+}
+
+static const char *GOOD =
+    "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+    "  <RequiredPlugin name=\"pl_test_plugin\"/>\n"
+    "  <TestMover/>\n"
+    "  <Node name=\"body\">\n"
+    "    <MechanicalObject name=\"dofs\" position=\"0 0 0  1 0 0  0 1 0\" velocity=\"1 0 0\"/>\n"
+    "  </Node>\n"
+    "</Node>\n";
+
+START_TEST(a_good_scene_loads)
+{
+    pl_sim *s = load(GOOD);
+    pl_diag_print(&diag, stderr);
+    ck_assert_ptr_nonnull(s);
+    ck_assert_int_eq(diag.nerrors, 0);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(a_misspelled_attribute_names_file_line_and_suggestion)
+{
+    const char *xml = "<Node name=\"root\">\n"
+                      "  <Node name=\"bar\">\n"
+                      "    <MechanicalObject name=\"dofs\" positon=\"0 0 0\"/>\n"
+                      "  </Node>\n"
+                      "</Node>\n";
+    ck_assert_ptr_null(load(xml));
+    ck_assert(has("scene.xml:3:", "did you mean position?", 3));
+    ck_assert(has("root/bar/dofs", NULL, 3));
+}
+END_TEST
+
+START_TEST(an_unknown_component_gets_a_suggestion_and_all_errors_are_collected)
+{
+    const char *xml = "<Node name=\"root\">\n"
+                      "  <MechanicalObjet position=\"0 0 0\"/>\n"
+                      "  <UniformMass totalMas=\"1\"/>\n"
+                      "  <MechanicalObject position=\"0 0 x\"/>\n"
+                      "  <Zebra/>\n"
+                      "</Node>\n";
+    ck_assert_ptr_null(load(xml));
+    ck_assert(has("did you mean MechanicalObject?", NULL, 2));
+    ck_assert(has("did you mean totalMass?", NULL, 3));
+    ck_assert(has("expected a finite number, found 'x'", NULL, 4));
+    ck_assert(has("unknown component type 'Zebra'", "RequiredPlugin", 5));
+    ck_assert_int_ge(diag.nerrors, 4);
+}
+END_TEST
+
+START_TEST(node_attributes_are_checked)
+{
+    ck_assert_ptr_null(load("<Node name=\"r\" dt=\"-1\"/>"));
+    ck_assert(has("dt", "positive", 1));
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    ck_assert_ptr_null(load("<Node name=\"r\" gravty=\"0 0 0\"/>"));
+    ck_assert(has("did you mean gravity?", NULL, 1));
+}
+END_TEST
+
+START_TEST(malformed_xml_reports_its_line)
+{
+    ck_assert_ptr_null(load("<Node name=\"root\">\n  <MechanicalObject position=\"0 0 0\">\n</Node>\n"));
+    ck_assert(has("malformed XML", NULL, 0));
+    ck_assert_int_gt(diag.items[0].line, 0);
+}
+END_TEST
+
+START_TEST(entity_bombs_and_dtds_are_refused_quickly)
+{
+    const char *bomb =
+        "<?xml version=\"1.0\"?>\n"
+        "<!DOCTYPE lolz [<!ENTITY lol \"lol\">"
+        "<!ENTITY lol2 \"&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;\">"
+        "<!ENTITY lol3 \"&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;\">"
+        "<!ENTITY lol4 \"&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;\">"
+        "<!ENTITY lol9 \"&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;\">]>\n"
+        "<Node name=\"&lol9;\"/>\n";
+    double t0 = pl_now();
+    ck_assert_ptr_null(load(bomb));
+    ck_assert(pl_now() - t0 < 1.0);
+    ck_assert(has("DTD", NULL, 0));
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    const char *ext = "<?xml version=\"1.0\"?>\n<!DOCTYPE x SYSTEM \"http://example.com/x.dtd\">\n"
+                      "<Node/>\n";
+    ck_assert_ptr_null(load(ext));
+}
+END_TEST
+
+START_TEST(empty_wrong_root_and_missing_files)
+{
+    ck_assert_ptr_null(load(""));
+    ck_assert(has("empty", NULL, 0));
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    ck_assert_ptr_null(load("<Scene/>"));
+    ck_assert(has("root element must be <Node>", NULL, 1));
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    ck_assert_ptr_null(load("x"));
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    ck_assert_ptr_null(pl_sim_load_file("/nonexistent/scene.xml", NULL, &diag));
+    ck_assert(has("/nonexistent/scene.xml", "cannot open", 0));
+}
+END_TEST
+
+START_TEST(missing_plugin_wrong_link_and_required_field)
+{
+    const char *xml = "<Node name=\"root\">\n"
+                      "  <RequiredPlugin name=\"no_such_plugin\"/>\n"
+                      "  <MechanicalObject src=\"@nowhere\"/>\n"
+                      "  <DiagonalMass/>\n"
+                      "</Node>\n";
+    ck_assert_ptr_null(load(xml));
+    ck_assert(has("plugin 'no_such_plugin' not found", NULL, 2));
+    ck_assert(has("missing required attribute 'massDensity'", NULL, 4));
+}
+END_TEST
+
+START_TEST(overrides_apply_before_init_and_bad_ones_fail)
+{
+    const char *sets[] = {"dofs.velocity=2 0 0", "root.dt=0.005"};
+    pl_sim_options opt = {NULL, NULL, 0, sets, 2};
+    pl_sim *s = pl_sim_load_string(GOOD, "scene.xml", &opt, &diag);
+    ck_assert_ptr_nonnull(s);
+    char buf[256];
+    pl_error err;
+    ck_assert_int_eq(pl_sim_get(s, "root.dt", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0.0050000000000000001");
+    ck_assert_int_eq(pl_sim_get(s, "body/dofs.velocity", buf, sizeof buf, &err), PL_OK);
+    ck_assert(!strncmp(buf, "2 0 0 2 0 0", 11));
+    pl_sim_free(s);
+    const char *bad[] = {"dofs.velocityy=1"};
+    opt.overrides = bad;
+    opt.noverrides = 1;
+    ck_assert_ptr_null(pl_sim_load_string(GOOD, "scene.xml", &opt, &diag));
+    ck_assert(has("--set", "did you mean velocity?", 0));
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("scene");
+    TCase *tc = tcase_create("loader");
+    tcase_add_checked_fixture(tc, setup, teardown);
+    tcase_add_test(tc, a_good_scene_loads);
+    tcase_add_test(tc, a_misspelled_attribute_names_file_line_and_suggestion);
+    tcase_add_test(tc, an_unknown_component_gets_a_suggestion_and_all_errors_are_collected);
+    tcase_add_test(tc, node_attributes_are_checked);
+    tcase_add_test(tc, malformed_xml_reports_its_line);
+    tcase_add_test(tc, entity_bombs_and_dtds_are_refused_quickly);
+    tcase_add_test(tc, empty_wrong_root_and_missing_files);
+    tcase_add_test(tc, missing_plugin_wrong_link_and_required_field);
+    tcase_add_test(tc, overrides_apply_before_init_and_bad_ones_fail);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,158 @@
+/* test_state.c - model apart from state: save/restore round-trips exactly,
+ * reset returns to the loaded state, two states step over one model. */
+#include <check.h>
+#include <math.h>
+#include <pliant/pliant.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char *SCENE =
+    "<Node name=\"root\" dt=\"0.01\">\n"
+    "  <RequiredPlugin name=\"pl_test_plugin\"/>\n"
+    "  <TestMover name=\"mover\" acceleration=\"0 -9.81 0\"/>\n"
+    "  <Node name=\"body\">\n"
+    "    <MechanicalObject name=\"dofs\" position=\"0 0 0  1 0 0  0 1 0  0 0 1\" "
+    "velocity=\"0.3 0.1 0\"/>\n"
+    "  </Node>\n"
+    "</Node>\n";
+
+static pl_sim *load(void)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    setenv("PLIANT_PLUGIN_PATH", PL_TEST_PLUGIN_DIR, 1);
+    pl_sim *s = pl_sim_load_string(SCENE, "state.xml", NULL, &diag);
+    pl_diag_print(&diag, stderr);
+    pl_diag_free(&diag);
+    ck_assert_ptr_nonnull(s);
+    return s;
+}
+
+static void positions(pl_sim *s, pl_data *d, double *out)
+{
+    pl_component *c = pl_sim_component(s, "body/dofs");
+    const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
+    pl_buffer b = ops->positions(c, d);
+    memcpy(out, b.data, 12 * sizeof *out);
+}
+
+START_TEST(save_and_restore_round_trip_exactly)
+{
+    pl_sim *s = load();
+    pl_error err;
+    char path[] = "/tmp/pliant_state_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    close(fd);
+    double a[12], b[12];
+    ck_assert_int_eq(pl_sim_step(s, 10, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_save_state(s, path, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step(s, 7, &err), PL_OK);
+    positions(s, pl_sim_data(s), a);
+    double t_end = pl_sim_time(s);
+    ck_assert_int_eq(pl_sim_restore_state(s, path, &err), PL_OK);
+    ck_assert(pl_sim_time(s) == 10 * 0.01 || fabs(pl_sim_time(s) - 0.1) < 1e-15);
+    ck_assert_int_eq(pl_sim_step(s, 7, &err), PL_OK);
+    positions(s, pl_sim_data(s), b);
+    ck_assert(pl_sim_time(s) == t_end);
+    ck_assert_int_eq(memcmp(a, b, sizeof a), 0); /* bit for bit */
+    char buf[64];
+    ck_assert_int_eq(pl_sim_get(s, "mover.count", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "17");
+    /* the free fall moved the body: the test is not vacuous */
+    ck_assert(b[1] < -0.1);
+    unlink(path);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(restoring_a_foreign_or_broken_file_fails_cleanly)
+{
+    pl_sim *s = load();
+    pl_error err;
+    char path[] = "/tmp/pliant_bad_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    ck_assert_int_eq(write(fd, "PLSTATE1garbage", 15), 15);
+    close(fd);
+    double before[12], after[12];
+    positions(s, pl_sim_data(s), before);
+    ck_assert_int_eq(pl_sim_restore_state(s, path, &err), PL_EINPUT);
+    positions(s, pl_sim_data(s), after);
+    ck_assert_int_eq(memcmp(before, after, sizeof before), 0);
+    ck_assert_int_eq(pl_sim_restore_state(s, "/nonexistent/state", &err), PL_EINPUT);
+    unlink(path);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(reset_returns_to_the_loaded_state)
+{
+    pl_sim *s = load();
+    pl_error err;
+    double a[12], b[12];
+    positions(s, pl_sim_data(s), a);
+    ck_assert_int_eq(pl_sim_step(s, 5, &err), PL_OK);
+    positions(s, pl_sim_data(s), b);
+    ck_assert(memcmp(a, b, sizeof a) != 0);
+    ck_assert_int_eq(pl_sim_reset(s), PL_OK);
+    positions(s, pl_sim_data(s), b);
+    ck_assert_int_eq(memcmp(a, b, sizeof a), 0);
+    ck_assert(pl_sim_time(s) == 0.0);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(two_states_step_independently_over_one_model)
+{
+    pl_sim *s = load();
+    pl_error err;
+    pl_data *other = pl_data_clone(pl_sim_data(s));
+    ck_assert_ptr_nonnull(other);
+    double a[12], b[12];
+    ck_assert_int_eq(pl_sim_step(s, 12, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step_data(s, other, 5, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step_data(s, other, 7, &err), PL_OK);
+    positions(s, pl_sim_data(s), a);
+    positions(s, other, b);
+    ck_assert_int_eq(memcmp(a, b, sizeof a), 0);
+    ck_assert(other->time == pl_sim_time(s));
+    pl_data_free(other);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(set_at_run_time_changes_the_motion)
+{
+    pl_sim *s = load();
+    pl_error err;
+    double a[12];
+    ck_assert_int_eq(pl_sim_set(s, "mover.acceleration", "0 0 0", &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step(s, 10, &err), PL_OK);
+    positions(s, pl_sim_data(s), a);
+    ck_assert(a[1] > 0.0); /* no gravity any more: the initial vy carries it up */
+    ck_assert_int_eq(pl_sim_set(s, "mover.acceleratio", "0 0 0", &err), PL_EINPUT);
+    ck_assert_ptr_nonnull(strstr(err.msg, "did you mean acceleration?"));
+    ck_assert_int_eq(pl_sim_set(s, "nobody.acceleration", "0 0 0", &err), PL_EINPUT);
+    pl_sim_free(s);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("state");
+    TCase *tc = tcase_create("model_and_data");
+    tcase_add_test(tc, save_and_restore_round_trip_exactly);
+    tcase_add_test(tc, restoring_a_foreign_or_broken_file_fails_cleanly);
+    tcase_add_test(tc, reset_returns_to_the_loaded_state);
+    tcase_add_test(tc, two_states_step_independently_over_one_model);
+    tcase_add_test(tc, set_at_run_time_changes_the_motion);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
