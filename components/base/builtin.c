@@ -2,6 +2,7 @@
 #include "pliant/registry.h"
 
 #include "constraint/prescribed.h"
+#include "export/export.h"
 #include "loader/loader.h"
 #include "mass/mass.h"
 #include "solver/solver.h"
@@ -18,6 +19,8 @@ static const pl_type *const BUILTIN[] = {
     &pl_grid_triangles_type,
     &pl_sphere_mesh_type,
     &pl_cylinder_mesh_type,
+    &pl_vtk_exporter_type,
+    &pl_write_state_type,
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
 };

@@ -1,12 +1,219 @@
-/* cmd_regress.c - `pliant regress LIST`: SOFA-style state regression. */
+/* cmd_regress.c - `pliant regress LIST [--update] [--refs DIR]`: SOFA's
+ * state regression.  Each line of LIST ("scene steps epsilon [mapped]
+ * [lastonly]") runs a scene and compares every MechanicalObject's positions
+ * with the stored reference files <refs>/<scene>.reference_<k>_<name>_mstate.txt.gz
+ * using SOFA's measure (per compared step ||x - x_ref|| / nDoF, summed,
+ * averaged over states, against epsilon).  --update rewrites the references.
+ * Exit: 0 all passed, 1 some failed, 2 bad input. */
+#include <pliant/pliant.h>
+
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli.h"
+#include "export/export.h"
+
+typedef struct states {
+    pl_component *items[64];
+    int n;
+} states;
+
+static int add_state(pl_component *c, void *user)
+{
+    states *s = user;
+    if (s->n < 64) s->items[s->n++] = c;
+    return 0;
+}
+
+static void dir_of(const char *path, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (slash)
+        snprintf(out, size, "%.*s", (int)(slash - path), path);
+    else
+        snprintf(out, size, ".");
+}
+
+static const char *base_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+static int record(pl_sim *sim, const states *st, pl_state_records *rec, pl_error *err)
+{
+    for (int k = 0; k < st->n; ++k) {
+        const pl_state_ops *ops = pl_component_role(st->items[k], PL_ROLE_STATE);
+        pl_buffer x = ops->positions(st->items[k], pl_sim_data(sim));
+        int rc = pl_state_records_add(&rec[k], pl_sim_time(sim), pl_buffer_f64(&x), (int)x.rows * 3,
+                                      NULL, 0, err);
+        if (rc) return rc;
+    }
+    return PL_OK;
+}
+
+/* Runs one entry and returns the sim (the caller frees it: the state
+ * components' names are needed for the reference files), NULL on error. */
+static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *out_dir,
+                         states *st, pl_state_records *rec, pl_error *err)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {NULL, out_dir, 0, NULL, 0};
+    pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
+    if (!sim) {
+        pl_diag_print(&diag, stderr);
+        pl_diag_free(&diag);
+        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load");
+        return NULL;
+    }
+    pl_diag_free(&diag);
+    st->n = 0;
+    pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, add_state, st);
+    for (int k = 0; k < st->n; ++k) pl_state_records_init(&rec[k]);
+    int rc = record(sim, st, rec, err);
+    for (int s = 0; rc == PL_OK && s < e->steps; ++s) {
+        rc = pl_sim_step(sim, 1, err);
+        if (rc == PL_OK && (!e->last_only || s == e->steps - 1)) rc = record(sim, st, rec, err);
+    }
+    if (rc != PL_OK) {
+        pl_sim_free(sim);
+        return NULL;
+    }
+    return sim;
+}
+
+static int reference_path(char *buf, size_t size, const char *refs, const char *scene, int k,
+                          const char *name)
+{
+    char base[4096];
+    snprintf(base, sizeof base, "%s/%s", refs, base_of(scene));
+    return pl_regression_reference_path(buf, size, base, k, name) >= (int)size ? -1 : 0;
+}
+
+static int write_refs(const char *refs, const char *scene, const states *st,
+                      const pl_state_records *rec, pl_error *err)
+{
+    for (int k = 0; k < st->n; ++k) {
+        char path[2048];
+        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
+        pl_state_writer *w = pl_state_writer_open(path, 0, err);
+        if (!w) return err->code;
+        for (int r = 0; r < rec[k].count; ++r)
+            if (pl_state_writer_write(w, rec[k].items[r].time, rec[k].items[r].x,
+                                      rec[k].items[r].nx, NULL, 0, err)) {
+                pl_state_writer_close(w, NULL);
+                return err->code;
+            }
+        if (pl_state_writer_close(w, err)) return err->code;
+    }
+    return PL_OK;
+}
+
+static int compare_refs(const char *refs, const char *scene, const states *st,
+                        const pl_state_records *rec, double dt, double epsilon,
+                        pl_regression_result *res, pl_error *err)
+{
+    pl_state_records ref[64];
+    int rc = PL_OK;
+    for (int k = 0; k < st->n; ++k) pl_state_records_init(&ref[k]);
+    for (int k = 0; k < st->n && rc == PL_OK; ++k) {
+        char path[2048];
+        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
+            rc = pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
+        else if (access(path, R_OK) != 0)
+            rc = pl_error_set(err, PL_EINPUT, path, 0, NULL,
+                              "no reference file (run with --update to create it)");
+        else
+            rc = pl_state_file_read(path, &ref[k], err);
+    }
+    if (rc == PL_OK) rc = pl_regression_compare(ref, rec, st->n, 0.5 * dt, epsilon, res, err);
+    for (int k = 0; k < st->n; ++k) pl_state_records_free(&ref[k]);
+    return rc;
+}
 
 int cli_regress(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, "pliant regress: being written\n");
-    return 1;
+    const char *list_path = NULL, *refs_opt = NULL;
+    int update = 0;
+    for (int k = 0; k < argc; ++k) {
+        if (!strcmp(argv[k], "--update"))
+            update = 1;
+        else if (!strcmp(argv[k], "--refs") && k + 1 < argc)
+            refs_opt = argv[++k];
+        else if (argv[k][0] != '-' && !list_path)
+            list_path = argv[k];
+        else {
+            fprintf(stderr, "pliant regress: unexpected argument '%s'\n", argv[k]);
+            return 2;
+        }
+    }
+    if (!list_path) {
+        fprintf(stderr, "usage: pliant regress LIST [--update] [--refs DIR]\n");
+        return 2;
+    }
+    pl_regression_list list = {0};
+    pl_diag diag;
+    pl_diag_init(&diag);
+    if (pl_regression_list_load(list_path, &list, &diag) != PL_OK) {
+        pl_diag_print(&diag, stderr);
+        pl_diag_free(&diag);
+        pl_regression_list_free(&list);
+        return 2;
+    }
+    pl_diag_free(&diag);
+    char list_dir[1024], refs[2048], out_dir[] = "/tmp/pliant_regress_XXXXXX";
+    dir_of(list_path, list_dir, sizeof list_dir);
+    if (refs_opt)
+        snprintf(refs, sizeof refs, "%s", refs_opt);
+    else if (list.ref_dir)
+        snprintf(refs, sizeof refs, "%s/%s", list_dir, list.ref_dir);
+    else
+        snprintf(refs, sizeof refs, "%s/references", list_dir);
+    if (update) mkdir(refs, 0755);
+    if (!mkdtemp(out_dir)) {
+        fprintf(stderr, "pliant regress: cannot create a temporary folder\n");
+        pl_regression_list_free(&list);
+        return 1;
+    }
+    printf("%-40s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
+    int failed = 0, bad = 0;
+    for (int i = 0; i < list.count; ++i) {
+        const pl_regression_entry *e = &list.items[i];
+        char scene[2048];
+        snprintf(scene, sizeof scene, "%s/%s", list_dir, e->scene);
+        states st = {{0}, 0};
+        pl_state_records rec[64];
+        pl_error err;
+        pl_regression_result res = {0};
+        pl_sim *sim = run_entry(scene, e, out_dir, &st, rec, &err);
+        int rc = sim ? PL_OK : err.code;
+        double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
+        if (rc == PL_OK)
+            rc = update ? write_refs(refs, e->scene, &st, rec, &err)
+                        : compare_refs(refs, e->scene, &st, rec, dt, e->epsilon, &res, &err);
+        if (rc != PL_OK) {
+            char msg[1600];
+            printf("%-40s %6d %10.3g %12s  ERROR: %s\n", e->scene, e->steps, e->epsilon, "-",
+                   pl_error_format(&err, msg, sizeof msg));
+            bad++;
+        } else if (update) {
+            printf("%-40s %6d %10.3g %12s  reference written (%d states)\n", e->scene, e->steps,
+                   e->epsilon, "-", st.n);
+        } else {
+            printf("%-40s %6d %10.3g %12.3e  %s\n", e->scene, e->steps, e->epsilon,
+                   res.error_by_dof, res.passed ? "pass" : "FAIL");
+            if (!res.passed) failed++;
+        }
+        for (int k = 0; k < st.n; ++k) pl_state_records_free(&rec[k]);
+        pl_sim_free(sim);
+    }
+    printf("%d scenes: %d passed, %d failed, %d errors\n", list.count,
+           list.count - failed - bad, failed, bad);
+    pl_regression_list_free(&list);
+    return bad ? 2 : failed ? 1 : 0;
 }
