@@ -1,0 +1,153 @@
+/* sparse_inverse_solver.c - the SparseInverseSolver component: plays the
+ * global solver role with the sparse inverse S = L^-1 (or CHOLMOD's own
+ * solves in mode "direct"). */
+#include "sparse_inverse.h"
+
+#include <stddef.h>
+#include <stdio.h>
+#include "pliant/component.h"
+#include "pliant/log.h"
+#include "pliant/plugin.h"
+#include "pliant/roles.h"
+#include "pliant/timer.h"
+
+typedef struct sparse_inverse_solver {
+    pl_component base;
+    int ordering;              /* pl_spinv_ordering */
+    int mode;                  /* pl_spinv_mode */
+    int threads;
+    pl_sparse_inverse *solver; /* built by factor */
+} sparse_inverse_solver;
+
+static const char *const ordering_choices[] = {"metis", "nesdis", "amd", "natural", NULL};
+static const char *const mode_choices[] = {"sparse", "direct", NULL};
+
+static const pl_field solver_fields[] = {
+    PL_FIELD_ENUM(sparse_inverse_solver, ordering, "ordering", ordering_choices, "metis",
+                  "fill-reducing ordering of the Cholesky factor: metis, nesdis (CHOLMOD's nested "
+                  "dissection), amd or natural; always followed by an etree postorder",
+                  0),
+    PL_FIELD_ENUM(sparse_inverse_solver, mode, "mode", mode_choices, "sparse",
+                  "sparse: global step as S^T S b with the explicit S = L^-1; direct: CHOLMOD's "
+                  "triangular solves (the CPU reference)",
+                  0),
+    PL_FIELD(sparse_inverse_solver, threads, "threads", PL_F_INT, "0",
+             "OpenMP threads for the inverse and the products [count] (0 = OpenMP's default)", 0),
+};
+
+static int solver_init(pl_component *c, pl_ctx *ctx)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    if (s->threads < 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "threads must be >= 0 (0 = default), got %d",
+                                  s->threads);
+    return PL_OK;
+}
+
+static void solver_destroy(pl_component *c)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    pl_sparse_inverse_destroy(s->solver);
+    s->solver = NULL;
+}
+
+static void report(pl_component *c, const pl_spinv_stats *st, struct pl_timers *timers)
+{
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
+    const double mb = 1024.0 * 1024.0; /* MB = 2^20 bytes */
+    char path[256];
+    if (s->mode == PL_SPINV_SPARSE)
+        pl_log_info("%s: %s ordering, n = %d, nnz(A) = %lld, nnz(L) = %lld, nnz(S) = %lld, "
+                    "S %.1f MB + S^T %.1f MB (%lld runs), factor %.3f s, inverse %.3f s",
+                    pl_component_path(c, path, sizeof path),
+                    pl_spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
+                    (long long)st->nnz_A, (long long)st->nnz_L, (long long)st->nnz_S,
+                    st->bytes_S / mb, st->bytes_ST / mb, (long long)st->runs_ST, st->factor_s,
+                    st->inverse_s);
+    else
+        pl_log_info("%s: %s ordering, direct mode, n = %d, nnz(A) = %lld, nnz(L) = %lld "
+                    "(nnz(S) would be %lld), factor %.3f s",
+                    pl_component_path(c, path, sizeof path),
+                    pl_spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
+                    (long long)st->nnz_A, (long long)st->nnz_L, (long long)st->nnz_S,
+                    st->factor_s);
+    if (!timers) return;
+    pl_stat_set(timers, "nnz(A)", (double)st->nnz_A);
+    pl_stat_set(timers, "nnz(L)", (double)st->nnz_L);
+    pl_stat_set(timers, "nnz(S)", (double)st->nnz_S);
+    pl_stat_set(timers, "S memory [MB]", (st->bytes_S + st->bytes_ST) / mb);
+    pl_stat_set(timers, "factor [s]", st->factor_s);
+    pl_stat_set(timers, "inverse [s]", st->inverse_s);
+}
+
+static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *timers,
+                         pl_error *err)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    pl_spinv_options opt = {(pl_spinv_ordering)s->ordering, (pl_spinv_mode)s->mode, s->threads};
+    /* a new object picks up field changes (ordering, mode, threads) */
+    pl_sparse_inverse_destroy(s->solver);
+    s->solver = pl_sparse_inverse_create(&opt);
+    if (!s->solver) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    pl_error e;
+    int status = pl_sparse_inverse_factor(s->solver, A, &e);
+    if (status != PL_OK) return pl_component_fail(c, err, status, "%s", e.msg);
+    report(c, pl_sparse_inverse_stats(s->solver), timers);
+    return PL_OK;
+}
+
+static int solver_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    int n = pl_sparse_inverse_size(s->solver);
+    if (n == 0) return pl_component_fail(c, err, PL_EINPUT, "solve called before factor");
+    double *bd = pl_buffer_f64(b), *xd = pl_buffer_f64(x);
+    if (!bd || !xd)
+        return pl_component_fail(c, err, PL_EINPUT, "solve takes host float64 buffers");
+    if (b->rows != (size_t)n || x->rows != (size_t)n || b->cols != x->cols || b->cols < 1 ||
+        b->cols > 1024)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "solve: expected two %d x k blocks, got %zu x %zu and %zu x %zu",
+                                 n, b->rows, b->cols, x->rows, x->cols);
+    return pl_sparse_inverse_solve(s->solver, bd, xd, (int)b->cols, err);
+}
+
+static int solver_apply_rows(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "rows applied before factor");
+    return pl_sparse_inverse_apply_inverse_to_rows(s->solver, H, Y, err);
+}
+
+static int solver_inverse_diagonal(pl_component *c, double *diag, pl_error *err)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "diagonal asked before factor");
+    return pl_sparse_inverse_inverse_diagonal(s->solver, diag, err);
+}
+
+static int solver_size(const pl_component *c)
+{
+    return pl_sparse_inverse_size(((const sparse_inverse_solver *)c)->solver);
+}
+
+static const pl_global_solver_ops solver_ops = {
+    .version = PL_GLOBAL_SOLVER_OPS_VERSION,
+    .factor = solver_factor,
+    .solve = solver_solve,
+    .apply_inverse_to_rows = solver_apply_rows,
+    .inverse_diagonal = solver_inverse_diagonal,
+    .size = solver_size,
+};
+
+const pl_type pl_sparse_inverse_solver_type = {
+    .abi_version = PL_ABI_VERSION,
+    .name = "SparseInverseSolver",
+    .help = "global step A^-1 b = P^T S^T S P b through the explicit sparse inverse S = L^-1 of "
+            "the Cholesky factor (CHOLMOD, METIS)",
+    .size = sizeof(sparse_inverse_solver),
+    .fields = solver_fields,
+    .nfields = (int)(sizeof solver_fields / sizeof solver_fields[0]),
+    .ops = {.init = solver_init, .destroy = solver_destroy},
+    .roles = {[PL_ROLE_GLOBAL_SOLVER] = &solver_ops},
+};

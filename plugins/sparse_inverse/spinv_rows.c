@@ -1,0 +1,165 @@
+/* spinv_rows.c - Y = S P H^T for sparse rows H (the Delassus operator's
+ * factor: H A^-1 H^T = Y^T Y).  Column r of Y is L^-1 applied to the
+ * permuted row r of H; its pattern is the union of the etree paths of that
+ * row's nonzeros.  Columns are independent: two parallel passes (count,
+ * then fill), each column by one thread, so the result is deterministic. */
+#include "spinv_internal.h"
+
+#include <limits.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Pattern of column r into list (unsorted); mark is all zero before and after. */
+static int row_pattern(const pl_sparse_inverse *s, const pl_csr *H, int r, char *mark, int *list)
+{
+    int len = 0;
+    for (int q = H->p[r]; q < H->p[r + 1]; ++q) {
+        /* paths merge on the way up: stop where an earlier one passed */
+        for (int k = s->pinv[H->j[q]]; k != -1 && !mark[k]; k = s->parent[k]) {
+            mark[k] = 1;
+            list[len++] = k;
+        }
+    }
+    for (int t = 0; t < len; ++t) mark[list[t]] = 0;
+    return len;
+}
+
+/* Sparse mode: w = sum_q h_q * (column pinv[j_q] of S), read from S^T. */
+static void row_values_sparse(const pl_sparse_inverse *s, const pl_csr *H, int r, double *w)
+{
+    const pl_spinv_runs *ST = &s->ST;
+    for (int q = H->p[r]; q < H->p[r + 1]; ++q) {
+        double h = H->x[q];
+        int k = s->pinv[H->j[q]];
+        const double *v = ST->val + ST->start[k];
+        for (int64_t u = ST->run_ptr[k]; u < ST->run_ptr[k + 1]; ++u) {
+            double *wc = w + ST->run_col[u];
+            for (int t = 0; t < ST->run_len[u]; ++t) wc[t] += h * v[t];
+            v += ST->run_len[u];
+        }
+    }
+}
+
+/* Direct mode: the sparse triangular solve L w = P h over the sorted
+ * pattern (ascending order is a topological order of the etree). */
+static void row_values_direct(const pl_sparse_inverse *s, const pl_csr *H, int r,
+                              const int *pattern, int len, double *w)
+{
+    const cholmod_factor *L = s->L;
+    const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
+    const double *Lx = L->x;
+    for (int q = H->p[r]; q < H->p[r + 1]; ++q) w[s->pinv[H->j[q]]] += H->x[q];
+    for (int t = 0; t < len; ++t) {
+        int k = pattern[t], p0 = Lp[k];
+        double v = w[k] / Lx[p0];
+        w[k] = v;
+        for (int q = p0 + 1; q < p0 + Lnz[k]; ++q) w[Li[q]] -= Lx[q] * v;
+    }
+}
+
+static int check_rows(const pl_sparse_inverse *s, const pl_csr *H, pl_error *err)
+{
+    if (!s || s->n == 0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "sparse inverse: apply_inverse_to_rows before factor");
+    if (!H || !H->p || H->nrows < 0 || H->ncols != s->n || H->p[0] != 0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "sparse inverse: rows must be a CSR matrix with %d columns", s->n);
+    for (int r = 0; r < H->nrows; ++r) {
+        if (H->p[r + 1] < H->p[r])
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "sparse inverse: row pointers decrease at row %d", r);
+        for (int q = H->p[r]; q < H->p[r + 1]; ++q)
+            if (H->j[q] < 0 || H->j[q] >= s->n)
+                return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                    "sparse inverse: column %d of row %d out of range", H->j[q], r);
+    }
+    return PL_OK;
+}
+
+/* Pass 1: Y->p from the pattern sizes; allocates Y->i and Y->x. */
+static int count_columns(const pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y, char *mark,
+                         int *list, pl_error *err)
+{
+    int m = H->nrows, n = s->n;
+    int64_t *cnt = malloc(((size_t)m + 1) * sizeof *cnt);
+    if (!cnt) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
+#pragma omp parallel num_threads(s->nthreads)
+    {
+        size_t tid = (size_t)omp_get_thread_num();
+        char *mk = mark + tid * (size_t)n;
+        int *ls = list + tid * (size_t)n;
+#pragma omp for schedule(dynamic, 8)
+        for (int r = 0; r < m; ++r) cnt[r] = row_pattern(s, H, r, mk, ls);
+    }
+    int64_t total = 0;
+    for (int r = 0; r < m; ++r) {
+        Y->p[r] = (int)total;
+        total += cnt[r];
+        if (total > INT_MAX) {
+            free(cnt);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "sparse inverse: Y would have more than %d nonzeros", INT_MAX);
+        }
+    }
+    Y->p[m] = (int)total;
+    free(cnt);
+    size_t cap = total ? (size_t)total : 1;
+    Y->i = malloc(cap * sizeof *Y->i);
+    Y->x = malloc(cap * sizeof *Y->x);
+    if (!Y->i || !Y->x) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    return PL_OK;
+}
+
+int pl_sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
+                                            pl_error *err)
+{
+    if (!Y) return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse: no output");
+    memset(Y, 0, sizeof *Y);
+    int status = check_rows(s, H, err);
+    if (status != PL_OK) return status;
+    int n = s->n, m = H->nrows, nt = s->nthreads;
+    Y->nrows = n;
+    Y->ncols = m;
+    Y->p = malloc(((size_t)m + 1) * sizeof *Y->p);
+    char *mark = calloc((size_t)n * (size_t)nt, 1);
+    int *list = malloc((size_t)n * (size_t)nt * sizeof *list);
+    double *w = calloc((size_t)n * (size_t)nt, sizeof *w);
+    if (!Y->p || !mark || !list || !w)
+        status = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
+    if (status == PL_OK) status = count_columns(s, H, Y, mark, list, err);
+    if (status == PL_OK) {
+        int direct = s->opt.mode == PL_SPINV_DIRECT;
+#pragma omp parallel num_threads(nt)
+        {
+            size_t tid = (size_t)omp_get_thread_num();
+            char *mk = mark + tid * (size_t)n;
+            double *wt = w + tid * (size_t)n;
+#pragma omp for schedule(dynamic, 8)
+            for (int r = 0; r < m; ++r) {
+                int *pat = Y->i + Y->p[r];
+                int len = row_pattern(s, H, r, mk, pat);
+                qsort(pat, (size_t)len, sizeof *pat, cmp_int);
+                if (direct) row_values_direct(s, H, r, pat, len, wt);
+                else row_values_sparse(s, H, r, wt);
+                double *yx = Y->x + Y->p[r];
+                for (int t = 0; t < len; ++t) {
+                    yx[t] = wt[pat[t]];
+                    wt[pat[t]] = 0.0;
+                }
+            }
+        }
+    }
+    free(mark);
+    free(list);
+    free(w);
+    if (status != PL_OK) pl_csc_free(Y);
+    return status;
+}
