@@ -15,7 +15,7 @@ function(pliant_add_test name)
   endif()
   # CK_FORK=yes: a crashing test is reported, not fatal to the suite.
   set_tests_properties(${name} PROPERTIES TIMEOUT ${T_TIMEOUT}
-    ENVIRONMENT "CK_FORK=yes;CK_VERBOSITY=normal;OMP_NUM_THREADS=2")
+    ENVIRONMENT "CK_FORK=yes;CK_VERBOSITY=normal;OMP_NUM_THREADS=2;OMP_WAIT_POLICY=PASSIVE")
 endfunction()
 
 # pliant_add_plugin(NAME SOURCES a.c ... [LIBS lib ...])

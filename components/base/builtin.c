@@ -3,6 +3,7 @@
 
 #include "constraint/prescribed.h"
 #include "export/export.h"
+#include "force/force.h"
 #include "loader/loader.h"
 #include "mass/mass.h"
 #include "solver/solver.h"
@@ -14,6 +15,7 @@ static const pl_type *const BUILTIN[] = {
     &pl_diagonal_mass_type,
     &pl_fixed_constraint_type,
     &pl_prescribed_motion_type,
+    &pl_constant_force_field_type,
     &pl_mesh_loader_type,
     &pl_grid_tetrahedra_type,
     &pl_grid_triangles_type,

@@ -13,11 +13,13 @@ typedef struct mechanical_object {
     pl_component base;
     pl_doubles position;   /* field: initial positions */
     pl_doubles velocity;   /* field: initial velocities */
+    pl_doubles rest_position; /* field: rest positions when they differ from the initial ones */
     pl_link src;
     double translation[3], rotation[3], scale3d[3];
     /* model */
     int n;
     double *rest;          /* n x 3, after the transform */
+    double *x0;            /* n x 3 initial positions (== rest unless rest_position is given) */
     double *v0;            /* n x 3 */
     int slot_x, slot_v;
     int offset;
@@ -28,6 +30,10 @@ static const pl_field FIELDS[] = {
              "initial positions [m], x y z per vertex (default: the mesh of src)", 0),
     PL_FIELD(mechanical_object, velocity, "velocity", PL_F_DOUBLES, NULL,
              "initial velocities [m/s], x y z per vertex, or one vector for all (default 0)", 0),
+    PL_FIELD(mechanical_object, rest_position, "rest_position", PL_F_DOUBLES, NULL,
+             "rest positions [m] when they differ from the initial ones (default: the initial "
+             "positions); transformed like them",
+             0),
     PL_FIELD(mechanical_object, src, "src", PL_F_LINK, NULL,
              "loader or generator whose vertices become the positions (default: the node's first)",
              0),
@@ -62,17 +68,28 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
                                   "velocity: expected 3 numbers or 3 per vertex (%d), found %d",
                                   3 * mo->n, mo->velocity.n);
     size_t bytes = (size_t)mo->n * 3 * sizeof(double);
+    if (mo->rest_position.n && mo->rest_position.n != 3 * mo->n)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "rest_position: expected 3 numbers per vertex (%d), found %d",
+                                  3 * mo->n, mo->rest_position.n);
     mo->rest = malloc(bytes);
+    mo->x0 = malloc(bytes);
     mo->v0 = calloc((size_t)mo->n * 3, sizeof(double));
-    if (!mo->rest || !mo->v0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (!mo->rest || !mo->x0 || !mo->v0)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    const double *xr = mo->rest_position.n ? mo->rest_position.v : x;
     double R[9];
     pl_util_rotation_deg(mo->rotation, R);
     for (int i = 0; i < mo->n; ++i) {
-        double p[3];
+        double p[3], pr[3];
         for (int k = 0; k < 3; ++k) p[k] = x[3 * i + k] * mo->scale3d[k];
-        for (int k = 0; k < 3; ++k)
-            mo->rest[3 * i + k] =
+        for (int k = 0; k < 3; ++k) pr[k] = xr[3 * i + k] * mo->scale3d[k];
+        for (int k = 0; k < 3; ++k) {
+            mo->x0[3 * i + k] =
                 R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2] + mo->translation[k];
+            mo->rest[3 * i + k] =
+                R[3 * k] * pr[0] + R[3 * k + 1] * pr[1] + R[3 * k + 2] * pr[2] + mo->translation[k];
+        }
         for (int k = 0; k < 3 && mo->velocity.n; ++k)
             mo->v0[3 * i + k] = mo->velocity.v[mo->velocity.n == 3 ? k : 3 * i + k];
     }
@@ -88,7 +105,7 @@ static int mo_bind(pl_component *c, pl_ctx *ctx)
 {
     mechanical_object *mo = (mechanical_object *)c;
     size_t bytes = (size_t)mo->n * 3 * sizeof(double);
-    memcpy(pl_data_slot(ctx->data, mo->slot_x), mo->rest, bytes);
+    memcpy(pl_data_slot(ctx->data, mo->slot_x), mo->x0, bytes);
     memcpy(pl_data_slot(ctx->data, mo->slot_v), mo->v0, bytes);
     return PL_OK;
 }
@@ -97,6 +114,7 @@ static void mo_destroy(pl_component *c)
 {
     mechanical_object *mo = (mechanical_object *)c;
     free(mo->rest);
+    free(mo->x0);
     free(mo->v0);
 }
 

@@ -1,0 +1,209 @@
+/* fem_term.c - the FEM local term shared by ARAP, Corotational and
+ * NeoHookean: finds its mesh (init) and state (bind), builds the element
+ * set from the state's rest positions (reinit, again whenever a field
+ * changes), and plays PL_ROLE_LOCAL_TERM through hyperelastic_core.
+ * ADMM-PD duals (3 x d per element) live in the pl_data slot "dual". */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/component_util.h"
+#include "fem_term.h"
+
+const char *const hyper_fem_element_choices[] = {"auto", "tetrahedra", "triangles", NULL};
+
+double *hyper_term_block(const pl_component *c, const pl_buffer *b, int offset, int nverts,
+                         const char *what, pl_error *err)
+{
+    double *x = pl_buffer_f64(b);
+    if (!x || b->cols != 3)
+        pl_component_fail(c, err, PL_EINTERNAL, "%s: expected host float64 n x 3 data", what);
+    else if (offset < 0 || b->rows < (size_t)offset + (size_t)nverts)
+        pl_component_fail(c, err, PL_EINTERNAL, "%s: %zu rows, but its vertices are %d .. %d",
+                          what, b->rows, offset, offset + nverts - 1);
+    else
+        return x;
+    return NULL;
+}
+
+int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    f->material = material;
+    f->dual_slot = -1;
+    f->mesh = pl_util_topology(c, &f->src, ctx, 1);
+    if (!f->mesh) return PL_EINPUT;
+    const pl_mesh *m = f->mesh;
+    if (f->elements == 1 || (f->elements == 0 && m->ntets > 0)) {
+        if (m->ntets == 0)
+            return pl_component_error(c, ctx, PL_EINPUT,
+                                      "elements=\"tetrahedra\" but the mesh has none");
+        f->k = 4;
+        f->nelem = m->ntets;
+    } else {
+        if (m->ntris == 0)
+            return pl_component_error(c, ctx, PL_EINPUT,
+                                      "the mesh has neither tetrahedra nor triangles");
+        f->k = 3;
+        f->nelem = m->ntris;
+    }
+    if (f->young.n != 1 && f->young.n != f->nelem)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "youngModulus: expected 1 value or one per element (%d), got %d",
+                                  f->nelem, f->young.n);
+    if (f->poisson.n != 1 && f->poisson.n != f->nelem)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "poissonRatio: expected 1 value or one per element (%d), got %d",
+                                  f->nelem, f->poisson.n);
+    for (int i = 0; i < f->nelem; ++i) {
+        double mu, la;
+        pl_error e;
+        int rc = pl_hyper_lame(f->young.v[f->young.n == 1 ? 0 : i],
+                               f->poisson.v[f->poisson.n == 1 ? 0 : i], 0, &mu, &la, &e);
+        if (rc != PL_OK && f->young.n == 1 && f->poisson.n == 1)
+            return pl_component_error(c, ctx, rc, "%s", e.msg);
+        if (rc != PL_OK) return pl_component_error(c, ctx, rc, "element %d: %s", i, e.msg);
+        if (f->young.n == 1 && f->poisson.n == 1) break;
+    }
+    if (f->k == 3 && !(f->thickness > 0.0))
+        return pl_component_error(c, ctx, PL_EINPUT, "thickness must be positive [m], got %g",
+                                  f->thickness);
+    if (material != PL_HYPER_ARAP) {
+        size_t bytes = (size_t)f->nelem * 3 * (f->k - 1) * sizeof(double);
+        f->dual_slot = pl_model_add_slot(ctx->model, c, "dual", bytes);
+        if (f->dual_slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    }
+    return PL_OK;
+}
+
+int hyper_fem_bind(pl_component *c, pl_ctx *ctx)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    f->state = pl_util_state(c, ctx, 1);
+    return f->state ? PL_OK : PL_EINPUT;
+}
+
+int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    pl_hyper_elements_free(&f->el);
+    if (!f->state || !f->mesh) return PL_EINPUT; /* init or bind already reported why */
+    int nrest;
+    const double *rest = pl_util_rest(f->state, &nrest);
+    if (!rest) return pl_component_error(c, ctx, PL_EINPUT, "its state has no rest positions");
+    pl_error err;
+    const int *cells = f->k == 4 ? f->mesh->tets : f->mesh->tris;
+    int rc = pl_hyper_elements_build(&f->el, f->material, f->k, cells, f->nelem, rest, nrest,
+                                     f->young.v, f->young.n, f->poisson.v, f->poisson.n,
+                                     f->thickness, &err);
+    if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
+    double wsum = 0.0;
+    for (int i = 0; i < f->el.n; ++i) wsum += f->el.w[i];
+    pl_log_info("%s: %d %s, %s, mean weight w = %g N m", c->name, f->el.n,
+                f->k == 4 ? "tetrahedra" : "triangles",
+                f->material == PL_HYPER_ARAP ? "PD (w = 2 mu V)" : "ADMM-PD (w = (2 mu + lambda) V)",
+                f->el.n ? wsum / f->el.n : 0.0);
+    return PL_OK;
+}
+
+int hyper_fem_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    (void)err;
+    if (f->dual_slot >= 0 && !f->warm_start)
+        memset(pl_data_slot(ctx->data, f->dual_slot), 0, pl_data_slot_bytes(ctx->data, f->dual_slot));
+    return PL_OK;
+}
+
+void hyper_fem_destroy(pl_component *c)
+{
+    pl_hyper_elements_free(&((hyper_fem *)c)->el);
+}
+
+/* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
+
+static pl_component *fem_state(const pl_component *c)
+{
+    return ((const hyper_fem *)c)->state;
+}
+
+static int fem_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A, pl_error *err)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    pl_error e;
+    if (pl_hyper_elements_add_matrix(&f->el, offset, h2, A, &e) != PL_OK)
+        return pl_component_fail(c, err, e.code, "%s", e.msg);
+    return PL_OK;
+}
+
+static int fem_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+                       pl_buffer *rhs, pl_error *err)
+{
+    hyper_fem *f = (hyper_fem *)c;
+    const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
+    double *b = x ? hyper_term_block(c, rhs, offset, f->el.nverts, "right-hand side", err) : NULL;
+    if (!b) return PL_EINTERNAL;
+    double *dual = NULL;
+    if (f->dual_slot >= 0) {
+        size_t bytes = (size_t)f->el.n * pl_hyper_elements_dual_size(&f->el) * sizeof(double);
+        /* a pl_data made before the model knew its size gets zero duals */
+        if (pl_data_slot_bytes(d, f->dual_slot) != bytes &&
+            pl_data_resize_slot(d, f->dual_slot, bytes) != 0)
+            return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (duals)");
+        dual = pl_data_slot(d, f->dual_slot);
+    }
+    pl_error e;
+    int stats[2];
+    if (pl_hyper_elements_project(&f->el, offset, h2, x, dual, b, stats, &e) != PL_OK)
+        return pl_component_fail(c, err, e.code, "%s", e.msg);
+    if (stats[1] > 0)
+        pl_log_debug("%s: %d local solves stopped before their tolerance", c->name, stats[1]);
+    return PL_OK;
+}
+
+static double fem_energy(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q)
+{
+    const hyper_fem *f = (const hyper_fem *)c;
+    (void)d;
+    const double *x = pl_buffer_f64(q);
+    if (!x || q->rows < (size_t)offset + (size_t)f->el.nverts) return NAN;
+    return pl_hyper_elements_energy(&f->el, offset, x);
+}
+
+static int fem_add_gradient(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
+                            pl_buffer *grad, pl_error *err)
+{
+    const hyper_fem *f = (const hyper_fem *)c;
+    (void)d;
+    const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
+    double *g = x ? hyper_term_block(c, grad, offset, f->el.nverts, "gradient", err) : NULL;
+    if (!g) return PL_EINTERNAL;
+    pl_error e;
+    if (pl_hyper_elements_add_gradient(&f->el, offset, x, g, &e) != PL_OK)
+        return pl_component_fail(c, err, e.code, "%s", e.msg);
+    return PL_OK;
+}
+
+static int fem_add_hessian(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
+                           int psd, pl_triplets *H, pl_error *err)
+{
+    const hyper_fem *f = (const hyper_fem *)c;
+    (void)d;
+    const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
+    if (!x) return PL_EINTERNAL;
+    pl_error e;
+    if (pl_hyper_elements_add_hessian(&f->el, offset, x, psd, H, &e) != PL_OK)
+        return pl_component_fail(c, err, e.code, "%s", e.msg);
+    return PL_OK;
+}
+
+const pl_local_term_ops hyper_fem_local_term_ops = {
+    .version = PL_LOCAL_TERM_OPS_VERSION,
+    .state = fem_state,
+    .add_matrix = fem_add_matrix,
+    .project = fem_project,
+    .energy = fem_energy,
+    .add_gradient = fem_add_gradient,
+    .add_hessian = fem_add_hessian,
+    .matrix_changed = NULL,
+};

@@ -1,0 +1,70 @@
+/* fem_term.h - what the ARAP, Corotational and NeoHookean components share
+ * (one struct, one field table, one local-term role); each component file
+ * only fixes its material.  Internal to the plugin. */
+#ifndef PLIANT_HYPER_FEM_TERM_H
+#define PLIANT_HYPER_FEM_TERM_H
+
+#include "hyperelastic.h"
+#include "pliant/pliant.h"
+
+typedef struct hyper_fem {
+    pl_component base;
+    /* fields */
+    pl_doubles young;       /* youngModulus [Pa]: one value or one per element */
+    pl_doubles poisson;     /* poissonRatio */
+    int elements;           /* 0 auto, 1 tetrahedra, 2 triangles */
+    pl_link src;            /* topology (default: the node's first) */
+    double thickness;       /* [m] membranes */
+    int warm_start;         /* keep ADMM duals across steps */
+    /* model */
+    pl_hyper_material material;
+    const pl_mesh *mesh;
+    pl_component *state;
+    int k;                  /* 4 (tetrahedra) or 3 (triangles) */
+    int nelem;
+    pl_hyper_elements el;
+    int dual_slot;          /* -1: none (ARAP) */
+} hyper_fem;
+
+extern const char *const hyper_fem_element_choices[];
+
+#define HYPER_FEM_FIELDS                                                                          \
+    PL_FIELD(hyper_fem, young, "youngModulus", PL_F_DOUBLES, "5000",                              \
+             "Young's modulus [Pa]: one value, or one per element",                               \
+             0),                                                                                  \
+        PL_FIELD(hyper_fem, poisson, "poissonRatio", PL_F_DOUBLES, "0.45",                        \
+                 "Poisson's ratio in (-1, 0.5): one value, or one per element (membranes use "    \
+                 "the plane-stress lambda)",                                                      \
+                 0),                                                                              \
+        PL_FIELD_ENUM(hyper_fem, elements, "elements", hyper_fem_element_choices, "auto",         \
+                      "which cells of the mesh: auto (tetrahedra if any, else triangles), "       \
+                      "tetrahedra or triangles",                                                  \
+                      0),                                                                         \
+        PL_FIELD(hyper_fem, src, "src", PL_F_LINK, NULL,                                          \
+                 "loader or generator with the elements (default: the node's first)", 0),         \
+        PL_FIELD(hyper_fem, thickness, "thickness", PL_F_DOUBLE, "0.001",                         \
+                 "membrane thickness [m] (triangles): energy = psi * area * thickness, as "       \
+                 "DiagonalMass's thickness",                                                      \
+                 0),                                                                              \
+        PL_FIELD(hyper_fem, warm_start, "warmStart", PL_F_BOOL, "1",                              \
+                 "keep the ADMM-PD duals from one time step to the next (0: reset each step; "    \
+                 "ARAP has none)",                                                                \
+                 PL_FIELD_RUNTIME)
+
+#define HYPER_FEM_NFIELDS 6
+
+/* Lifecycle pieces (init takes the material). */
+int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material);
+int hyper_fem_bind(pl_component *c, pl_ctx *ctx);
+int hyper_fem_reinit(pl_component *c, pl_ctx *ctx);
+int hyper_fem_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err);
+void hyper_fem_destroy(pl_component *c);
+
+extern const pl_local_term_ops hyper_fem_local_term_ops;
+
+/* A host float64 n x 3 block covering offset + nverts rows, or NULL with
+ * err filled about c. */
+double *hyper_term_block(const pl_component *c, const pl_buffer *b, int offset, int nverts,
+                         const char *what, pl_error *err);
+
+#endif

@@ -1,0 +1,238 @@
+/* test_hyper_svd.c - signed SVD, polar decompositions and the small
+ * symmetric eigen-solver of the hyperelastic core. */
+#include <check.h>
+#include <math.h>
+#include <string.h>
+
+#include "hyper_test_util.h"
+#include "hyperelastic.h"
+
+static double det3(const double *A)
+{
+    return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+           A[2] * (A[3] * A[7] - A[4] * A[6]);
+}
+
+/* max |Q^T Q - I| for a 3 x n matrix with orthonormal columns expected. */
+static double orth_error(const double *Q, int rows, int n)
+{
+    double e = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            double s = 0.0;
+            for (int r = 0; r < rows; ++r) s += Q[r * n + i] * Q[r * n + j];
+            e = fmax(e, fabs(s - (i == j)));
+        }
+    return e;
+}
+
+static double fro(const double *A, int n)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += A[i] * A[i];
+    return sqrt(s);
+}
+
+/* Checks every property of the signed 3x3 SVD of F. */
+static void check_svd3(const double *F)
+{
+    double U[9], s[3], V[9], R[9];
+    pl_hyper_svd3(F, U, s, V);
+    double err = 0.0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            double v = 0.0;
+            for (int i = 0; i < 3; ++i) v += U[a * 3 + i] * s[i] * V[b * 3 + i];
+            err = fmax(err, fabs(v - F[a * 3 + b]));
+        }
+    double scale = 0.0; /* max |F_ij|: a 2-norm of 1e-200 entries underflows */
+    for (int i = 0; i < 9; ++i) scale = fmax(scale, fabs(F[i]));
+    ck_assert_msg(err <= 1e-13 * scale, "reconstruction error %g (|F| %g)", err, scale);
+    ck_assert_double_le(orth_error(U, 3, 3), 1e-13);
+    ck_assert_double_le(orth_error(V, 3, 3), 1e-13);
+    ck_assert_double_eq_tol(det3(U), 1.0, 1e-12);
+    ck_assert_double_eq_tol(det3(V), 1.0, 1e-12);
+    ck_assert(s[0] >= s[1] && s[1] >= fabs(s[2]) - 1e-15 * scale && s[1] >= 0.0);
+    double dF = det3(F);
+    if (scale > 1e-100 && fabs(dF) > 1e-10 * scale * scale * scale)
+        ck_assert_msg((s[2] < 0) == (dF < 0), "sign");
+    pl_hyper_polar3(F, R);
+    ck_assert_double_le(orth_error(R, 3, 3), 1e-13);
+    ck_assert_double_eq_tol(det3(R), 1.0, 1e-12);
+}
+
+START_TEST(svd3_reconstructs_with_proper_rotations)
+{
+    unsigned long long st = 42;
+    for (int t = 0; t < 2000; ++t) {
+        double F[9];
+        for (int i = 0; i < 9; ++i) F[i] = ht_rand(&st);
+        check_svd3(F);
+    }
+}
+END_TEST
+
+START_TEST(svd3_handles_degenerate_and_repeated_values)
+{
+    unsigned long long st = 7;
+    double R[9], F[9];
+    ht_random_rotation(&st, R);
+    /* a scaled rotation: all singular values equal */
+    for (int i = 0; i < 9; ++i) F[i] = 2.0 * R[i];
+    check_svd3(F);
+    /* rank 1, rank 2, zero, tiny */
+    double u[3] = {0.3, -0.5, 0.8}, v[3] = {-0.2, 0.9, 0.1};
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) F[a * 3 + b] = u[a] * v[b];
+    check_svd3(F);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) F[a * 3 + b] = u[a] * v[b] + R[a * 3 + 0] * R[b * 3 + 1];
+    check_svd3(F);
+    memset(F, 0, sizeof F);
+    check_svd3(F);
+    for (int i = 0; i < 9; ++i) F[i] = 1e-200 * R[i];
+    check_svd3(F);
+    /* small singular value kept to relative accuracy: diag(1, 1, 1e-12) rotated */
+    double S[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1e-12}, T[9], Q[9], s[3], U[9], V[9];
+    ht_random_rotation(&st, Q);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            T[a * 3 + b] = 0.0;
+            for (int k = 0; k < 3; ++k) T[a * 3 + b] += R[a * 3 + k] * S[k * 3 + b];
+        }
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            F[a * 3 + b] = 0.0;
+            for (int k = 0; k < 3; ++k) F[a * 3 + b] += T[a * 3 + k] * Q[b * 3 + k];
+        }
+    pl_hyper_svd3(F, U, s, V);
+    ck_assert_double_eq_tol(s[2], 1e-12, 1e-15);
+}
+END_TEST
+
+START_TEST(polar_of_inverted_matrix_is_a_proper_rotation)
+{
+    unsigned long long st = 99;
+    for (int t = 0; t < 200; ++t) {
+        double R[9], F[9], P[9];
+        ht_random_rotation(&st, R);
+        /* F = R diag(1.2, 0.9, -0.3): an inverted element */
+        double d[3] = {1.2, 0.9, -0.3};
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) F[a * 3 + b] = R[a * 3 + b] * d[b];
+        ck_assert(det3(F) < 0);
+        check_svd3(F);
+        pl_hyper_polar3(F, P);
+        /* the closest rotation is R itself (flip of the smallest direction) */
+        for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(P[i], R[i], 1e-12);
+    }
+}
+END_TEST
+
+START_TEST(polar_of_rotation_times_spd_is_the_rotation)
+{
+    unsigned long long st = 5;
+    for (int t = 0; t < 200; ++t) {
+        double R[9], Q[9], S[9], F[9], P[9];
+        ht_random_rotation(&st, R);
+        ht_random_rotation(&st, Q);
+        double d[3] = {1.5 + ht_rand(&st), 1.0 + 0.5 * ht_rand(&st), 0.6 + 0.3 * ht_rand(&st)};
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                S[a * 3 + b] = 0.0;
+                for (int k = 0; k < 3; ++k) S[a * 3 + b] += Q[a * 3 + k] * d[k] * Q[b * 3 + k];
+            }
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                F[a * 3 + b] = 0.0;
+                for (int k = 0; k < 3; ++k) F[a * 3 + b] += R[a * 3 + k] * S[k * 3 + b];
+            }
+        pl_hyper_polar3(F, P);
+        for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(P[i], R[i], 1e-12);
+    }
+}
+END_TEST
+
+START_TEST(svd32_reconstructs_and_polar_has_orthonormal_columns)
+{
+    unsigned long long st = 11;
+    for (int t = 0; t < 2000; ++t) {
+        double F[6], U[6], s[2], V[4], P[6];
+        for (int i = 0; i < 6; ++i) F[i] = ht_rand(&st);
+        if (t == 0) memset(F, 0, sizeof F);
+        pl_hyper_svd32(F, U, s, V);
+        double err = 0.0;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 2; ++b) {
+                double v = U[a * 2] * s[0] * V[b * 2] + U[a * 2 + 1] * s[1] * V[b * 2 + 1];
+                err = fmax(err, fabs(v - F[a * 2 + b]));
+            }
+        ck_assert_double_le(err, 1e-13 * fmax(1.0, fro(F, 6)));
+        ck_assert_double_le(orth_error(U, 3, 2), 1e-13);
+        ck_assert_double_le(orth_error(V, 2, 2), 1e-13);
+        ck_assert_double_eq_tol(V[0] * V[3] - V[1] * V[2], 1.0, 1e-12);
+        ck_assert(s[0] >= s[1] && s[1] >= 0.0);
+        pl_hyper_polar32(F, P);
+        ck_assert_double_le(orth_error(P, 3, 2), 1e-13);
+    }
+    /* F = Q[:, 0:2] S (S SPD 2x2): the polar factor is Q[:, 0:2] */
+    double Q[9], F[6], P[6], S[4] = {1.3, 0.2, 0.2, 0.7};
+    ht_random_rotation(&st, Q);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 2; ++b) F[a * 2 + b] = Q[a * 3] * S[b] + Q[a * 3 + 1] * S[2 + b];
+    pl_hyper_polar32(F, P);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 2; ++b) ck_assert_double_eq_tol(P[a * 2 + b], Q[a * 3 + b], 1e-12);
+}
+END_TEST
+
+START_TEST(sym_eigen_decomposes_and_projects_to_psd)
+{
+    unsigned long long st = 3;
+    for (int n = 1; n <= PL_HYPER_SYM_MAX; ++n) {
+        double A[144], B[144], lam[12], Q[144];
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j <= i; ++j) A[i * n + j] = A[j * n + i] = ht_rand(&st);
+        ck_assert_int_eq(pl_hyper_sym_eigen(n, A, lam, Q), PL_OK);
+        for (int i = 0; i < n; ++i) {
+            if (i) ck_assert(lam[i] >= lam[i - 1]);
+            for (int j = 0; j < n; ++j) {
+                double v = 0.0;
+                for (int k = 0; k < n; ++k) v += Q[i * n + k] * lam[k] * Q[j * n + k];
+                ck_assert_double_eq_tol(v, A[i * n + j], 1e-13);
+            }
+        }
+        ck_assert_double_le(orth_error(Q, n, n), 1e-13);
+        memcpy(B, A, sizeof(double) * n * n);
+        ck_assert_int_eq(pl_hyper_project_psd(n, B), PL_OK);
+        ck_assert_int_eq(pl_hyper_sym_eigen(n, B, lam, Q), PL_OK);
+        ck_assert_double_ge(lam[0], -1e-13);
+        /* a PSD matrix is left unchanged */
+        memcpy(A, B, sizeof(double) * n * n);
+        for (int i = 0; i < n; ++i) A[i * n + i] += 1e-3;
+        memcpy(B, A, sizeof(double) * n * n);
+        pl_hyper_project_psd(n, B);
+        for (int i = 0; i < n * n; ++i) ck_assert_double_eq(A[i], B[i]);
+    }
+    double lam[1], Q[1], A[1] = {0};
+    ck_assert_int_eq(pl_hyper_sym_eigen(13, A, lam, Q), PL_EINPUT);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("hyper_svd");
+    TCase *tc = tcase_create("svd");
+    tcase_add_test(tc, svd3_reconstructs_with_proper_rotations);
+    tcase_add_test(tc, svd3_handles_degenerate_and_repeated_values);
+    tcase_add_test(tc, polar_of_inverted_matrix_is_a_proper_rotation);
+    tcase_add_test(tc, polar_of_rotation_times_spd_is_the_rotation);
+    tcase_add_test(tc, svd32_reconstructs_and_polar_has_orthonormal_columns);
+    tcase_add_test(tc, sym_eigen_decomposes_and_projects_to_psd);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? 1 : 0;
+}
