@@ -7,6 +7,7 @@
  * search, to a tight tolerance.  Tests use it as ground truth. */
 #include <cholmod.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -234,7 +235,14 @@ static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             break;
         }
         memcpy(d->q, s->trial, (size_t)d->n * 3 * sizeof(double));
+        /* round-off floor: once a step changes the energy only in its last
+         * digits, the line search accepts noise and no step tolerance can be met */
+        if (getenv("PL_NEWTON_DEBUG"))
+            fprintf(stderr, "newton %d: e %.17g -> %.17g alpha %g step %g slope %g\n", it, e, e_new,
+                    alpha, step_max, slope);
+        int stalled = e - e_new <= 1e-14 * fabs(e_new);
         e = e_new;
+        if (stalled) break;
     }
     pl_stat_set(ctx->timers, "newton iterations", it);
     pl_stat_set(ctx->timers, "newton energy", e);
