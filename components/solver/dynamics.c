@@ -192,7 +192,7 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
     d->q_free = calloc(f3, sizeof(double));
     if (!d->q || !d->q_t || !d->v_t || !d->sn || !d->rhs || !d->qp || !d->b_free || !d->q_free)
         return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
-    d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL};
+    d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL, d->mass};
     return with_matrix ? assemble(d, owner, ctx) : PL_OK;
 }
 

@@ -3,7 +3,13 @@
  * local term in parallel (local step), assembles the right-hand side
  *     b = M sn + h^2 sum w G^T (p - u)  (restricted to the unknowns, - A_fp q_p)
  * and solves the constant system A q = b with the scene's global solver
- * (the sparse inverse S^T S b, or Cholesky).  v = (q - q_t) / h. */
+ * (the sparse inverse S^T S b, or Cholesky).  v = (q - q_t) / h.
+ *
+ * With constraints (Algorithm 4): once per step every constraint component
+ * appends its rows of H; when there are rows, the contact solver builds W
+ * and, in each iteration, replaces the plain global solve by the constrained
+ * one (lambda update and corrected positions).  The multipliers go back to
+ * the components that emitted the rows. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,8 +24,13 @@ typedef struct local_global_solver {
     double damping;
     int compute_energy;
     pl_link solver_link;
+    pl_link contact_link;
     pl_dynamics dyn;
     pl_component *solver;
+    pl_component *contact;     /* contact solver, or NULL */
+    pl_component **constraints;
+    int nconstraints;
+    pl_rows rows;
     int ready;
     int t_local, t_global, t_assembly;
 } local_global_solver;
@@ -35,11 +46,29 @@ static const pl_field FIELDS[] = {
              "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
              "record the incremental potential after each iteration (series \"energy\" in the "
-             "timings file; costs one energy evaluation per iteration)",
+             "timings file; \"energy0\": at the initial guess of each step; costs one energy "
+             "evaluation per iteration)",
              PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, solver_link, "solver", PL_F_LINK, NULL,
              "the global solver (default: the first one in this node or below)", 0),
+    PL_FIELD(local_global_solver, contact_link, "contactSolver", PL_F_LINK, NULL,
+             "the constraint solver (default: the first one in this node or below, if any)", 0),
 };
+
+typedef struct collect {
+    pl_component **items;
+    int n;
+} collect;
+
+static int collect_one(pl_component *c, void *user)
+{
+    collect *l = user;
+    pl_component **items = realloc(l->items, (size_t)(l->n + 1) * sizeof *items);
+    if (!items) return 1;
+    l->items = items;
+    l->items[l->n++] = c;
+    return 0;
+}
 
 static int find_first(pl_component *c, void *user)
 {
@@ -55,6 +84,24 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     pl_dynamics_free(&s->dyn);
     if (s->iterations < 1) return pl_component_error(c, ctx, PL_EINPUT, "iterations must be >= 1");
     if (s->tolerance < 0) return pl_component_error(c, ctx, PL_EINPUT, "tolerance must be >= 0");
+    free(s->constraints);
+    s->constraints = NULL;
+    collect cl = {NULL, 0};
+    if (pl_node_visit_role(c->node, PL_ROLE_CONSTRAINT, collect_one, &cl))
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    s->constraints = cl.items;
+    s->nconstraints = cl.n;
+    s->contact = s->contact_link.target;
+    if (!s->contact) pl_node_visit_role(c->node, PL_ROLE_CONTACT_SOLVER, find_first, &s->contact);
+    if (s->contact && !pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER))
+        return pl_component_error(c, ctx, PL_EINPUT, "contactSolver: '%s' is not a contact solver",
+                                  s->contact->name);
+    if (s->nconstraints && !s->contact)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "the scene has %d constraint component(s) but no contact solver "
+                                  "(add <NonSmoothNewtonContactSolver/> with <RequiredPlugin "
+                                  "name=\"ncp_contact\"/>)",
+                                  s->nconstraints);
     s->solver = s->solver_link.target;
     if (!s->solver) pl_node_visit_role(c->node, PL_ROLE_GLOBAL_SOLVER, find_first, &s->solver);
     if (!s->solver || !pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER))
@@ -78,7 +125,49 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
-static void lg_destroy(pl_component *c) { pl_dynamics_free(&((local_global_solver *)c)->dyn); }
+static void lg_destroy(pl_component *c)
+{
+    local_global_solver *s = (local_global_solver *)c;
+    pl_dynamics_free(&s->dyn);
+    pl_rows_free(&s->rows);
+    free(s->constraints);
+}
+
+/* Rows of every constraint at the start of the step; the contact solver's
+ * begin when there are any.  Returns the number of rows (or < 0). */
+static int begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    pl_rows_clear(&s->rows);
+    pl_buffer qt = pl_buffer_host_f64(d->q_t, (size_t)d->n, 3);
+    for (int k = 0; k < s->nconstraints; ++k) {
+        const pl_constraint_ops *ops = pl_component_role(s->constraints[k], PL_ROLE_CONSTRAINT);
+        int rc = ops->build_rows(s->constraints[k], ctx, &d->sys, &qt, &s->rows, err);
+        if (rc) return -rc;
+    }
+    if (s->rows.n == 0) return 0;
+    const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
+    int rc = cs->begin(s->contact, ctx, &d->sys, &s->rows, &qt, err);
+    return rc ? -rc : s->rows.n;
+}
+
+/* Hands every constraint component the multipliers of its own rows. */
+static void end_constraints(local_global_solver *s, pl_ctx *ctx)
+{
+    const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
+    int count = 0;
+    const double *lambda = cs->multipliers(s->contact, &count);
+    if (!lambda || count != s->rows.n) return;
+    for (int first = 0; first < s->rows.n;) {
+        int last = first;
+        while (last + 1 < s->rows.n && s->rows.owner[last + 1] == s->rows.owner[first]) last++;
+        pl_component *owner = s->rows.owner[first];
+        const pl_constraint_ops *ops = owner ? pl_component_role(owner, PL_ROLE_CONSTRAINT) : NULL;
+        if (ops && ops->accept_multipliers)
+            ops->accept_multipliers(owner, ctx->data, &s->rows, lambda, first, last - first + 1);
+        first = last + 1;
+    }
+}
 
 static double bbox_diagonal(const double *q, int n)
 {
@@ -125,7 +214,17 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     memcpy(d->q, d->sn, (size_t)d->n * 3 * sizeof(double));
     int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
     if (rc) return rc;
+    int nrows = 0;
+    if (s->nconstraints) {
+        nrows = begin_constraints(s, ctx, err);
+        if (nrows < 0) return -nrows;
+    }
+    const pl_contact_solver_ops *cs =
+        nrows ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
+    pl_buffer qk = pl_buffer_host_f64(d->q, (size_t)d->n, 3);
     double scale = s->tolerance > 0 ? bbox_diagonal(d->q_t, d->n) : 1.0;
+    if (s->compute_energy)
+        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
     pl_buffer bb = pl_buffer_host_f64(d->b_free, (size_t)d->nfree, 3);
     pl_buffer xb = pl_buffer_host_f64(d->q_free, (size_t)d->nfree, 3);
     for (int it = 0; it < s->iterations; ++it) {
@@ -136,9 +235,14 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         pl_timer_start(ctx->timers, s->t_assembly);
         pl_dynamics_reduce_rhs(d, d->rhs, d->q);
         pl_timer_stop(ctx->timers, s->t_assembly);
-        pl_timer_start(ctx->timers, s->t_global);
-        rc = d->nfree ? gs->solve(s->solver, &bb, &xb, err) : PL_OK;
-        pl_timer_stop(ctx->timers, s->t_global);
+        if (cs) {
+            /* Algorithm 4: lambda update and corrected global step (timed inside) */
+            rc = d->nfree ? cs->iterate(s->contact, ctx, &d->sys, &qk, &bb, &xb, err) : PL_OK;
+        } else {
+            pl_timer_start(ctx->timers, s->t_global);
+            rc = d->nfree ? gs->solve(s->solver, &bb, &xb, err) : PL_OK;
+            pl_timer_stop(ctx->timers, s->t_global);
+        }
         if (rc) return rc;
         double change = 0.0;
         for (int f = 0; f < d->nfree; ++f)
@@ -157,6 +261,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
         if (s->tolerance > 0 && change < s->tolerance * scale) break;
     }
+    if (cs) end_constraints(s, ctx);
     pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
     return PL_OK;
 }

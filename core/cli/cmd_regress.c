@@ -180,7 +180,7 @@ int cli_regress(int argc, char **argv)
         pl_regression_list_free(&list);
         return 1;
     }
-    printf("%-40s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
+    printf("%-52s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
     int failed = 0, bad = 0;
     for (int i = 0; i < list.count; ++i) {
         const pl_regression_entry *e = &list.items[i];
@@ -198,14 +198,14 @@ int cli_regress(int argc, char **argv)
                         : compare_refs(refs, e->scene, &st, rec, dt, e->epsilon, &res, &err);
         if (rc != PL_OK) {
             char msg[1600];
-            printf("%-40s %6d %10.3g %12s  ERROR: %s\n", e->scene, e->steps, e->epsilon, "-",
+            printf("%-52s %6d %10.3g %12s  ERROR: %s\n", e->scene, e->steps, e->epsilon, "-",
                    pl_error_format(&err, msg, sizeof msg));
             bad++;
         } else if (update) {
-            printf("%-40s %6d %10.3g %12s  reference written (%d states)\n", e->scene, e->steps,
+            printf("%-52s %6d %10.3g %12s  reference written (%d states)\n", e->scene, e->steps,
                    e->epsilon, "-", st.n);
         } else {
-            printf("%-40s %6d %10.3g %12.3e  %s\n", e->scene, e->steps, e->epsilon,
+            printf("%-52s %6d %10.3g %12.3e  %s\n", e->scene, e->steps, e->epsilon,
                    res.error_by_dof, res.passed ? "pass" : "FAIL");
             if (!res.passed) failed++;
         }
