@@ -140,6 +140,39 @@ START_TEST(set_at_run_time_changes_the_motion)
 }
 END_TEST
 
+static int drive_up(pl_sim *s, double t, void *user)
+{
+    int *calls = user;
+    pl_error err;
+    (*calls)++;
+    /* an embedding program drives the scene: acceleration grows with time */
+    char value[64];
+    snprintf(value, sizeof value, "0 %.17g 0", 100.0 * t);
+    return pl_sim_set(s, "mover.acceleration", value, &err);
+}
+
+static int refuse(pl_sim *s, double t, void *user) { return t > 0.025; }
+
+START_TEST(a_step_callback_drives_the_scene_and_can_stop_it)
+{
+    pl_sim *s = load();
+    pl_error err;
+    int calls = 0;
+    pl_sim_set_callback(s, drive_up, &calls);
+    ck_assert_int_eq(pl_sim_step(s, 10, &err), PL_OK);
+    ck_assert_int_eq(calls, 10);
+    double a[12];
+    positions(s, pl_sim_data(s), a);
+    ck_assert(a[1] > 0.0); /* pushed up instead of falling */
+    pl_sim_set_callback(s, refuse, NULL);
+    pl_sim_reset(s);
+    ck_assert_int_eq(pl_sim_step(s, 10, &err), PL_EINPUT);
+    ck_assert_ptr_nonnull(strstr(err.msg, "callback"));
+    ck_assert(fabs(pl_sim_time(s) - 0.03) < 1e-12); /* stopped at the 4th step */
+    pl_sim_free(s);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("state");
@@ -149,6 +182,7 @@ int main(void)
     tcase_add_test(tc, reset_returns_to_the_loaded_state);
     tcase_add_test(tc, two_states_step_independently_over_one_model);
     tcase_add_test(tc, set_at_run_time_changes_the_motion);
+    tcase_add_test(tc, a_step_callback_drives_the_scene_and_can_stop_it);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
