@@ -2,6 +2,7 @@
 #include "pliant/registry.h"
 
 #include "constraint/prescribed.h"
+#include "controller/controller.h"
 #include "export/export.h"
 #include "force/force.h"
 #include "loader/loader.h"
@@ -25,6 +26,7 @@ static const pl_type *const BUILTIN[] = {
     &pl_write_state_type,
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
+    &pl_keyframes_type,
 };
 
 int pl_register_builtin_components(pl_registry *r, pl_error *err)

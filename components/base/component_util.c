@@ -94,6 +94,24 @@ int pl_util_select(const double *x, int n, const pl_doubles *boxes, const pl_int
     return w;
 }
 
+int pl_util_select_checked(const pl_component *c, pl_ctx *ctx, const pl_component *state,
+                           const pl_doubles *boxes, const pl_ints *indices, int **out)
+{
+    int n;
+    if (pl_util_check_boxes(c, ctx, "box", boxes) != PL_OK) return -1;
+    const double *x = pl_util_rest(state, &n);
+    for (int k = 0; k < indices->n; ++k)
+        if (indices->v[k] < 0 || indices->v[k] >= n) {
+            pl_component_error(c, ctx, PL_EINPUT,
+                               "indices: %d is out of range (the MechanicalObject has %d vertices)",
+                               indices->v[k], n);
+            return -1;
+        }
+    int count = pl_util_select(x, n, boxes, indices, out);
+    if (count < 0) pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    return count;
+}
+
 int pl_util_check_boxes(const pl_component *c, pl_ctx *ctx, const char *field,
                         const pl_doubles *boxes)
 {

@@ -27,24 +27,17 @@ static const pl_field FIELDS[] = {
 static int fc_bind(pl_component *c, pl_ctx *ctx)
 {
     fixed_constraint *f = (fixed_constraint *)c;
-    int n;
-    if (pl_util_check_boxes(c, ctx, "box", &f->box) != PL_OK) return PL_EINPUT;
     if (!(f->state = pl_util_state(c, ctx, 1))) return PL_EINPUT;
-    const double *x = pl_util_rest(f->state, &n);
-    for (int k = 0; k < f->indices.n; ++k)
-        if (f->indices.v[k] < 0 || f->indices.v[k] >= n)
-            return pl_component_error(c, ctx, PL_EINPUT,
-                                      "indices: %d is out of range (the MechanicalObject has %d "
-                                      "vertices)",
-                                      f->indices.v[k], n);
     if (f->fix_all) {
+        int n;
+        pl_util_rest(f->state, &n);
         f->sel = malloc((size_t)n * sizeof *f->sel);
         if (!f->sel) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
         for (int i = 0; i < n; ++i) f->sel[i] = i;
         f->nsel = n;
     } else {
-        f->nsel = pl_util_select(x, n, &f->box, &f->indices, &f->sel);
-        if (f->nsel < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+        f->nsel = pl_util_select_checked(c, ctx, f->state, &f->box, &f->indices, &f->sel);
+        if (f->nsel < 0) return PL_EINPUT;
     }
     if (f->nsel == 0)
         pl_component_warn(c, ctx, "selects no vertex (check indices and box)");

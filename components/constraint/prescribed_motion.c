@@ -40,7 +40,6 @@ static int pm_bind(pl_component *c, pl_ctx *ctx)
 {
     prescribed_motion *p = (prescribed_motion *)c;
     int n;
-    if (pl_util_check_boxes(c, ctx, "box", &p->box) != PL_OK) return PL_EINPUT;
     if (p->center.n != 0 && p->center.n != 3)
         return pl_component_error(c, ctx, PL_EINPUT, "center: expected 3 numbers (x y z)");
     double len = sqrt(p->axis[0] * p->axis[0] + p->axis[1] * p->axis[1] + p->axis[2] * p->axis[2]);
@@ -48,12 +47,8 @@ static int pm_bind(pl_component *c, pl_ctx *ctx)
     for (int k = 0; k < 3; ++k) p->unit_axis[k] = p->axis[k] / len;
     if (!(p->state = pl_util_state(c, ctx, 1))) return PL_EINPUT;
     const double *x = pl_util_rest(p->state, &n);
-    for (int k = 0; k < p->indices.n; ++k)
-        if (p->indices.v[k] < 0 || p->indices.v[k] >= n)
-            return pl_component_error(c, ctx, PL_EINPUT, "indices: %d is out of range (0..%d)",
-                                      p->indices.v[k], n - 1);
-    p->nsel = pl_util_select(x, n, &p->box, &p->indices, &p->sel);
-    if (p->nsel < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    p->nsel = pl_util_select_checked(c, ctx, p->state, &p->box, &p->indices, &p->sel);
+    if (p->nsel < 0) return PL_EINPUT;
     if (p->nsel == 0) return pl_component_error(c, ctx, PL_EINPUT, "selects no vertex");
     if (p->center.n == 3) {
         for (int k = 0; k < 3; ++k) p->c[k] = p->center.v[k];

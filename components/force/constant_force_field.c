@@ -38,16 +38,9 @@ static const pl_field FIELDS[] = {
 static int cf_bind(pl_component *c, pl_ctx *ctx)
 {
     constant_force_field *f = (constant_force_field *)c;
-    int n;
-    if (pl_util_check_boxes(c, ctx, "box", &f->box) != PL_OK) return PL_EINPUT;
     if (!(f->state = pl_util_state(c, ctx, 1))) return PL_EINPUT;
-    const double *x = pl_util_rest(f->state, &n);
-    for (int k = 0; k < f->indices.n; ++k)
-        if (f->indices.v[k] < 0 || f->indices.v[k] >= n)
-            return pl_component_error(c, ctx, PL_EINPUT, "indices: %d is out of range (0..%d)",
-                                      f->indices.v[k], n - 1);
-    f->nsel = pl_util_select(x, n, &f->box, &f->indices, &f->sel);
-    if (f->nsel < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    f->nsel = pl_util_select_checked(c, ctx, f->state, &f->box, &f->indices, &f->sel);
+    if (f->nsel < 0) return PL_EINPUT;
     if (f->nsel == 0) return pl_component_error(c, ctx, PL_EINPUT, "selects no vertex");
     if (f->forces.n && f->forces.n != 3 && f->forces.n != 3 * f->nsel)
         return pl_component_error(c, ctx, PL_EINPUT,

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "io/mesh_subdivide.h"
 #include "loader.h"
 
 typedef struct mesh_loader {
@@ -15,6 +16,7 @@ typedef struct mesh_loader {
     double scale3d[3], rotation[3], translation[3];
     int only_attached;
     int keep_inverted;
+    int subdivide;
     char *resolved;
 } mesh_loader;
 
@@ -36,6 +38,10 @@ static const pl_field FIELDS[] = {
              "drop vertices that no element uses (they would have no mass)", 0),
     PL_FIELD(mesh_loader, keep_inverted, "keepInverted", PL_F_BOOL, "0",
              "keep negatively oriented tetrahedra as they are (default: flip them, with a warning)",
+             0),
+    PL_FIELD(mesh_loader, subdivide, "subdivide", PL_F_INT, "0",
+             "rounds of 1-to-8 tetrahedral subdivision (edge midpoints; each round multiplies "
+             "the tetrahedra by 8)",
              0),
 };
 
@@ -104,6 +110,12 @@ static int ml_init(pl_component *c, pl_ctx *ctx)
         return rc;
     }
     pl_mesh_transform(&l->mesh, l->scale3d, l->rotation, l->translation);
+    if (l->subdivide < 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "subdivide must be >= 0, got %d",
+                                  l->subdivide);
+    pl_error se;
+    if ((rc = pl_mesh_subdivide(&l->mesh, l->subdivide, &se)) != PL_OK)
+        return pl_component_error(c, ctx, rc, "subdivide: %s", se.msg);
     pl_log_debug("MeshLoader %s: %s: %d vertices, %d tetrahedra, %d triangles", c->name, path,
                  l->mesh.nverts, l->mesh.ntets, l->mesh.ntris);
     return PL_OK;

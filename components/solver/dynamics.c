@@ -297,3 +297,16 @@ void pl_dynamics_reduce_rhs(pl_dynamics *d, const double *rhs, const double *q)
             for (int c = 0; c < 3; ++c) d->b_free[3 * f + c] -= d->A_fp.x[p] * q[3 * j + c];
         }
 }
+
+double pl_dynamics_bbox_diagonal(const double *q, int n)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = fmin(lo[k], q[3 * i + k]);
+            hi[k] = fmax(hi[k], q[3 * i + k]);
+        }
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return d2 > 0 ? sqrt(d2) : 1.0;
+}

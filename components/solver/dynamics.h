@@ -54,6 +54,9 @@ int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double 
 void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double damping);
 /* The incremental potential E(q) [J] at q (n x 3). */
 double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const double *q);
+/* Length of the bounding-box diagonal of n points (1 if they coincide):
+ * the scale of tolerances on positions. */
+double pl_dynamics_bbox_diagonal(const double *q, int n);
 /* b_free <- rhs restricted to the unknowns minus A_fp qp. */
 void pl_dynamics_reduce_rhs(pl_dynamics *d, const double *rhs, const double *qp);
 

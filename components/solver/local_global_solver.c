@@ -169,19 +169,6 @@ static void end_constraints(local_global_solver *s, pl_ctx *ctx)
     }
 }
 
-static double bbox_diagonal(const double *q, int n)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) {
-            if (q[3 * i + k] < lo[k]) lo[k] = q[3 * i + k];
-            if (q[3 * i + k] > hi[k]) hi[k] = q[3 * i + k];
-        }
-    double d2 = 0;
-    for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return d2 > 0 ? sqrt(d2) : 1.0;
-}
-
 /* One local step: rhs <- M sn + h^2 sum w G^T (p - u). */
 static int local_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
 {
@@ -222,7 +209,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     const pl_contact_solver_ops *cs =
         nrows ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
     pl_buffer qk = pl_buffer_host_f64(d->q, (size_t)d->n, 3);
-    double scale = s->tolerance > 0 ? bbox_diagonal(d->q_t, d->n) : 1.0;
+    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(d->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
     pl_buffer bb = pl_buffer_host_f64(d->b_free, (size_t)d->nfree, 3);

@@ -189,19 +189,6 @@ static int newton_direction(newton_solver *s, const pl_data *data, const double 
     return rc;
 }
 
-static double bbox_diagonal(const double *q, int n)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = fmin(lo[k], q[3 * i + k]);
-            hi[k] = fmax(hi[k], q[3 * i + k]);
-        }
-    double s = 0;
-    for (int k = 0; k < 3; ++k) s += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return s > 0 ? sqrt(s) : 1.0;
-}
-
 static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
     newton_solver *s = (newton_solver *)c;
@@ -213,7 +200,7 @@ static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     memcpy(d->q, d->q_t, (size_t)d->n * 3 * sizeof(double));
     int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
     if (rc) return rc;
-    double scale = bbox_diagonal(d->q_t, d->n), e = potential(s, ctx->data, d->q);
+    double scale = pl_dynamics_bbox_diagonal(d->q_t, d->n), e = potential(s, ctx->data, d->q);
     int it;
     for (it = 0; it < s->max_iterations; ++it) {
         if ((rc = gradient(s, ctx->data, d->q, err)) || (rc = newton_direction(s, ctx->data, d->q, err)))

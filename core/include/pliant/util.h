@@ -21,6 +21,11 @@ const double *pl_util_rest(const pl_component *state, int *n);
  * Returns the count (>= 0) or -1 on allocation failure; *out is malloc'ed. */
 int pl_util_select(const double *x, int n, const pl_doubles *boxes, const pl_ints *indices,
                    int **out);
+/* The usual selection of a component: checks the boxes (6 numbers each, min
+ * <= max) and that every index is within the state's rest positions, then
+ * selects.  Errors are recorded against c.  Returns the count or -1. */
+int pl_util_select_checked(const pl_component *c, pl_ctx *ctx, const pl_component *state,
+                           const pl_doubles *boxes, const pl_ints *indices, int **out);
 /* Checks a box list has a multiple of 6 numbers with min <= max. */
 int pl_util_check_boxes(const pl_component *c, pl_ctx *ctx, const char *field,
                         const pl_doubles *boxes);
