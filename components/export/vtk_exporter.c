@@ -139,6 +139,12 @@ static int gather_point_data(vtk_exporter *e, pl_ctx *ctx, int n, point_data_lis
         int rc = point_data_add(pd, "velocity", so->velocities(e->state, ctx->data), n, err);
         if (rc != PL_OK) return rc;
     }
+    /* contact, friction and cable forces of the last step [N] */
+    if (so->constraint_forces) {
+        int rc = point_data_add(pd, "constraintForce", so->constraint_forces(e->state, ctx->data), n,
+                                err);
+        if (rc != PL_OK) return rc;
+    }
     return PL_OK;
 }
 

@@ -310,3 +310,17 @@ double pl_dynamics_bbox_diagonal(const double *q, int n)
     for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     return d2 > 0 ? sqrt(d2) : 1.0;
 }
+
+void pl_dynamics_store_forces(pl_dynamics *d, pl_data *data, const pl_rows *rows,
+                              const double *lambda)
+{
+    memset(d->rhs, 0, (size_t)d->n * 3 * sizeof(double));
+    if (rows && lambda && rows->n) pl_rows_add_transpose(rows, lambda, 1.0, d->rhs);
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        if (!ops->constraint_forces) continue;
+        pl_buffer f = ops->constraint_forces(d->states[k], data);
+        double *pf = pl_buffer_f64(&f);
+        if (pf) memcpy(pf, &d->rhs[3 * ops->offset(d->states[k])], f.rows * 3 * sizeof(double));
+    }
+}

@@ -52,6 +52,10 @@ int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double 
 /* The states in data <- positions q and velocities (q - q_t)/h / (1 + h c),
  * c = damping [1/s]. */
 void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double damping);
+/* Writes every state's constraint forces H^T lambda [N] (zero when rows
+ * is NULL or empty). */
+void pl_dynamics_store_forces(pl_dynamics *d, pl_data *data, const pl_rows *rows,
+                              const double *lambda);
 /* The incremental potential E(q) [J] at q (n x 3). */
 double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const double *q);
 /* Length of the bounding-box diagonal of n points (1 if they coincide):

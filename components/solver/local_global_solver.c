@@ -158,6 +158,7 @@ static void end_constraints(local_global_solver *s, pl_ctx *ctx)
     int count = 0;
     const double *lambda = cs->multipliers(s->contact, &count);
     if (!lambda || count != s->rows.n) return;
+    pl_dynamics_store_forces(&s->dyn, ctx->data, &s->rows, lambda);
     for (int first = 0; first < s->rows.n;) {
         int last = first;
         while (last + 1 < s->rows.n && s->rows.owner[last + 1] == s->rows.owner[first]) last++;
@@ -248,7 +249,10 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
         if (s->tolerance > 0 && change < s->tolerance * scale) break;
     }
-    if (cs) end_constraints(s, ctx);
+    if (cs)
+        end_constraints(s, ctx);
+    else if (s->nconstraints)
+        pl_dynamics_store_forces(d, ctx->data, NULL, NULL); /* no contact this step */
     pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
     return PL_OK;
 }

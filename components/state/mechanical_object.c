@@ -21,7 +21,7 @@ typedef struct mechanical_object {
     double *rest;          /* n x 3, after the transform */
     double *x0;            /* n x 3 initial positions (== rest unless rest_position is given) */
     double *v0;            /* n x 3 */
-    int slot_x, slot_v;
+    int slot_x, slot_v, slot_f;
     int offset;
 } mechanical_object;
 
@@ -95,8 +95,9 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
     }
     mo->slot_x = pl_model_add_slot(ctx->model, c, "position", bytes);
     mo->slot_v = pl_model_add_slot(ctx->model, c, "velocity", bytes);
+    mo->slot_f = pl_model_add_slot(ctx->model, c, "constraintForce", bytes);
     mo->offset = -1;
-    if (mo->slot_x < 0 || mo->slot_v < 0)
+    if (mo->slot_x < 0 || mo->slot_v < 0 || mo->slot_f < 0)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     return PL_OK;
 }
@@ -139,6 +140,8 @@ static int mo_get(const pl_component *c, const pl_data *d, const char *field, ch
     if (!strcmp(field, "velocity"))
         return format_block(pl_data_slot(d, mo->slot_v), mo->n, buf, size);
     if (!strcmp(field, "rest_position")) return format_block(mo->rest, mo->n, buf, size);
+    if (!strcmp(field, "constraintForce"))
+        return format_block(pl_data_slot(d, mo->slot_f), mo->n, buf, size);
     return PL_EINPUT;
 }
 
@@ -154,6 +157,12 @@ static pl_buffer st_velocities(const pl_component *c, const pl_data *d)
 {
     const mechanical_object *mo = (const mechanical_object *)c;
     return pl_buffer_host_f64(pl_data_slot(d, mo->slot_v), (size_t)mo->n, 3);
+}
+
+static pl_buffer st_forces(const pl_component *c, const pl_data *d)
+{
+    const mechanical_object *mo = (const mechanical_object *)c;
+    return pl_buffer_host_f64(pl_data_slot(d, mo->slot_f), (size_t)mo->n, 3);
 }
 
 static pl_buffer st_rest(const pl_component *c)
@@ -176,6 +185,7 @@ static const pl_state_ops STATE_OPS = {
     .rest_positions = st_rest,
     .offset = st_offset,
     .set_offset = st_set_offset,
+    .constraint_forces = st_forces,
 };
 
 const pl_type pl_mechanical_object_type = {

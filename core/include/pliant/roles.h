@@ -36,6 +36,9 @@ typedef struct pl_state_ops {
     int (*offset)(const pl_component *c);
     /* called by the animation loop when it numbers the global system */
     void (*set_offset)(pl_component *c, int offset);
+    /* constraint forces on the vertices from the last step, H^T lambda (n x 3)
+     * [N]: contact, friction and cable forces (zero without constraints) */
+    pl_buffer (*constraint_forces)(const pl_component *c, const pl_data *d);
 } pl_state_ops;
 
 /* ---- pl_mass: lumped masses of a state ---------------------------------- */
