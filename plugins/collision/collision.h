@@ -1,0 +1,138 @@
+/* collision.h - the collision plugin's numeric core (static library
+ * collision_core): analytic shapes (signed distance, closest surface point,
+ * outward normal), their prescribed rigid motion, and the three contact rows
+ * of a body point against an obstacle (PAPER_NOTES items 5, 9, 10, 13).
+ * No scene code: plain arrays in and out, so the plugin's components and the
+ * tests call the same functions.
+ *
+ * Row conventions (pl_rows, one contact = 3 consecutive rows):
+ *   normal   entries w_a n, d = n . p + contactDistance, mu on this row,
+ *            pair -> the first friction row; delta = H q - d is the signed
+ *            gap along n minus contactDistance (n points out of the obstacle,
+ *            p is the closest surface point), so delta >= 0 keeps the gap;
+ *   friction entries w_a t_k (k = 1, 2; t1, t2, n right-handed and
+ *            orthonormal), d = t_k . v_s (the obstacle's surface velocity at
+ *            p), pair -> the normal row.
+ * The force on the body is lambda_n n + lambda_t1 t1 + lambda_t2 t2 [N]. */
+#ifndef PLIANT_COLLISION_H
+#define PLIANT_COLLISION_H
+
+#include "pliant/error.h"
+#include "pliant/rows.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- shapes --------------------------------------------------------------- */
+
+typedef enum pl_shape_kind {
+    PL_SHAPE_PLANE = 0,    /* half-space below the plane is inside */
+    PL_SHAPE_SPHERE = 1,
+    PL_SHAPE_BOX = 2,
+    PL_SHAPE_CAPSULE = 3,  /* segment swept by a ball (rounded ends) */
+    PL_SHAPE_CYLINDER = 4  /* flat caps */
+} pl_shape_kind;
+
+/* A shape in its own frame, placed by (center, R): x_world = center + R x_local.
+ * The local z axis is the plane's normal and the capsule's / cylinder's axis. */
+typedef struct pl_shape {
+    pl_shape_kind kind;
+    double center[3];  /* plane: a point of it; capsule: midpoint of its segment [m] */
+    double R[9];       /* local -> world rotation, row-major (columns = local axes) */
+    double radius;     /* sphere, capsule, cylinder [m] */
+    double half[3];    /* box: half extents; capsule, cylinder: half[2] = half length [m] */
+} pl_shape;
+
+/* Constructors: check the arguments (a zero normal or axis, a negative or
+ * non-finite size) and return PL_EINPUT with a message, else PL_OK. */
+int pl_shape_plane(pl_shape *s, const double point[3], const double normal[3], pl_error *err);
+int pl_shape_sphere(pl_shape *s, const double center[3], double radius, pl_error *err);
+/* R: the box's orientation (local -> world, row-major), NULL = identity. */
+int pl_shape_box(pl_shape *s, const double center[3], const double half[3], const double R[9],
+                 pl_error *err);
+int pl_shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double radius,
+                     pl_error *err);
+int pl_shape_cylinder(pl_shape *s, const double center[3], const double axis[3], double radius,
+                      double length, pl_error *err);
+
+/* Signed distance phi(x) [m] (negative inside) of the world point x; writes
+ * the closest surface point and the unit outward normal there (either may be
+ * NULL).  Points with several closest points (the centre of a sphere, the
+ * axis of a capsule, ties between box faces) get a fixed choice: the lowest
+ * local axis, +x for radial directions. */
+double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3]);
+
+/* out = the shape moved by the rigid map x -> Rm x + tm. */
+void pl_shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out);
+
+/* A unit vector orthogonal to the unit n and its complement, so that (t1, t2, n)
+ * is a right-handed orthonormal frame: Gram-Schmidt of the coordinate axis
+ * least aligned with n (the lowest index on ties); deterministic. */
+void pl_contact_tangents(const double n[3], double t1[3], double t2[3]);
+
+/* ---- prescribed motion -------------------------------------------------- */
+
+/* A rigid motion from the scene pose, all parts optional and combined:
+ *   s(t) = velocity t + key(t)           translation (key: linear between
+ *                                        keyframes, constant outside them)
+ *   x(t) = c + s(t) + Rot(axis, w t) (x0 - c)
+ * with c the rotation centre (it travels with the translation). */
+typedef struct pl_motion {
+    double velocity[3];        /* [m/s] */
+    double axis[3];            /* rotation axis (normalised by pl_motion_prepare) */
+    double angular_velocity;   /* [rad/s], right-handed about axis */
+    double center[3];          /* a point of the axis at t = 0 [m] */
+    const double *times;       /* ntimes keyframe times [s], strictly increasing */
+    const double *translations;/* ntimes x 3 translations [m] from the scene pose */
+    int ntimes;
+} pl_motion;
+
+/* Checks a motion and normalises its axis: finite values, a non-zero axis
+ * when angular_velocity != 0, strictly increasing times, ntrans = 3 ntimes
+ * translation values.  PL_EINPUT with a message naming the field. */
+int pl_motion_prepare(pl_motion *m, int ntrans, pl_error *err);
+/* The rigid map of time t: x(t) = R x0 + tr. */
+void pl_motion_pose(const pl_motion *m, double t, double R[9], double tr[3]);
+/* Velocity [m/s] at time t of the moving body's material point that is at
+ * the world point p at time t: s'(t) + w axis x (p - c - s(t)).  Keyframed
+ * translation uses its left derivative (the segment ending at t), i.e. the
+ * velocity over a step that ends at t; 0 before the first key time. */
+void pl_motion_velocity(const pl_motion *m, double t, const double p[3], double v[3]);
+/* Whether the motion moves anything at all. */
+int pl_motion_is_static(const pl_motion *m);
+
+/* ---- contacts ------------------------------------------------------------- */
+
+/* One body point against an obstacle, as the plugin records it per step
+ * (data slot "contacts" of each obstacle, an array of these). */
+typedef struct pl_obstacle_contact {
+    double point[3];        /* closest point on the obstacle at t + h [m] */
+    double normal[3];       /* outward unit normal there */
+    double t1[3], t2[3];    /* tangents of the friction rows */
+    double body_point[3];   /* the body point at the start of the step [m] */
+    double velocity[3];     /* obstacle surface velocity at point [m/s] */
+    double gap;             /* signed distance phi at detection [m] */
+    double lambda[3];       /* multipliers: normal, t1, t2 [N] (0 until solved) */
+    double force[3];        /* force on the body lambda_n n + lambda_t1 t1 + lambda_t2 t2 [N] */
+    int vertex;             /* the body point's first global vertex */
+    int model;              /* index of its collision model (scene order) */
+} pl_obstacle_contact;
+
+/* Appends the three rows of contact k (see the top of this file): nv vertices
+ * with weights w, the obstacle's closest point p, outward normal n, surface
+ * velocity vs, friction mu and contactDistance.  Fills ct's tangents.
+ * Returns the normal row's index, or -1 on allocation failure. */
+int pl_collision_emit_contact(pl_rows *rows, pl_component *owner, int nv, const int *vertex,
+                              const double *weight, const double p[3], const double n[3],
+                              const double vs[3], double mu, double contact_distance,
+                              double t1[3], double t2[3]);
+
+/* Fills lambda and force of the contacts from the multipliers of their rows
+ * (3 per contact in emission order, lambda[0..3 ncontacts-1]). */
+void pl_collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,289 @@
+/* obstacle.c - the constraint role shared by the analytic obstacles.  Once
+ * per step (LocalGlobalSolver, Algorithm 4) every body point of every
+ * collision model of the scene is tested against the obstacle posed at the
+ * END of the step (t + h: the unknowns q are positions at t + h), using the
+ * positions at the start of the step; a point with signed distance below
+ * alarmDistance gets a contact: one normal and two friction rows (see
+ * collision.h for the conventions).  Contacts are recorded in the pl_data
+ * slot "contacts" and receive their forces after the step. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "obstacle.h"
+
+/* The shape at the scene pose and the motion, from the fields as they are
+ * now (all are RUNTIME fields, so this is re-checked at every step). */
+static int prepare(const coll_obstacle *o, pl_shape *s, pl_motion *m, pl_error *err)
+{
+    if (o->make_shape(o, s, err) != PL_OK) return PL_EINPUT;
+    if (!isfinite(o->mu) || o->mu < 0.0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "mu must be >= 0, got %g", o->mu);
+    if (!isfinite(o->alarm_distance) || o->alarm_distance < 0.0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "alarmDistance must be a finite value >= 0 [m], got %g",
+                            o->alarm_distance);
+    if (!isfinite(o->contact_distance) || o->contact_distance < 0.0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "contactDistance must be a finite value >= 0 [m], got %g",
+                            o->contact_distance);
+    if (o->contact_distance > o->alarm_distance)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "contactDistance (%g m) exceeds alarmDistance (%g m): a point is "
+                            "only detected within alarmDistance, so the kept gap must not be "
+                            "larger",
+                            o->contact_distance, o->alarm_distance);
+    if (o->rotation_center.n != 0 && o->rotation_center.n != 3)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "rotationCenter: expected 3 values (x y z), found %d",
+                            o->rotation_center.n);
+    memset(m, 0, sizeof *m);
+    memcpy(m->velocity, o->velocity, sizeof m->velocity);
+    memcpy(m->axis, o->rotation_axis, sizeof m->axis);
+    m->angular_velocity = o->angular_velocity;
+    memcpy(m->center, o->rotation_center.n == 3 ? o->rotation_center.v : s->center,
+           sizeof m->center);
+    m->times = o->times.v;
+    m->ntimes = o->times.n;
+    m->translations = o->translations.v;
+    return pl_motion_prepare(m, o->translations.n, err);
+}
+
+typedef struct model_list {
+    pl_component **items;
+    int n;
+} model_list;
+
+static int collect_model(pl_component *c, void *user)
+{
+    model_list *l = user;
+    pl_component **items = realloc(l->items, (size_t)(l->n + 1) * sizeof *items);
+    if (!items) return 1;
+    l->items = items;
+    l->items[l->n++] = c;
+    return 0;
+}
+
+/* Every collision model of the whole scene, in scene order. */
+static int find_models(coll_obstacle *o, pl_ctx *ctx)
+{
+    pl_node *root = o->base.node;
+    while (root->parent) root = root->parent;
+    free(o->models);
+    o->models = NULL;
+    o->nmodels = 0;
+    model_list l = {NULL, 0};
+    if (pl_node_visit_role(root, PL_ROLE_COLLISION_MODEL, collect_model, &l)) {
+        free(l.items);
+        return pl_component_error(&o->base, ctx, PL_EINTERNAL, "out of memory");
+    }
+    o->models = l.items;
+    o->nmodels = l.n;
+    if (o->nmodels == 0)
+        pl_component_warn(&o->base, ctx,
+                          "the scene has no collision model (e.g. <SurfaceCollisionModel/> next "
+                          "to a body's MechanicalObject): nothing can touch this obstacle");
+    return PL_OK;
+}
+
+int coll_obstacle_init(pl_component *c, pl_ctx *ctx, coll_shape_fn make_shape)
+{
+    coll_obstacle *o = (coll_obstacle *)c;
+    o->make_shape = make_shape;
+    o->slot = pl_model_add_slot(ctx->model, c, "contacts", 0);
+    if (o->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_shape s;
+    pl_motion m;
+    pl_error err;
+    if (prepare(o, &s, &m, &err) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
+    return PL_OK;
+}
+
+int coll_obstacle_bind(pl_component *c, pl_ctx *ctx)
+{
+    return find_models((coll_obstacle *)c, ctx);
+}
+
+int coll_obstacle_reinit(pl_component *c, pl_ctx *ctx)
+{
+    coll_obstacle *o = (coll_obstacle *)c;
+    pl_shape s;
+    pl_motion m;
+    pl_error err;
+    if (prepare(o, &s, &m, &err) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
+    return PL_OK;
+}
+
+void coll_obstacle_destroy(pl_component *c)
+{
+    coll_obstacle *o = (coll_obstacle *)c;
+    free(o->models);
+    free(o->work);
+    o->models = NULL;
+    o->work = NULL;
+}
+
+static pl_obstacle_contact *push_record(coll_obstacle *o)
+{
+    if (o->nwork == o->capwork) {
+        int cap = o->capwork ? 2 * o->capwork : 64;
+        pl_obstacle_contact *w = realloc(o->work, (size_t)cap * sizeof *w);
+        if (!w) return NULL;
+        o->work = w;
+        o->capwork = cap;
+    }
+    pl_obstacle_contact *r = &o->work[o->nwork++];
+    memset(r, 0, sizeof *r);
+    return r;
+}
+
+/* The mapped vertices of point i (those >= 0), checked against the system;
+ * returns their count, 0 when none of them is free (a contact there could
+ * not move anything), or -1 on an index out of range. */
+static int point_vertices(const pl_collision_geometry *g, int i, const pl_system *sys,
+                          int vert[4], double w[4])
+{
+    int nv = 0, nfree = 0;
+    for (int a = 0; a < 4; ++a) {
+        int v = g->map_vertex[4 * i + a];
+        if (v < 0) continue;
+        if (v >= sys->nverts) return -1;
+        vert[nv] = v;
+        w[nv++] = g->map_weight[4 * i + a];
+        if (!sys->free_index || sys->free_index[v] >= 0) nfree++;
+    }
+    return nfree ? nv : 0;
+}
+
+/* Contacts of one collision model's points against the posed shape. */
+static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *g,
+                          const pl_shape *s, const pl_motion *m, double t1,
+                          const pl_system *sys, pl_rows *rows, pl_error *err)
+{
+    double mu = g->mu >= 0.0 ? g->mu : o->mu;
+    for (int i = 0; i < g->nverts; ++i) {
+        const double *x = &g->x[3 * i];
+        double p[3], n[3];
+        double phi = pl_shape_query(s, x, p, n);
+        if (!(phi < o->alarm_distance)) continue;
+        int vert[4];
+        double w[4];
+        int nv = point_vertices(g, i, sys, vert, w);
+        if (nv < 0)
+            return pl_component_fail(&o->base, err, PL_EINTERNAL,
+                                     "collision model '%s' maps point %d to a vertex outside "
+                                     "the system (%d vertices)",
+                                     o->models[k]->name, i, sys->nverts);
+        if (nv == 0) continue;
+        pl_obstacle_contact *r = push_record(o);
+        if (!r) return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
+        memcpy(r->point, p, sizeof r->point);
+        memcpy(r->normal, n, sizeof r->normal);
+        memcpy(r->body_point, x, sizeof r->body_point);
+        pl_motion_velocity(m, t1, p, r->velocity);
+        r->gap = phi;
+        r->vertex = vert[0];
+        r->model = k;
+        if (pl_collision_emit_contact(rows, &o->base, nv, vert, w, p, n, r->velocity, mu,
+                                      o->contact_distance, r->t1, r->t2) < 0)
+            return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
+    }
+    return PL_OK;
+}
+
+static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
+                         pl_rows *rows, pl_error *err)
+{
+    coll_obstacle *o = (coll_obstacle *)c;
+    pl_shape s0, s;
+    pl_motion m;
+    pl_error e;
+    if (prepare(o, &s0, &m, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
+    if (!pl_buffer_f64(q))
+        return pl_component_fail(c, err, PL_EINTERNAL, "positions must be host float64");
+    /* posed at the end of the step: q is solved for t + h */
+    double t1 = ctx->data->time + sys->h, R[9], tr[3];
+    pl_motion_pose(&m, t1, R, tr);
+    pl_shape_transform(&s0, R, tr, &s);
+    o->nwork = 0;
+    for (int k = 0; k < o->nmodels; ++k) {
+        pl_component *mc = o->models[k];
+        const pl_collision_model_ops *ops = pl_component_role(mc, PL_ROLE_COLLISION_MODEL);
+        pl_collision_geometry g;
+        memset(&g, 0, sizeof g);
+        int rc = ops->update(mc, ctx, q, &g, err);
+        if (rc) return rc;
+        /* geometry without DOFs cannot respond; groups opt out */
+        if (g.is_obstacle || (o->group != 0 && g.group == o->group)) continue;
+        rc = model_contacts(o, k, &g, &s, &m, t1, sys, rows, err);
+        if (rc) return rc;
+    }
+    size_t bytes = (size_t)o->nwork * sizeof *o->work;
+    if (pl_data_resize_slot(ctx->data, o->slot, bytes) != 0)
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    if (bytes) memcpy(pl_data_slot(ctx->data, o->slot), o->work, bytes);
+    return PL_OK;
+}
+
+int coll_obstacle_contacts(const pl_component *c, const pl_data *d,
+                           const pl_obstacle_contact **items)
+{
+    const coll_obstacle *o = (const coll_obstacle *)c;
+    *items = pl_data_slot(d, o->slot);
+    return (int)(pl_data_slot_bytes(d, o->slot) / sizeof(pl_obstacle_contact));
+}
+
+static void ob_accept_multipliers(pl_component *c, pl_data *d, const pl_rows *rows,
+                                  const double *lambda, int first, int count)
+{
+    coll_obstacle *o = (coll_obstacle *)c;
+    pl_obstacle_contact *items = pl_data_slot(d, o->slot);
+    int n = (int)(pl_data_slot_bytes(d, o->slot) / sizeof *items);
+    /* our rows are 3 per contact in emission order, starting at first */
+    if (count != 3 * n || (n && rows->kind[first] != PL_ROW_NORMAL)) return;
+    pl_collision_contact_forces(items, n, lambda + first);
+}
+
+const pl_constraint_ops coll_obstacle_constraint_ops = {
+    .version = PL_CONSTRAINT_OPS_VERSION,
+    .build_rows = ob_build_rows,
+    .accept_multipliers = ob_accept_multipliers,
+};
+
+/* "contactPoints" etc.: one vector of each record, x y z each. */
+static int format_vectors(const pl_obstacle_contact *items, int n, size_t member, char *buf,
+                          size_t size)
+{
+    size_t w = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < n; ++k) {
+        const double *v = (const double *)((const char *)&items[k] + member);
+        for (int i = 0; i < 3; ++i) {
+            int len = snprintf(buf + w, size - w, w ? " %.17g" : "%.17g", v[i]);
+            if (len < 0 || (size_t)len >= size - w) return PL_EINTERNAL;
+            w += (size_t)len;
+        }
+    }
+    return PL_OK;
+}
+
+int coll_obstacle_get(const pl_component *c, const pl_data *d, const char *field, char *buf,
+                      size_t size)
+{
+    const pl_obstacle_contact *items;
+    int n = coll_obstacle_contacts(c, d, &items);
+    if (!strcmp(field, "contactCount")) {
+        int len = snprintf(buf, size, "%d", n);
+        return (len < 0 || (size_t)len >= size) ? PL_EINTERNAL : PL_OK;
+    }
+    if (!strcmp(field, "contactPoints"))
+        return format_vectors(items, n, offsetof(pl_obstacle_contact, point), buf, size);
+    if (!strcmp(field, "contactNormals"))
+        return format_vectors(items, n, offsetof(pl_obstacle_contact, normal), buf, size);
+    if (!strcmp(field, "contactForces"))
+        return format_vectors(items, n, offsetof(pl_obstacle_contact, force), buf, size);
+    return PL_EINPUT;
+}
