@@ -1,0 +1,187 @@
+#!/bin/sh
+# tests/bench/run.sh BUILD_DIR - `make bench`: builds the benchmark programs,
+# runs them, prints the tables and rewrites the generated section of
+# docs/benchmarks.md (text outside its markers is kept), with the plot
+# docs/convergence.png.  Not part of `make test`.
+#
+# Environment (all optional):
+#   BENCH_FRAMES       frames per scene (default 100)
+#   BENCH_SCENES       filters or scene files for bench_scenes (default: all its scenes)
+#   BENCH_MODES        global-solver modes (default sparse,direct)
+#   BENCH_CONV_SCENE   scene of the convergence study (default scenes/twisting_bar.xml)
+#   BENCH_CONV_FRAMES  run-up frames before the studied step (default 100)
+#   BENCH_SKIP         "scenes" or "convergence": skip that part (and its tables in the doc)
+#   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
+#   JOBS               build jobs (default: nproc)
+set -eu
+
+BUILD=${1:-build}
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$ROOT"
+case "$BUILD" in /*) ;; *) BUILD="$ROOT/$BUILD" ;; esac
+[ -f "$BUILD/CMakeCache.txt" ] || { echo "run.sh: $BUILD is not a configured build (run make build)" >&2; exit 2; }
+
+FRAMES=${BENCH_FRAMES:-100}
+MODES=${BENCH_MODES:-sparse,direct}
+SCENES=${BENCH_SCENES:-}
+CONV_SCENE=${BENCH_CONV_SCENE:-scenes/twisting_bar.xml}
+CONV_FRAMES=${BENCH_CONV_FRAMES:-100}
+SKIP=${BENCH_SKIP:-}
+# One thread by default: on a shared machine whose cores are all busy, an
+# OpenMP team waits at every barrier for a descheduled thread, and the
+# parallel phases measured 10-100x slower with 2 threads than with 1.
+# (GNU nproc obeys OMP_NUM_THREADS: count the processors before setting it)
+NCPU=$(getconf _NPROCESSORS_ONLN 2>/dev/null || nproc 2>/dev/null || echo 2)
+JOBS=${JOBS:-$NCPU}
+OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+export OMP_NUM_THREADS
+OUT="$BUILD/bench_out"
+DOC="$ROOT/docs/benchmarks.md"
+PNG="$ROOT/docs/convergence.png"
+mkdir -p "$OUT" "$ROOT/docs"
+
+echo "== building the benchmarks in $BUILD"
+cmake --build "$BUILD" --target bench_scenes bench_convergence -j "$JOBS"
+BIN="$BUILD/bench"
+LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
+
+# relative paths in the doc: the commands as a user types them from the repository root
+REL_BUILD=${BUILD#"$ROOT"/}
+SCENES_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_scenes --frames $FRAMES --modes $MODES --out-dir $REL_BUILD/bench_out --csv $REL_BUILD/bench_out/scenes.csv $SCENES"
+CONV_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_convergence --scene $CONV_SCENE --frames $CONV_FRAMES --iterations 20 --stiffness 1e5,1e7,1e9 --out-dir $REL_BUILD/bench_out --csv $REL_BUILD/bench_out/convergence.csv"
+
+status=0
+if [ "$SKIP" != scenes ]; then
+    echo "== $SCENES_CMD"
+    # shellcheck disable=SC2086 # SCENES is a list of words
+    if "$BIN/bench_scenes" --frames "$FRAMES" --modes "$MODES" --out-dir "$OUT" \
+        --csv "$OUT/scenes.csv" $SCENES >"$OUT/scenes.md" 2>"$OUT/scenes.log"; then :; else
+        status=1
+        echo "run.sh: bench_scenes failed, see $OUT/scenes.log" >&2
+        tail -5 "$OUT/scenes.log" >&2
+    fi
+    cat "$OUT/scenes.md"
+fi
+if [ "$SKIP" != convergence ]; then
+    echo "== $CONV_CMD"
+    if "$BIN/bench_convergence" --scene "$CONV_SCENE" --frames "$CONV_FRAMES" --iterations 20 \
+        --stiffness 1e5,1e7,1e9 --out-dir "$OUT" --csv "$OUT/convergence.csv" \
+        >"$OUT/convergence.md" 2>"$OUT/convergence.log"; then :; else
+        status=1
+        echo "run.sh: bench_convergence failed, see $OUT/convergence.log" >&2
+        tail -5 "$OUT/convergence.log" >&2
+    fi
+    grep -h "warning" "$OUT/convergence.log" >&2 || true
+    cat "$OUT/convergence.md"
+fi
+LOAD_AFTER=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
+
+# ---- the plot: gnuplot, else python3 matplotlib; installed here if missing (never by make test)
+have_matplotlib() { python3 -c 'import matplotlib' >/dev/null 2>&1; }
+plot_note=""
+if [ -s "$OUT/convergence.csv" ]; then
+    if ! command -v gnuplot >/dev/null 2>&1 && ! have_matplotlib; then
+        echo "== installing gnuplot-nox for the convergence plot"
+        SUDO=""
+        [ "$(id -u)" = 0 ] || SUDO="sudo"
+        if command -v apt-get >/dev/null 2>&1; then
+            $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q gnuplot-nox >/dev/null 2>&1 ||
+                { $SUDO apt-get update -q >/dev/null 2>&1 &&
+                  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q gnuplot-nox >/dev/null 2>&1; } ||
+                echo "run.sh: could not install gnuplot-nox" >&2
+        fi
+    fi
+    ncol=$(head -1 "$OUT/convergence.csv" | awk -F, '{print NF}')
+    if command -v gnuplot >/dev/null 2>&1; then
+        gnuplot <<EOF
+set terminal pngcairo size 800,550 noenhanced
+set output "$PNG"
+set datafile separator ","
+set key autotitle columnhead top right
+set logscale y
+set format y "1e%L"
+set grid
+set xlabel "local-global iteration k"
+set ylabel "relative error (eps(q^k) - eps(q*)) / (eps(q^0) - eps(q*))"
+set title "$(basename "$CONV_SCENE"): one step after $CONV_FRAMES frames, 20 local-global iterations"
+plot for [c=2:$ncol] "$OUT/convergence.csv" using 1:c with linespoints lw 2 pt 7
+EOF
+    elif have_matplotlib; then
+        python3 - "$OUT/convergence.csv" "$PNG" <<'EOF'
+import csv, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+rows = list(csv.reader(open(sys.argv[1])))
+head, data = rows[0], [[float(x) for x in r] for r in rows[1:]]
+for c in range(1, len(head)):
+    plt.semilogy([r[0] for r in data], [r[c] for r in data], "o-", label=head[c])
+plt.xlabel("local-global iteration k")
+plt.ylabel("relative error")
+plt.grid(True, which="both", alpha=0.3)
+plt.legend()
+plt.title("Twisting bar: one step from the twisted state")
+plt.savefig(sys.argv[2], dpi=100)
+EOF
+    else
+        plot_note="(no plot: neither gnuplot nor python3 matplotlib could be installed)"
+    fi
+    [ -s "$PNG" ] && echo "== plot: docs/convergence.png"
+fi
+
+# ---- docs/benchmarks.md: replace the generated section, keep everything else
+BEGIN='<!-- BEGIN GENERATED by tests/bench/run.sh: do not edit by hand -->'
+END='<!-- END GENERATED by tests/bench/run.sh -->'
+GEN="$OUT/generated.md"
+{
+    echo "$BEGIN"
+    echo
+    echo "## Measured: scenes and global-solver modes"
+    echo
+    echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+    echo "- machine: $(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -1)," \
+         "$NCPU cores available, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo) memory"
+    echo "- load average (1, 5, 15 min) before: $LOAD_BEFORE, after: $LOAD_AFTER" \
+         "(other jobs shared the machine: timings are noisy; medians over the frames)"
+    echo "- OMP_NUM_THREADS=$OMP_NUM_THREADS, build type" \
+         "$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$BUILD/CMakeCache.txt"), commit" \
+         "$(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD -- 2>/dev/null || echo ' + local changes')"
+    echo "- command: \`make bench\` (= \`sh tests/bench/run.sh $REL_BUILD\`), which ran:"
+    echo
+    echo "      $SCENES_CMD"
+    echo "      $CONV_CMD"
+    echo
+    if [ "$SKIP" != scenes ]; then
+        echo "Times are medians per frame over $FRAMES frames in ms (\"/it\": divided by the" \
+             "local-global iterations per frame); S+S^T MB is the memory of S and S^T (MB = 2^20 bytes);" \
+             "factor and inverse are the precompute times in s. CSV: \`$REL_BUILD/bench_out/scenes.csv\`."
+        echo
+        cat "$OUT/scenes.md"
+        echo
+    fi
+    if [ "$SKIP" != convergence ]; then
+        echo "## Measured: convergence of the local-global iterations"
+        echo
+        echo "Relative error (eps(q^k) - eps(q*)) / (eps(q^0) - eps(q*)) of one step taken from the"
+        echo "state after $CONV_FRAMES frames, eps the incremental potential, q* Newton's solution of the same"
+        echo "step. CSV: \`$REL_BUILD/bench_out/convergence.csv\`."
+        echo
+        cat "$OUT/convergence.md"
+        echo
+        if [ -s "$PNG" ]; then echo "![convergence](convergence.png)"; else echo "$plot_note"; fi
+        echo
+    fi
+    echo "$END"
+} >"$GEN"
+
+if [ -f "$DOC" ] && grep -qF "$BEGIN" "$DOC" && grep -qF "$END" "$DOC"; then
+    awk -v b="$BEGIN" -v e="$END" -v gen="$GEN" '
+        $0 == b { while ((getline line < gen) > 0) print line; skip = 1; next }
+        $0 == e { skip = 0; next }
+        !skip { print }' "$DOC" >"$DOC.tmp" && mv "$DOC.tmp" "$DOC"
+else
+    [ -f "$DOC" ] || printf '# Benchmarks\n\n' >"$DOC"
+    { echo; cat "$GEN"; } >>"$DOC"
+fi
+echo "== wrote docs/benchmarks.md"
+exit $status
