@@ -19,6 +19,7 @@ typedef struct newton_solver {
     int max_iterations;
     double tolerance;
     int quasi_static;
+    int project;
     pl_dynamics dyn;
     int ready;
     double *grad, *dx, *trial;
@@ -35,6 +36,10 @@ static const pl_field FIELDS[] = {
              PL_FIELD_RUNTIME),
     PL_FIELD(newton_solver, quasi_static, "quasiStatic", PL_F_BOOL, "0",
              "solve for static equilibrium (no inertia; gravity as an external load)", 0),
+    PL_FIELD(newton_solver, project, "projectHessian", PL_F_BOOL, "1",
+             "project each element Hessian onto the PSD cone (robust far from equilibrium; 0 keeps "
+             "the exact Hessian: quadratic convergence near a minimum)",
+             PL_FIELD_RUNTIME),
 };
 
 static int ns_reinit(pl_component *c, pl_ctx *ctx)
@@ -131,7 +136,7 @@ static int newton_direction(newton_solver *s, const pl_data *data, const double 
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
-        int rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, 1, &H, err);
+        int rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, s->project, &H, err);
         if (rc) {
             pl_triplets_free(&H);
             return rc;
