@@ -10,6 +10,9 @@
 #include "pliant/plugin.h"
 #include "pliant/roles.h"
 #include "pliant/timer.h"
+#ifdef PLIANT_HAVE_CUDA
+#include "cuda/spinv_cuda_buffers.h"
+#endif
 
 typedef struct sparse_inverse_solver {
     pl_component base;
@@ -17,10 +20,19 @@ typedef struct sparse_inverse_solver {
     int mode;                  /* pl_spinv_mode */
     int threads;
     pl_sparse_inverse *solver; /* built by factor */
+#ifdef PLIANT_HAVE_CUDA
+    int device;                /* 0 cpu, 1 cuda */
+    int precision;             /* 0 float64, 1 float32 (pl_precision) */
+    pl_spinv_cuda *gpu;        /* device copy of S, built by factor when device = cuda */
+#endif
 } sparse_inverse_solver;
 
 static const char *const ordering_choices[] = {"metis", "nesdis", "amd", "natural", NULL};
 static const char *const mode_choices[] = {"sparse", "direct", NULL};
+#ifdef PLIANT_HAVE_CUDA
+static const char *const device_choices[] = {"cpu", "cuda", NULL};
+static const char *const precision_choices[] = {"float64", "float32", NULL};
+#endif
 
 static const pl_field solver_fields[] = {
     PL_FIELD_ENUM(sparse_inverse_solver, ordering, "ordering", ordering_choices, "metis",
@@ -33,6 +45,13 @@ static const pl_field solver_fields[] = {
                   0),
     PL_FIELD(sparse_inverse_solver, threads, "threads", PL_F_INT, "0",
              "OpenMP threads for the inverse and the products [count] (0 = OpenMP's default)", 0),
+#ifdef PLIANT_HAVE_CUDA
+    PL_FIELD_ENUM(sparse_inverse_solver, device, "device", device_choices, "cpu",
+                  "where the global step runs: cpu, or cuda (S copied to the GPU; mode sparse)", 0),
+    PL_FIELD_ENUM(sparse_inverse_solver, precision, "precision", precision_choices, "float64",
+                  "values and arithmetic of the device copy of S: float64 or float32 (device cuda)",
+                  0),
+#endif
 };
 
 static int solver_init(pl_component *c, pl_ctx *ctx)
@@ -41,6 +60,10 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     if (s->threads < 0)
         return pl_component_error(c, ctx, PL_EINPUT, "threads must be >= 0 (0 = default), got %d",
                                   s->threads);
+#ifdef PLIANT_HAVE_CUDA
+    if (s->device == 1 && s->mode != PL_SPINV_SPARSE)
+        return pl_component_error(c, ctx, PL_EINPUT, "device cuda needs mode sparse");
+#endif
     return PL_OK;
 }
 
@@ -49,6 +72,10 @@ static void solver_destroy(pl_component *c)
     sparse_inverse_solver *s = (sparse_inverse_solver *)c;
     pl_sparse_inverse_destroy(s->solver);
     s->solver = NULL;
+#ifdef PLIANT_HAVE_CUDA
+    pl_spinv_cuda_destroy(s->gpu);
+    s->gpu = NULL;
+#endif
 }
 
 static void report(pl_component *c, const pl_spinv_stats *st, struct pl_timers *timers)
@@ -93,6 +120,18 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
     int status = pl_sparse_inverse_factor(s->solver, A, &e);
     if (status != PL_OK) return pl_component_fail(c, err, status, "%s", e.msg);
     report(c, pl_sparse_inverse_stats(s->solver), timers);
+#ifdef PLIANT_HAVE_CUDA
+    pl_spinv_cuda_destroy(s->gpu);
+    s->gpu = NULL;
+    if (s->device == 1) {
+        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64,
+                                      PL_SPINV_CUDA_OWN, &e);
+        if (!s->gpu) return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+        if (timers)
+            pl_stat_set(timers, "S device memory [MB]",
+                        pl_spinv_cuda_device_bytes(s->gpu) / (1024.0 * 1024.0));
+    }
+#endif
     return PL_OK;
 }
 
@@ -101,6 +140,9 @@ static int solver_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_er
     sparse_inverse_solver *s = (sparse_inverse_solver *)c;
     int n = pl_sparse_inverse_size(s->solver);
     if (n == 0) return pl_component_fail(c, err, PL_EINPUT, "solve called before factor");
+#ifdef PLIANT_HAVE_CUDA
+    if (s->gpu) return pl_spinv_cuda_solve_buffers(s->gpu, s->solver, b, x, err);
+#endif
     double *bd = pl_buffer_f64(b), *xd = pl_buffer_f64(x);
     if (!bd || !xd)
         return pl_component_fail(c, err, PL_EINPUT, "solve takes host float64 buffers");

@@ -1,0 +1,250 @@
+/* hyper_cuda.cu - the tetrahedral local step on the GPU (see hyper_cuda.h):
+ * one thread per element, then one thread per vertex for the gather. */
+#include "hyper_cuda.h"
+
+#include <cuda_runtime.h>
+#include <limits.h>
+#include <stdlib.h>
+
+#include "hyper_cuda_math.cuh"
+
+struct pl_hyper_cuda {
+    int n, nverts, material;
+    int4 *verts;            /* n: the 4 local vertices */
+    double *D;              /* n x 12 */
+    double *mu, *lambda, *w;/* n */
+    int *vptr, *vinc;       /* nverts + 1, 4n */
+    double *slots;          /* n x 12: corner 3-vectors (GATHER) */
+    int *stats;             /* max iterations, missed, first non-finite element */
+    double bytes;
+};
+
+namespace {
+
+constexpr int kThreads = 128;
+
+int cuda_fail(pl_error *err, cudaError_t e, const char *what)
+{
+    return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "hyperelastic (cuda): %s: %s", what,
+                        cudaGetErrorString(e));
+}
+
+#define HC_CK(call, what)                                      \
+    do {                                                       \
+        cudaError_t hc_e_ = (call);                            \
+        if (hc_e_ != cudaSuccess) return cuda_fail(err, hc_e_, what); \
+    } while (0)
+
+__global__ void k_reset(int *stats)
+{
+    stats[0] = 0, stats[1] = 0, stats[2] = INT_MAX;
+}
+
+/* One element: F, the local solve, the dual update and the corner
+ * contributions h2 w (p - u) D^T, to its slots or atomically to rhs. */
+__global__ void __launch_bounds__(kThreads)
+    k_project(int n, int material, const int4 *__restrict__ verts, const double *__restrict__ D,
+              const double *__restrict__ mu, const double *__restrict__ lambda,
+              const double *__restrict__ w, int offset, double h2, const double *__restrict__ q,
+              double *__restrict__ dual, double *__restrict__ slots, double *__restrict__ rhs,
+              int atomic, int *__restrict__ stats)
+{
+    const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    int iters = 0, missed = 0, bad = INT_MAX;
+    if (i < n) {
+        const int4 v4 = verts[i];
+        const int v[4] = {v4.x, v4.y, v4.z, v4.w};
+        double Dl[12], F[9], z[9], p[9];
+#pragma unroll
+        for (int k = 0; k < 12; ++k) Dl[k] = D[12 * (size_t)i + k];
+#pragma unroll
+        for (int k = 0; k < 9; ++k) F[k] = 0.0;
+#pragma unroll
+        for (int c = 0; c < 4; ++c) {
+            const double *x = q + 3 * ((size_t)offset + v[c]);
+            const double x0 = x[0], x1 = x[1], x2 = x[2];
+#pragma unroll
+            for (int b = 0; b < 3; ++b) {
+                F[b] += x0 * Dl[c * 3 + b];
+                F[3 + b] += x1 * Dl[c * 3 + b];
+                F[6 + b] += x2 * Dl[c * 3 + b];
+            }
+        }
+        const double m = mu[i], la = lambda[i];
+        const double what = material == 0 ? 2.0 * m : 2.0 * m + la;
+        double *u = material != 0 ? dual + 9 * (size_t)i : NULL;
+        double ul[9];
+#pragma unroll
+        for (int k = 0; k < 9; ++k) {
+            ul[k] = u ? u[k] : 0.0;
+            z[k] = u ? F[k] + ul[k] : F[k];
+        }
+        int it = hcu::local_solve3(material, m, la, what, z, p);
+        bool finite = true;
+#pragma unroll
+        for (int k = 0; k < 9; ++k) finite &= isfinite(p[k]) != 0;
+        if (!finite) {
+            bad = i;
+#pragma unroll
+            for (int k = 0; k < 9; ++k) p[k] = 0.0;
+        } else if (it < 0) {
+            missed = 1;
+        } else {
+            iters = it;
+        }
+        if (u && finite) {
+#pragma unroll
+            for (int k = 0; k < 9; ++k) {
+                ul[k] += F[k] - p[k];
+                p[k] -= ul[k];
+                u[k] = ul[k];
+            }
+        }
+        const double scale = h2 * w[i];
+#pragma unroll
+        for (int c = 0; c < 4; ++c)
+#pragma unroll
+            for (int a = 0; a < 3; ++a) {
+                double s = p[a * 3] * Dl[c * 3] + p[a * 3 + 1] * Dl[c * 3 + 1] +
+                           p[a * 3 + 2] * Dl[c * 3 + 2];
+                if (atomic)
+                    atomicAdd(rhs + 3 * ((size_t)offset + v[c]) + a, scale * s);
+                else
+                    slots[12 * (size_t)i + 3 * c + a] = scale * s;
+            }
+    }
+    /* statistics: one atomic per warp (every lane of the grid gets here) */
+    iters = __reduce_max_sync(0xffffffffu, iters);
+    missed = __reduce_add_sync(0xffffffffu, missed);
+    bad = __reduce_min_sync(0xffffffffu, bad);
+    if ((threadIdx.x & 31) == 0) {
+        if (iters > 0) atomicMax(stats, iters);
+        if (missed > 0) atomicAdd(stats + 1, missed);
+        if (bad != INT_MAX) atomicMin(stats + 2, bad);
+    }
+}
+
+/* rhs[offset + v] += the sum of v's slots, in increasing slot order (as
+ * hyper_incidence_gather on the CPU). */
+__global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
+                         const double *__restrict__ slots, int offset, double *__restrict__ rhs)
+{
+    const int v = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (v >= nverts) return;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = vptr[v]; k < vptr[v + 1]; ++k) {
+        const double *x = slots + 3 * (size_t)vinc[k];
+        a0 += x[0];
+        a1 += x[1];
+        a2 += x[2];
+    }
+    double *o = rhs + 3 * ((size_t)offset + v);
+    o[0] += a0;
+    o[1] += a1;
+    o[2] += a2;
+}
+
+template <typename T>
+int upload(pl_hyper_cuda *g, T **dst, const T *src, size_t count, pl_error *err)
+{
+    size_t bytes = (count > 0 ? count : 1) * sizeof(T);
+    HC_CK(cudaMalloc((void **)dst, bytes), "cudaMalloc");
+    g->bytes += (double)bytes;
+    if (src && count) HC_CK(cudaMemcpy(*dst, src, count * sizeof(T), cudaMemcpyHostToDevice), "upload");
+    return PL_OK;
+}
+
+} // namespace
+
+extern "C" pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err)
+{
+    if (!e || e->k != 4 || e->d != 3) {
+        pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                     "hyperelastic (cuda): the device local step takes tetrahedra only");
+        return NULL;
+    }
+    pl_hyper_cuda *g = static_cast<pl_hyper_cuda *>(calloc(1, sizeof *g));
+    if (!g) {
+        pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "hyperelastic (cuda): out of memory");
+        return NULL;
+    }
+    g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material;
+    size_t n = (size_t)e->n;
+    if (upload(g, &g->verts, static_cast<const int4 *>(NULL), n, err) ||
+        upload(g, &g->D, e->D, 12 * n, err) || upload(g, &g->mu, e->mu, n, err) ||
+        upload(g, &g->lambda, e->lambda, n, err) || upload(g, &g->w, e->w, n, err) ||
+        upload(g, &g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
+        upload(g, &g->vinc, e->vinc, 4 * n, err) ||
+        upload(g, &g->slots, static_cast<const double *>(NULL), 12 * n, err) ||
+        upload(g, &g->stats, static_cast<const int *>(NULL), 3, err)) {
+        pl_hyper_cuda_destroy(g);
+        return NULL;
+    }
+    /* verts as int4 (one 16-byte load per element) */
+    if (n) {
+        cudaError_t ce = cudaMemcpy(g->verts, e->verts, n * 4 * sizeof(int), cudaMemcpyHostToDevice);
+        if (ce == cudaSuccess) ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
+        if (ce != cudaSuccess) {
+            cuda_fail(err, ce, "upload");
+            pl_hyper_cuda_destroy(g);
+            return NULL;
+        }
+    }
+    return g;
+}
+
+extern "C" void pl_hyper_cuda_destroy(pl_hyper_cuda *g)
+{
+    if (!g) return;
+    void *ptrs[] = {g->verts, g->D, g->mu, g->lambda, g->w, g->vptr, g->vinc, g->slots, g->stats};
+    for (void *p : ptrs)
+        if (p) cudaFree(p);
+    free(g);
+}
+
+extern "C" int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
+                                     double *dual, double *rhs, pl_hyper_cuda_assembly mode,
+                                     struct CUstream_st *stream, pl_error *err)
+{
+    if (!g || !q || !rhs || offset < 0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "hyperelastic (cuda): bad arguments");
+    if (g->material != PL_HYPER_ARAP && !dual)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "hyperelastic (cuda): the ADMM-PD local step needs its dual variables");
+    cudaStream_t st = stream;
+    k_reset<<<1, 1, 0, st>>>(g->stats);
+    if (g->n > 0) {
+        unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
+        int atomic = mode == PL_HYPER_CUDA_ATOMIC;
+        k_project<<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu, g->lambda, g->w,
+                                           offset, h2, q, dual, g->slots, rhs, atomic, g->stats);
+        if (!atomic && g->nverts > 0)
+            k_gather<<<(unsigned)((g->nverts + 255) / 256), 256, 0, st>>>(g->nverts, g->vptr, g->vinc,
+                                                                         g->slots, offset, rhs);
+    }
+    HC_CK(cudaGetLastError(), "local step kernels");
+    return PL_OK;
+}
+
+extern "C" int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
+                                   pl_error *err)
+{
+    int h[3];
+    HC_CK(cudaMemcpyAsync(h, g->stats, sizeof h, cudaMemcpyDeviceToHost, stream), "stats");
+    HC_CK(cudaStreamSynchronize(stream), "local step");
+    stats[0] = h[0], stats[1] = h[1];
+    if (h[2] != INT_MAX)
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
+                            "element %d: non-finite deformation gradient in the local step", h[2]);
+    return PL_OK;
+}
+
+extern "C" int pl_hyper_cuda_count(const pl_hyper_cuda *g)
+{
+    return g ? g->n : 0;
+}
+
+extern "C" double pl_hyper_cuda_device_bytes(const pl_hyper_cuda *g)
+{
+    return g ? g->bytes : 0.0;
+}

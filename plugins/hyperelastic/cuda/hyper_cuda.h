@@ -1,0 +1,62 @@
+/* hyper_cuda.h - the local step of a tetrahedral element set on an NVIDIA
+ * GPU: ARAP (closest rotation), corotational and Neo-Hookean (ADMM-PD prox
+ * on the singular values, scaled duals updated on the device), float64.
+ *
+ * The element data of a pl_hyper_elements (verts, D, mu, lambda, w, and the
+ * vertex incidence vptr/vinc) is copied to the device once.  project() runs
+ * the same algorithm as pl_hyper_elements_project: per element F = X D,
+ * p = local solve of F (+ u), u += F - p, and h2 w (p - u) D^T added to the
+ * right-hand side.  The right-hand side is assembled either
+ *  - GATHER: each element writes its 4 corner 3-vectors to its own slots,
+ *    then one thread per vertex sums its slots in the CPU's order (no
+ *    atomics, deterministic), or
+ *  - ATOMIC: elements add into rhs with atomicAdd (one launch; the order of
+ *    the sums varies from run to run).
+ * Pointers are DEVICE pointers; work is queued on `stream` (NULL: the legacy
+ * default stream) and never waited for, so it can be captured in a CUDA
+ * graph.  Tetrahedra only (k = 4). */
+#ifndef PLIANT_HYPER_CUDA_H
+#define PLIANT_HYPER_CUDA_H
+
+#include "hyperelastic.h"
+#include "pliant/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct CUstream_st;
+
+typedef enum pl_hyper_cuda_assembly {
+    PL_HYPER_CUDA_GATHER = 0,
+    PL_HYPER_CUDA_ATOMIC = 1
+} pl_hyper_cuda_assembly;
+
+typedef struct pl_hyper_cuda pl_hyper_cuda;
+
+/* Copies the element set to the current device.  NULL with err set for
+ * triangles, out of device memory or on a CUDA error. */
+pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err);
+void pl_hyper_cuda_destroy(pl_hyper_cuda *g);
+
+/* The local step: q global positions (device, >= offset + nverts rows x 3);
+ * dual (device, n x 9; NULL for ARAP) updated in place; rhs (device, global
+ * n x 3) += h2 w (p - u) D^T. */
+int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q, double *dual,
+                          double *rhs, pl_hyper_cuda_assembly mode, struct CUstream_st *stream,
+                          pl_error *err);
+
+/* Waits for the last project and reads its statistics as
+ * pl_hyper_elements_project reports them: stats[0] the largest Newton
+ * iteration count, stats[1] the elements that missed their tolerance.
+ * PL_EINTERNAL, naming the first element, if some F was not finite. */
+int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
+
+/* Elements and device bytes held. */
+int pl_hyper_cuda_count(const pl_hyper_cuda *g);
+double pl_hyper_cuda_device_bytes(const pl_hyper_cuda *g);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

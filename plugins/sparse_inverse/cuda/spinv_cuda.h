@@ -1,0 +1,107 @@
+/* spinv_cuda.h - the global step x = P^T S^T S P b on an NVIDIA GPU.
+ *
+ * S = L^-1 is copied to the device once, in float64 or float32, in the
+ * profile layout of sparse_inverse.h (no column indices): row i holds the
+ * columns first[i] .. i, padded with zeros to whole blocks of 8 columns so
+ * that every vector load is aligned (spinv_cuda_layout.h).  Both products
+ * read this one array, so S^T needs no copy of its own:
+ *  - y = S a: warps walk rows (long rows are split across warps, short
+ *    rows take one lane each); each value is read once and updates the x,
+ *    y and z sums together; consecutive rows with one first column (the
+ *    chains of a separator) go in pairs, so each piece of a is read once
+ *    for both rows;
+ *  - z = S^T y: a warp owns a tile of consecutive columns (128 in float32,
+ *    64 in float64) and walks the rows that meet it: the tile's own rows and
+ *    the etree ancestors of its last column, reading each row's segment as
+ *    one coalesced 512-byte stretch.  Long row lists are split across warps.
+ * Split rows and tiles are combined by the last warp to finish, in a fixed
+ * order: the result is deterministic.  Nothing in solve allocates or
+ * synchronises, so a caller may capture it in a CUDA graph.
+ *
+ * A cuSPARSE path (CSR matrices S and S^T, SpMM CSR_ALG3 on row-major n x 3
+ * blocks, preprocessed) is kept for comparison (PL_SPINV_CUDA_CUSPARSE).
+ *
+ * All pointers passed to solve are DEVICE pointers to n x 3 row-major
+ * blocks in the original (unpermuted) numbering; x may equal b.  Work is
+ * queued on `stream` (NULL: the legacy default stream). */
+#ifndef PLIANT_SPINV_CUDA_H
+#define PLIANT_SPINV_CUDA_H
+
+#include "pliant/buffer.h"
+#include "pliant/error.h"
+#include "sparse_inverse.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct CUstream_st; /* cudaStream_t without including the CUDA headers */
+
+typedef enum pl_spinv_cuda_path {
+    PL_SPINV_CUDA_OWN = 0,      /* the profile kernels above */
+    PL_SPINV_CUDA_CUSPARSE = 1  /* cuSPARSE SpMM on CSR copies of S and S^T */
+} pl_spinv_cuda_path;
+
+typedef struct pl_spinv_cuda pl_spinv_cuda;
+
+/* Copies S (and perm) of a factored sparse-mode solver to the current
+ * device.  precision: PL_F64 or PL_F32 (values and arithmetic).  NULL with
+ * err set when s has no S (direct mode, not factored), on a bad precision,
+ * out of device memory or on a CUDA error. */
+pl_spinv_cuda *pl_spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
+                                    pl_spinv_cuda_path path, pl_error *err);
+void pl_spinv_cuda_destroy(pl_spinv_cuda *g);
+
+/* x = A^-1 b on device n x 3 blocks whose element type is io (PL_F64 or
+ * PL_F32, independent of the object's precision). */
+int pl_spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
+                        struct CUstream_st *stream, pl_error *err);
+
+/* The same from and to HOST n x 3 float64 blocks (copies in and out through
+ * device buffers of the object; returns when x is written). */
+int pl_spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
+                             struct CUstream_st *stream, pl_error *err);
+
+int pl_spinv_cuda_size(const pl_spinv_cuda *g);
+pl_precision pl_spinv_cuda_precision(const pl_spinv_cuda *g);
+pl_spinv_cuda_path pl_spinv_cuda_path_of(const pl_spinv_cuda *g);
+/* Device bytes held (matrix, metadata, workspaces). */
+double pl_spinv_cuda_device_bytes(const pl_spinv_cuda *g);
+/* Bytes of matrix values (and column indices, for cuSPARSE) one global
+ * step must read: the floor on its memory traffic. */
+double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g);
+/* "own" or the cuSPARSE algorithm used ("CSR_ALG3", or "DEFAULT" when
+ * CSR_ALG3 was refused). */
+const char *pl_spinv_cuda_path_name(const pl_spinv_cuda *g);
+
+/* ---- building blocks (tests and benchmarks) -------------------------- */
+
+/* create() with the row-kernel tuning given: rows of S taken together by
+ * one warp at most `group` (1, 2, 4, 8; 0 = default), ROWS items of
+ * item_blocks blocks of 8 columns (0 = default). */
+pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s, pl_precision precision,
+                                          pl_spinv_cuda_path path, int group, int item_blocks,
+                                          pl_error *err);
+
+/* y = S x or y = S^T x on device n x 3 blocks (element type: the object's
+ * precision) in the PERMUTED numbering; x and y distinct. */
+int pl_spinv_cuda_apply_S(pl_spinv_cuda *g, const void *x, void *y, struct CUstream_st *stream,
+                          pl_error *err);
+int pl_spinv_cuda_apply_ST(pl_spinv_cuda *g, const void *x, void *y,
+                           struct CUstream_st *stream, pl_error *err);
+
+typedef enum pl_spinv_cuda_stage {
+    PL_SPINV_CUDA_STAGE_PERMUTE = 0, /* a = P b */
+    PL_SPINV_CUDA_STAGE_S = 1,       /* y = S a (internal buffers) */
+    PL_SPINV_CUDA_STAGE_ST = 2       /* x = P^T S^T y */
+} pl_spinv_cuda_stage;
+
+/* Runs one stage of the last solve again on the same buffers (b and x of
+ * that solve must still be valid), for timing the products alone. */
+int pl_spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
+                            struct CUstream_st *stream, pl_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

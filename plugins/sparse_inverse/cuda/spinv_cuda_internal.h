@@ -1,0 +1,74 @@
+/* spinv_cuda_internal.h - the CUDA backend's private state, shared by its
+ * .cu files (CUDA C++ only). */
+#ifndef PLIANT_SPINV_CUDA_INTERNAL_H
+#define PLIANT_SPINV_CUDA_INTERNAL_H
+
+#include <cuda_runtime.h>
+
+#include "spinv_cuda.h"
+#include "spinv_cuda_layout.h"
+
+/* Sets err from a failed CUDA call; returns PL_EINTERNAL. */
+int spinv_cuda_fail(pl_error *err, cudaError_t e, const char *what);
+#define SPINV_CK(call, what)                                       \
+    do {                                                           \
+        cudaError_t ck_e_ = (call);                                \
+        if (ck_e_ != cudaSuccess) return spinv_cuda_fail(err, ck_e_, what); \
+    } while (0)
+
+struct spinv_cusparse; /* spinv_cuda_cusparse.cu */
+
+struct pl_spinv_cuda {
+    int n, npad;
+    pl_precision prec;
+    pl_spinv_cuda_path path;
+    /* sizes of the layout (the host arrays are freed after upload) */
+    int nitems_S, nitems_ST, nparts_S, nparts_ST, ntiles, vc, tile;
+    int group, item_blocks;          /* rows per ROWS item at most, blocks per ROWS item */
+    int64_t nval;
+    /* device arrays */
+    int *perm;                       /* n */
+    void *val;                       /* nval padded values */
+    pl_spinv_cuda_rowmeta *meta;     /* n */
+    pl_spinv_cuda_item *items_S, *items_ST;
+    int *short_rows;
+    pl_spinv_cuda_tilerow *rowlist;
+    void *a;                         /* npad x 3: P b */
+    void *y4;                        /* n x 4: S P b (4th column unused) */
+    void *part_S, *part_ST;          /* partial sums of split rows and tiles */
+    int *cnt_S, *cnt_ST;             /* arrival counters (reset by the last warp) */
+    double *hb, *hx;                 /* n x 3 float64 staging for solve_host */
+    struct spinv_cusparse *sp;       /* PL_SPINV_CUDA_CUSPARSE only */
+    /* the last solve's buffers, for run_stage */
+    const void *last_b;
+    void *last_x;
+    pl_precision last_io;
+    double bytes_device, bytes_step;
+};
+
+/* Kernel launches (spinv_cuda_kernels.cu); io: element type of b / x. */
+int spinv_cuda_launch_permute(pl_spinv_cuda *g, const void *b, pl_precision io, const int *perm,
+                              cudaStream_t st, pl_error *err);
+int spinv_cuda_launch_S(pl_spinv_cuda *g, cudaStream_t st, pl_error *err);
+int spinv_cuda_launch_ST(pl_spinv_cuda *g, void *x, pl_precision io, const int *perm,
+                         cudaStream_t st, pl_error *err);
+/* y4 (n x 4) <- x (n x 3) and y (n x 3) <- y4, in the object's precision. */
+int spinv_cuda_launch_to4(pl_spinv_cuda *g, const void *x, cudaStream_t st, pl_error *err);
+int spinv_cuda_launch_from4(pl_spinv_cuda *g, void *y, cudaStream_t st, pl_error *err);
+/* x[perm[i]] = z[i] (z: n x 3 in the object's precision, x: io). */
+int spinv_cuda_launch_unpermute(pl_spinv_cuda *g, const void *z, void *x, pl_precision io,
+                                cudaStream_t st, pl_error *err);
+
+/* The cuSPARSE path (spinv_cuda_cusparse.cu). */
+int spinv_cusparse_create(pl_spinv_cuda *g, const pl_spinv_profile *S, const pl_spinv_runs *ST,
+                          pl_error *err);
+void spinv_cusparse_destroy(struct spinv_cusparse *sp);
+/* y = S a (which = 0) or z = S^T y (which = 1) on the path's n x 3 buffers;
+ * a is g->a. */
+int spinv_cusparse_mult(pl_spinv_cuda *g, int which, cudaStream_t st, pl_error *err);
+/* The path's n x 3 buffers y = S a and z = S^T y. */
+void *spinv_cusparse_y(struct spinv_cusparse *sp);
+void *spinv_cusparse_z(struct spinv_cusparse *sp);
+const char *spinv_cusparse_alg(const struct spinv_cusparse *sp);
+
+#endif

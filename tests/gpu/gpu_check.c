@@ -1,0 +1,293 @@
+/* gpu_check.c - CPU vs GPU from identical inputs (needs a GPU; run by
+ * tests/gpu/run.sh, not by ctest).
+ *
+ *   gpu_check [report.md] [scene.xml] [small]     (small: the 44x11x11 bar only)
+ *
+ * For the twisting bars 44x11x11 and 72x17x17 (gpu_bar.h):
+ *  - local step, ARAP / corotational / Neo-Hookean: right-hand-side
+ *    contributions and updated duals, GPU (gather and atomic assembly) vs
+ *    pl_hyper_elements_project: <= 1e-9 relative;
+ *  - global step x = A^-1 b, b the ARAP right-hand side of a twisted state:
+ *    own kernels and cuSPARSE, float64 <= 1e-9 and float32 <= 1e-4 relative
+ *    to the CPU sparse inverse; also a random b (float64 checked, float32
+ *    reported), S x and S^T x alone, x = b in place, host copies, float32
+ *    S with float64 blocks, and bitwise repeatability of the own kernels;
+ *  - the scene (SparseInverseSolver device=cuda, precision float64 and
+ *    float32) against device=cpu after 10 steps.
+ * Exit status: the number of failed checks (0: all passed). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu_bar.h"
+#include "gpu_util.h"
+#include "hyper_cuda.h"
+#include "pliant/pliant.h"
+#include "spinv_cuda.h"
+
+static FILE *md;
+
+static const char *const mat_name[3] = {"ARAP", "corotational", "Neo-Hookean"};
+
+/* One material's local step on CPU and GPU from the same q and duals. */
+static void check_local(gpu_bar *bar, int m)
+{
+    pl_hyper_elements *e = &bar->el[m];
+    size_t n3 = (size_t)bar->n * 3, nd = (size_t)e->n * 9;
+    double h2 = bar->h * bar->h;
+    double *q = malloc(n3 * sizeof *q), *rc = calloc(n3, sizeof *rc), *rg = malloc(n3 * sizeof *rg);
+    double *u0 = malloc(nd * sizeof *u0), *uc = malloc(nd * sizeof *uc), *ug = malloc(nd * sizeof *ug);
+    char what[160];
+    pl_error err;
+    if (!q || !rc || !rg || !u0 || !uc || !ug) goto done;
+    gpu_bar_twist(bar, 0.25, 2e-3, 11, q);
+    unsigned st = 5;
+    for (size_t i = 0; i < nd; ++i) u0[i] = 0.02 * gpu_rand(&st);
+    memcpy(uc, u0, nd * sizeof *uc);
+    int sc[2], sg[2];
+    int admm = e->material != PL_HYPER_ARAP;
+    if (pl_hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, rc, sc, &err) != PL_OK) {
+        printf("CPU local step failed: %s\n", err.msg);
+        gpu_check_line(md, "local step on the CPU", 1.0, 0.0);
+        goto done;
+    }
+    pl_hyper_cuda *g = pl_hyper_cuda_create(e, &err);
+    if (!g) {
+        printf("pl_hyper_cuda_create: %s\n", err.msg);
+        gpu_check_line(md, "local step device copy", 1.0, 0.0);
+        goto done;
+    }
+    for (int mode = 0; mode < 2; ++mode) {
+        double *dq = gpu_put(q, n3, PL_F64), *dr = gpu_put(NULL, n3, PL_F64);
+        double *du = admm ? gpu_put(u0, nd, PL_F64) : NULL;
+        int rc_ = pl_hyper_cuda_project(g, 0, h2, dq, du, dr, (pl_hyper_cuda_assembly)mode, NULL, &err);
+        if (rc_ == PL_OK) rc_ = pl_hyper_cuda_stats(g, NULL, sg, &err);
+        if (rc_ != PL_OK) printf("GPU local step: %s\n", err.msg);
+        if (rc_ == PL_OK && gpu_get(rg, dr, n3, PL_F64) == 0 &&
+            (!admm || gpu_get(ug, du, nd, PL_F64) == 0)) {
+            snprintf(what, sizeof what, "%dx%dx%d local %s rhs, %s, float64", bar->nx, bar->ny,
+                     bar->nz, mat_name[m], mode ? "atomic" : "gather");
+            gpu_check_line(md, what, gpu_rel_diff(rg, rc, n3), 1e-9);
+            if (admm && mode == 0) {
+                snprintf(what, sizeof what, "%dx%dx%d local %s duals", bar->nx, bar->ny, bar->nz,
+                         mat_name[m]);
+                gpu_check_line(md, what, gpu_rel_diff(ug, uc, nd), 1e-9);
+            }
+            if (mode == 0) {
+                snprintf(what, sizeof what, "%dx%dx%d local %s Newton its CPU %d GPU %d, missed",
+                         bar->nx, bar->ny, bar->nz, mat_name[m], sc[0], sg[0]);
+                gpu_check_line(md, what, (double)(sg[1] + sc[1]), 0.0);
+            }
+        } else {
+            gpu_check_line(md, "GPU local step ran", 1.0, 0.0);
+        }
+        gpu_free(dq), gpu_free(dr), gpu_free(du);
+    }
+    pl_hyper_cuda_destroy(g);
+done:
+    free(q), free(rc), free(rg), free(u0), free(uc), free(ug);
+}
+
+/* x = solve(b) on the device in precision io; -1 on failure. */
+static int device_solve(pl_spinv_cuda *g, const double *b, double *x, size_t n3, pl_precision io)
+{
+    void *db = gpu_put(b, n3, io), *dx = gpu_put(NULL, n3, io);
+    pl_error err;
+    int rc = db && dx ? pl_spinv_cuda_solve(g, db, dx, io, NULL, &err) : PL_EINTERNAL;
+    if (rc != PL_OK && db && dx) printf("solve: %s\n", err.msg);
+    if (rc == PL_OK) rc = gpu_sync("solve") || gpu_get(x, dx, n3, io) ? -1 : PL_OK;
+    gpu_free(db), gpu_free(dx);
+    return rc == PL_OK ? 0 : -1;
+}
+
+/* S x and S^T x alone, in the permuted numbering, vs the CPU products. */
+static void check_products(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double tol)
+{
+    const pl_spinv_profile *S = pl_sparse_inverse_S(bar->spinv);
+    const pl_spinv_runs *ST = pl_sparse_inverse_ST(bar->spinv);
+    size_t n3 = (size_t)bar->n * 3;
+    pl_precision p = pl_spinv_cuda_precision(g);
+    double *x = malloc(n3 * sizeof *x), *yc = malloc(n3 * sizeof *yc), *yg = malloc(n3 * sizeof *yg);
+    int bounds[2] = {0, bar->n};
+    char what[160];
+    pl_error err;
+    unsigned st = 9;
+    if (!x || !yc || !yg) goto done;
+    for (size_t i = 0; i < n3; ++i) x[i] = gpu_rand(&st);
+    for (int op = 0; op < 2; ++op) {
+        void *dx = gpu_put(x, n3, p), *dy = gpu_put(NULL, n3, p);
+        int rc = op == 0 ? pl_spinv_cuda_apply_S(g, dx, dy, NULL, &err)
+                         : pl_spinv_cuda_apply_ST(g, dx, dy, NULL, &err);
+        if (rc == PL_OK) rc = gpu_sync("product") || gpu_get(yg, dy, n3, p) ? -1 : PL_OK;
+        if (op == 0)
+            pl_spinv_profile_mult(S, x, yc, 3, bounds, 1, 1);
+        else
+            pl_spinv_runs_mult(ST, x, yc, 3, bounds, 1, 1);
+        snprintf(what, sizeof what, "%dx%dx%d %s %s, random x", bar->nx, bar->ny, bar->nz,
+                 op ? "S^T x" : "S x", tag);
+        gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(yg, yc, n3) : INFINITY, tol);
+        gpu_free(dx), gpu_free(dy);
+    }
+done:
+    free(x), free(yc), free(yg);
+}
+
+/* Extra checks of the own path: in place, host copies, repeatability. */
+static void check_own_extras(gpu_bar *bar, pl_spinv_cuda *g, const double *b, const double *xc)
+{
+    size_t n3 = (size_t)bar->n * 3;
+    pl_precision p = pl_spinv_cuda_precision(g);
+    double *x = malloc(n3 * sizeof *x), *x2 = malloc(n3 * sizeof *x2);
+    char what[160];
+    pl_error err;
+    if (!x || !x2) goto done;
+    const char *tag = p == PL_F32 ? "float32" : "float64";
+    double tol = p == PL_F32 ? 1e-4 : 1e-9;
+    void *d = gpu_put(b, n3, PL_F64);
+    int rc = d ? pl_spinv_cuda_solve(g, d, d, PL_F64, NULL, &err) : -1;
+    if (rc == PL_OK) rc = gpu_sync("in place") || gpu_get(x, d, n3, PL_F64);
+    gpu_free(d);
+    snprintf(what, sizeof what, "%dx%dx%d global own %s S, float64 blocks, x = b in place",
+             bar->nx, bar->ny, bar->nz, tag);
+    gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(x, xc, n3) : INFINITY, tol);
+    rc = pl_spinv_cuda_solve_host(g, b, x, NULL, &err);
+    snprintf(what, sizeof what, "%dx%dx%d global own %s S, host blocks", bar->nx, bar->ny, bar->nz,
+             tag);
+    gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(x, xc, n3) : INFINITY, tol);
+    /* two solves of one b: bitwise equal (fixed summation order) */
+    if (device_solve(g, b, x, n3, p) == 0 && device_solve(g, b, x2, n3, p) == 0) {
+        size_t diff = 0;
+        for (size_t i = 0; i < n3; ++i) diff += memcmp(&x[i], &x2[i], sizeof *x) != 0;
+        snprintf(what, sizeof what, "%dx%dx%d global own %s: values differing between two runs",
+                 bar->nx, bar->ny, bar->nz, tag);
+        gpu_check_line(md, what, (double)diff, 0.0);
+    }
+done:
+    free(x), free(x2);
+}
+
+static void check_global(gpu_bar *bar)
+{
+    size_t n3 = (size_t)bar->n * 3;
+    double *q = malloc(n3 * sizeof *q), *b = malloc(n3 * sizeof *b), *br = malloc(n3 * sizeof *br);
+    double *xc = malloc(n3 * sizeof *xc), *xrc = malloc(n3 * sizeof *xrc), *x = malloc(n3 * sizeof *x);
+    char what[200];
+    pl_error err;
+    if (!q || !b || !br || !xc || !xrc || !x) goto done;
+    gpu_bar_twist(bar, 0.25, 1e-3, 3, q);
+    unsigned st = 17;
+    for (size_t i = 0; i < n3; ++i) br[i] = gpu_rand(&st);
+    if (gpu_bar_rhs(bar, q, b, &err) != PL_OK ||
+        pl_sparse_inverse_solve(bar->spinv, b, xc, 3, &err) != PL_OK ||
+        pl_sparse_inverse_solve(bar->spinv, br, xrc, 3, &err) != PL_OK) {
+        printf("CPU global step failed: %s\n", err.msg);
+        gpu_check_line(md, "CPU global step", 1.0, 0.0);
+        goto done;
+    }
+    for (int path = 0; path < 2; ++path)
+        for (int pi = 0; pi < 2; ++pi) {
+            pl_precision p = pi ? PL_F32 : PL_F64;
+            const char *tag = pi ? "float32" : "float64";
+            double tol = pi ? 1e-4 : 1e-9;
+            pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, (pl_spinv_cuda_path)path, &err);
+            if (!g) {
+                printf("pl_spinv_cuda_create: %s\n", err.msg);
+                gpu_check_line(md, "device copy of S", 1.0, 0.0);
+                continue;
+            }
+            const char *pn = pl_spinv_cuda_path_name(g);
+            snprintf(what, sizeof what, "%dx%dx%d global %s %s, twisted-state b", bar->nx, bar->ny,
+                     bar->nz, pn, tag);
+            gpu_check_line(md, what, device_solve(g, b, x, n3, p) ? INFINITY : gpu_rel_diff(x, xc, n3),
+                           tol);
+            snprintf(what, sizeof what, "%dx%dx%d global %s %s, random b", bar->nx, bar->ny,
+                     bar->nz, pn, tag);
+            double r = device_solve(g, br, x, n3, p) ? INFINITY : gpu_rel_diff(x, xrc, n3);
+            if (pi)
+                gpu_note_line(md, what, r);
+            else
+                gpu_check_line(md, what, r, tol);
+            check_products(bar, g, pi ? "float32" : "float64", pi ? 1e-5 : 1e-12);
+            if (path == 0) check_own_extras(bar, g, b, xc);
+            pl_spinv_cuda_destroy(g);
+        }
+done:
+    free(q), free(b), free(br), free(xc), free(xrc), free(x);
+}
+
+/* Positions of bar/dofs after nsteps of the scene with the given overrides. */
+static int run_scene(const char *path, const char *const *ov, int nov, int nsteps, double *out,
+                     size_t cap, size_t *m)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = "/tmp";
+    opt.overrides = ov;
+    opt.noverrides = nov;
+    pl_sim *sim = pl_sim_load_file(path, &opt, &diag);
+    if (!sim) pl_diag_print(&diag, stderr);
+    pl_diag_free(&diag);
+    if (!sim) return -1;
+    pl_error err;
+    int rc = pl_sim_step(sim, nsteps, &err);
+    if (rc != PL_OK) printf("scene: %s\n", err.msg);
+    pl_component *c = pl_sim_component(sim, "bar/dofs");
+    const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
+    if (rc == PL_OK && ops) {
+        pl_buffer x = ops->positions(c, pl_sim_data(sim));
+        *m = x.rows * x.cols < cap ? x.rows * x.cols : cap;
+        memcpy(out, x.data, *m * sizeof *out);
+    }
+    pl_sim_free(sim);
+    return rc == PL_OK && ops ? 0 : -1;
+}
+
+static void check_scene(const char *path)
+{
+    size_t cap = 3 * 100000, m0 = 0, m1 = 0;
+    double *x0 = malloc(cap * sizeof *x0), *x1 = malloc(cap * sizeof *x1);
+    const char *ov64[] = {"global.device=cuda", "global.precision=float64"};
+    const char *ov32[] = {"global.device=cuda", "global.precision=float32"};
+    if (!x0 || !x1) goto done;
+    if (run_scene(path, NULL, 0, 10, x0, cap, &m0) != 0) {
+        gpu_check_line(md, "scene on the CPU", 1.0, 0.0);
+        goto done;
+    }
+    int rc = run_scene(path, ov64, 2, 10, x1, cap, &m1);
+    gpu_check_line(md, "twisting_bar.xml, 10 steps: device=cuda float64 vs cpu, positions",
+                   rc == 0 && m1 == m0 ? gpu_rel_diff(x1, x0, m0) : INFINITY, 1e-9);
+    rc = run_scene(path, ov32, 2, 10, x1, cap, &m1);
+    gpu_check_line(md, "twisting_bar.xml, 10 steps: device=cuda float32 vs cpu, positions",
+                   rc == 0 && m1 == m0 ? gpu_rel_diff(x1, x0, m0) : INFINITY, 1e-4);
+done:
+    free(x0), free(x1);
+}
+
+int main(int argc, char **argv)
+{
+    md = argc > 1 ? fopen(argv[1], "w") : NULL;
+    const char *scene = argc > 2 ? argv[2] : "scenes/twisting_bar.xml";
+    if (md) fprintf(md, "| check | value | tolerance | result |\n|---|---|---|---|\n");
+    const int sizes[2][3] = {{44, 11, 11}, {72, 17, 17}};
+    int nsizes = argc > 3 && !strcmp(argv[3], "small") ? 1 : 2;
+    for (int s = 0; s < nsizes; ++s) {
+        gpu_bar bar;
+        pl_error err;
+        if (gpu_bar_build(&bar, sizes[s][0], sizes[s][1], sizes[s][2], &err) != PL_OK) {
+            printf("bar: %s\n", err.msg);
+            gpu_check_line(md, "building the bar", 1.0, 0.0);
+            continue;
+        }
+        printf("bar %dx%dx%d: n = %d, tets = %d, nnz(S) = %lld\n", bar.nx, bar.ny, bar.nz, bar.n,
+               bar.ntets, (long long)pl_sparse_inverse_stats(bar.spinv)->nnz_S);
+        for (int m = 0; m < 3; ++m) check_local(&bar, m);
+        check_global(&bar);
+        gpu_bar_free(&bar);
+    }
+    if (nsizes == 2) check_scene(scene);
+    printf("gpu_check: %d failed\n", gpu_failures());
+    if (md) fclose(md);
+    return gpu_failures() > 100 ? 100 : gpu_failures();
+}

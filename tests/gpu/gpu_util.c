@@ -1,0 +1,91 @@
+/* gpu_util.c - device buffers and result lines (gpu_util.h). */
+#include "gpu_util.h"
+
+#include <cuda_runtime_api.h>
+#include <math.h>
+#include <stdlib.h>
+
+static int failures;
+
+static int ok(cudaError_t e, const char *what)
+{
+    if (e == cudaSuccess) return 1;
+    fprintf(stderr, "CUDA error (%s): %s\n", what, cudaGetErrorString(e));
+    failures++;
+    return 0;
+}
+
+void *gpu_put(const double *h, size_t m, pl_precision prec)
+{
+    size_t es = prec == PL_F32 ? sizeof(float) : sizeof(double), bytes = (m ? m : 1) * es;
+    void *d = NULL, *tmp = NULL;
+    if (!ok(cudaMalloc(&d, bytes), "cudaMalloc")) return NULL;
+    if (!h) return ok(cudaMemset(d, 0, bytes), "cudaMemset") ? d : NULL;
+    const void *src = h;
+    if (prec == PL_F32) {
+        float *f = malloc(bytes);
+        if (!f) return NULL;
+        for (size_t i = 0; i < m; ++i) f[i] = (float)h[i];
+        src = tmp = f;
+    }
+    int good = ok(cudaMemcpy(d, src, m * es, cudaMemcpyHostToDevice), "copy to device");
+    free(tmp);
+    if (!good) {
+        cudaFree(d);
+        return NULL;
+    }
+    return d;
+}
+
+int gpu_get(double *h, const void *d, size_t m, pl_precision prec)
+{
+    if (prec != PL_F32)
+        return ok(cudaMemcpy(h, d, m * sizeof(double), cudaMemcpyDeviceToHost), "copy to host") ? 0 : -1;
+    float *f = malloc((m ? m : 1) * sizeof *f);
+    if (!f) return -1;
+    int good = ok(cudaMemcpy(f, d, m * sizeof(float), cudaMemcpyDeviceToHost), "copy to host");
+    for (size_t i = 0; good && i < m; ++i) h[i] = f[i];
+    free(f);
+    return good ? 0 : -1;
+}
+
+void gpu_free(void *d)
+{
+    if (d) cudaFree(d);
+}
+
+int gpu_sync(const char *what)
+{
+    return ok(cudaDeviceSynchronize(), what) && ok(cudaGetLastError(), what) ? 0 : -1;
+}
+
+void gpu_check_line(FILE *md, const char *what, double value, double tol)
+{
+    int pass = value <= tol; /* NaN fails */
+    if (!pass) failures++;
+    printf("%-64s %10.3e  <= %.0e  %s\n", what, value, tol, pass ? "PASS" : "FAIL");
+    if (md) fprintf(md, "| %s | %.2e | %.0e | %s |\n", what, value, tol, pass ? "pass" : "FAIL");
+}
+
+void gpu_note_line(FILE *md, const char *what, double value)
+{
+    printf("%-64s %10.3e\n", what, value);
+    if (md) fprintf(md, "| %s | %.3g | | |\n", what, value);
+}
+
+int gpu_failures(void)
+{
+    return failures;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double gpu_median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
