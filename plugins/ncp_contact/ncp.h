@@ -121,6 +121,10 @@ typedef struct pl_ncp_params {
     double fb_eps;              /* FB regularisation [m] (default 1e-12) */
     int cr_max_iter;            /* CR cap (<= 0: 2 m + 10) */
     double cr_rtol;             /* CR relative tolerance (default 1e-10) */
+    int full_force;             /* 0 (default): the paper's correction with J^T lambda, S = Omega
+                                   (1 on bounded rows); 1: H^T lambda on every row, S = 1, the
+                                   Newton step of the unsymmetric system made symmetric by
+                                   Omega^-1 (DERIVATION.md section 7) */
 } pl_ncp_params;
 
 void pl_ncp_params_default(pl_ncp_params *p);
@@ -135,6 +139,8 @@ typedef struct pl_ncp_work {
     double *scale;              /* m: S_jj of the last step: the scale of lambda in the
                                    correction (Omega_jj; 1 on bounded rows) */
     double *clamped;            /* m: dlambda of clamped rows (Omega 0, S 1) */
+    int *is_clamped;            /* m: 1 on clamped rows of the last step */
+    double *op_omega, *op_e;    /* m: the diagonals CR's operator uses (full_force) */
     double *e;                  /* m: Et_jj = h^2 E_jj of the last step [m/N] */
     double *phi;                /* m: position-level NCP values at (delta^k, lambda^k) [m] */
     double *rhs;                /* m: right-hand side of the last step [m] */
@@ -166,7 +172,8 @@ typedef struct pl_ncp_step_info {
  *   lambda:     m, lambda^k [N]
  *   r:          m, from pl_ncp_scaling (once per time step)
  * Outputs dlambda (m) [N] and force_scale S (m, may be NULL; also
- * w->scale): Omega_jj (the paper's J = Omega H), but 1 on bounded rows.
+ * w->scale): Omega_jj (the paper's J = Omega H), but 1 on bounded rows;
+ * 1 on every row with par->full_force.
  * The caller then sets lambda^{k+1} = lambda^k + dlambda and
  *   q^{k+1} = A^-1 (b^k + h^2 H^T (S .* lambda^{k+1}))
  *           = q_free + h^2 A^-1 H^T (S .* lambda^{k+1}),
@@ -175,6 +182,28 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
                 const double *r, const double *delta, const double *delta_free,
                 const double *lambda, double *dlambda, double *force_scale,
                 pl_ncp_step_info *info, pl_error *err);
+
+/* Projects lambda (m) onto the admissible set: lambda_n >= 0, |lambda_f| <=
+ * mu lambda_n per contact (scaling the tangent rows), lo <= lambda <= hi on
+ * bounded rows.  Returns the number of rows or contacts changed.  A
+ * solution is a fixed point; the plugin applies it after each update. */
+int pl_ncp_project(const pl_ncp_work *w, double *lambda);
+
+typedef struct pl_ncp_line_info {
+    double alpha;               /* the step length taken */
+    double merit0, merit;       /* residual norm2 before and after [m] */
+    int trials;                 /* residual evaluations */
+    int decreased;              /* 1 when alpha gave a sufficient decrease */
+} pl_ncp_line_info;
+
+/* Backtracking on pl_ncp_residual_eval's norm2 along a Newton direction
+ * with affine constraint values: delta(alpha) = delta0 + alpha ddelta,
+ * lambda(alpha) = lambda + alpha dlambda.  Halves alpha (at most
+ * max_halvings times) until norm2(alpha) <= (1 - 1e-4 alpha) norm2(0);
+ * when no length decreases it, alpha = 1.  Uses w->tmp and w->tmp2. */
+int pl_ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *delta0,
+                       const double *ddelta, const double *lambda, const double *dlambda,
+                       int max_halvings, pl_ncp_line_info *info, pl_error *err);
 
 typedef struct pl_ncp_residual {
     double bilateral;           /* max |delta + E_b lambda| [m] */
@@ -185,6 +214,7 @@ typedef struct pl_ncp_residual {
                                    cone boundary, opposite to y) */
     double bounded;             /* max |r lambda - mid(r lo, r lambda - delta, r hi)| [m] */
     double total;               /* max(bilateral, normal, rho * cone, friction, bounded) [m] */
+    double norm2;               /* the 2-norm of the same per-row (per-contact) values [m] */
 } pl_ncp_residual;
 
 /* The residual of (delta, lambda) for the rows of w with scaling r (paper

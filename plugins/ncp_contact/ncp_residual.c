@@ -35,24 +35,27 @@ int pl_ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const 
                          const double *lambda, pl_ncp_residual *res, pl_error *err)
 {
     const pl_ncp_rows *R = &w->rows;
-    pl_ncp_residual z = {0, 0, 0, 0, 0, 0};
-    double cone_scaled = 0.0;
+    pl_ncp_residual z = {0, 0, 0, 0, 0, 0, 0};
+    double cone_scaled = 0.0, ss = 0.0;
     for (int j = 0; j < w->m; ++j) {
         double v;
         switch (R->kind[j]) {
         case PL_ROW_BILATERAL:
             v = fabs(delta[j] + (R->compliance ? R->compliance[j] : 0.0) * lambda[j]);
             z.bilateral = fmax(z.bilateral, v);
+            ss += v * v;
             break;
         case PL_ROW_NORMAL:
             v = fabs(fmin(delta[j], r[j] * lambda[j]));
             z.normal = fmax(z.normal, v);
+            ss += v * v;
             break;
         case PL_ROW_BOUNDED: {
             double lo = R->lo ? R->lo[j] : -INFINITY, hi = R->hi ? R->hi[j] : INFINITY;
             double t = fmin(fmax(lambda[j] - delta[j] / r[j], lo), hi);
             v = fabs(r[j] * (lambda[j] - t));
             z.bounded = fmax(z.bounded, v);
+            ss += v * v;
             break;
         }
         case PL_ROW_FRICTION:
@@ -76,9 +79,11 @@ int pl_ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const 
         z.cone = fmax(z.cone, cone);
         z.friction = fmax(z.friction, fric);
         cone_scaled = fmax(cone_scaled, rho * cone);
+        ss += fric * fric + rho * cone * rho * cone;
     }
     z.total = fmax3(fmax(z.bilateral, z.normal), fmax(z.friction, z.bounded), cone_scaled);
-    if (!isfinite(z.total))
+    z.norm2 = sqrt(ss);
+    if (!isfinite(z.total) || !isfinite(z.norm2))
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_residual", "non-finite values in delta or lambda");
     *res = z;
     return PL_OK;

@@ -12,6 +12,12 @@
 #include <math.h>
 #include <stdlib.h>
 
+/* full_force: rows with Omega at most this are solved as clamped rows
+ * (e dlambda = rhs); dropping their Omega h^2 W dlambda term changes the
+ * Newton step by a relative O(Omega), while dividing by a tiny Omega would
+ * put an outlier of size e / Omega into CR's spectrum. */
+#define PL_NCP_OMEGA_CLAMP 1e-3
+
 void pl_ncp_params_default(pl_ncp_params *p)
 {
     p->fn = PL_NCP_FB;
@@ -19,6 +25,7 @@ void pl_ncp_params_default(pl_ncp_params *p)
     p->fb_eps = 1e-12;
     p->cr_max_iter = 0;
     p->cr_rtol = 1e-10;
+    p->full_force = 0;
 }
 
 void pl_ncp_work_destroy(pl_ncp_work *w)
@@ -30,6 +37,9 @@ void pl_ncp_work_destroy(pl_ncp_work *w)
     free(w->omega);
     free(w->scale);
     free(w->clamped);
+    free(w->is_clamped);
+    free(w->op_omega);
+    free(w->op_e);
     free(w->e);
     free(w->phi);
     free(w->rhs);
@@ -112,13 +122,17 @@ int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err
     w->omega = malloc(sizeof(double) * m1);
     w->scale = malloc(sizeof(double) * m1);
     w->clamped = malloc(sizeof(double) * m1);
+    w->is_clamped = malloc(sizeof(int) * m1);
+    w->op_omega = malloc(sizeof(double) * m1);
+    w->op_e = malloc(sizeof(double) * m1);
     w->e = malloc(sizeof(double) * m1);
     w->phi = malloc(sizeof(double) * m1);
     w->rhs = malloc(sizeof(double) * m1);
     w->tmp = malloc(sizeof(double) * m1);
     w->tmp2 = malloc(sizeof(double) * m1);
     w->cr = malloc(sizeof(double) * 4 * m1);
-    if (!w->contact_of || !w->omega || !w->scale || !w->clamped || !w->e || !w->phi || !w->rhs || !w->tmp || !w->tmp2 || !w->cr) {
+    if (!w->contact_of || !w->omega || !w->scale || !w->clamped || !w->is_clamped || !w->op_omega ||
+        !w->op_e || !w->e || !w->phi || !w->rhs || !w->tmp || !w->tmp2 || !w->cr) {
         pl_ncp_work_destroy(w);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp", "out of memory");
     }
@@ -216,8 +230,15 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
     double h2 = par->h * par->h;
     evaluate_rows(w, par, r, delta, lambda);
     for (int j = 0; j < m; ++j) {
-        w->scale[j] = w->rows.kind[j] == PL_ROW_BOUNDED ? 1.0 : w->omega[j];
-        nclamped += w->scale[j] != w->omega[j];
+        if (par->full_force) {
+            /* S = 1: rows whose Omega is (nearly) 0 read e dlambda = rhs */
+            w->scale[j] = 1.0;
+            w->is_clamped[j] = !(w->omega[j] > PL_NCP_OMEGA_CLAMP);
+        } else {
+            w->scale[j] = w->rows.kind[j] == PL_ROW_BOUNDED ? 1.0 : w->omega[j];
+            w->is_clamped[j] = w->scale[j] != w->omega[j];
+        }
+        nclamped += w->is_clamped[j];
     }
 
     /* The linearisation gap p = delta^k - delta_free - h^2 W S lambda^k
@@ -241,7 +262,7 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
      * Omega + Et are diagonal, so CR keeps those entries at 0). */
     if (nclamped > 0) {
         for (int j = 0; j < m; ++j) {
-            int c = w->scale[j] != w->omega[j];
+            int c = w->is_clamped[j];
             w->clamped[j] = c ? w->rhs[j] / w->e[j] : 0.0;
             w->tmp[j] = c ? w->scale[j] * w->clamped[j] : 0.0;
             if (c)
@@ -250,9 +271,24 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
         if ((st = pl_ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
             return pl_error_set(err, st, NULL, 0, "ncp_step", "W product failed");
         for (int j = 0; j < m; ++j)
-            w->rhs[j] -= h2 * w->omega[j] * w->tmp2[j];
+            if (!w->is_clamped[j]) /* (full_force clamps rows with a small Omega > 0) */
+                w->rhs[j] -= h2 * w->omega[j] * w->tmp2[j];
     }
     step_op op = {W, w->omega, w->e, h2, w->tmp, w->tmp2};
+    if (par->full_force) {
+        /* Row j reads Omega_j h^2 (W dlambda)_j + e_j dlambda_j = rhs_j:
+         * divided by Omega_j it is h^2 W + diag(e / Omega), symmetric
+         * positive definite on the rows that are not clamped. */
+        for (int j = 0; j < m; ++j) {
+            int c = w->is_clamped[j];
+            w->op_omega[j] = c ? 0.0 : 1.0;
+            w->op_e[j] = c ? w->e[j] : w->e[j] / w->omega[j];
+            if (!c)
+                w->rhs[j] /= w->omega[j];
+        }
+        op.omega = w->op_omega;
+        op.e = w->op_e;
+    }
     int maxit = par->cr_max_iter > 0 ? par->cr_max_iter : 2 * m + 10;
     int its = 0;
     double relres = 0.0;

@@ -1,0 +1,255 @@
+/* contact_delassus.c - the Delassus operator W = H A^-1 H^T of a step
+ * (Section 5.3, eq. schur-complement) and the diagonals of the two
+ * complementarity scalings (Section 5.4).
+ *
+ * The system is scalar (A (x) I3), so W = sum_k H_k A^-1 H_k^T over the
+ * three coordinates k, H_k the scalar rows of coordinate k over the
+ * unknowns.  Explicit: the global solver returns Y = S P H^T for the 3 m
+ * scalar rows (sparse columns: etree paths), and W_ij = sum_k
+ * Y_{k,i} . Y_{k,j}.  It is formed SpGEMM-style from the rows of Y: for
+ * each row i of W, each nonzero (r, y) of its columns meets the nonzeros
+ * of row r of Y, so the work is sum_r nnz(Y row r)^2, not m^2 n.  Each row
+ * of W is written by one thread, in a fixed order (deterministic, and W_ij
+ * and W_ji are the same sum in the same order: bitwise symmetric).
+ * Matrix-free: W x = H A^-1 (H^T x), one solve on an nfree x 3 block. */
+#include "contact.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pl_ncpc_delassus_init(pl_ncpc_delassus *D) { memset(D, 0, sizeof *D); }
+
+void pl_ncpc_delassus_free(pl_ncpc_delassus *D)
+{
+    free(D->W);
+    free(D->diag);
+    free(D->X);
+    pl_ncpc_delassus_init(D);
+}
+
+static int oom(pl_error *err) { return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory"); }
+
+static const pl_global_solver_ops *solver_ops(const pl_system *sys, pl_error *err)
+{
+    const pl_global_solver_ops *ops =
+        sys->global_solver ? pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER) : NULL;
+    if (!ops || !ops->solve)
+        pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact", "the system has no global solver");
+    return ops && ops->solve ? ops : NULL;
+}
+
+static int prepare(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r, pl_error *err)
+{
+    pl_ncpc_delassus_free(D);
+    D->m = r->m;
+    D->nfree = sys->nfree;
+    D->rows = r;
+    D->solver = sys->global_solver;
+    if (!(D->ops = solver_ops(sys, err))) return PL_EINPUT;
+    D->diag = malloc(sizeof(double) * (size_t)(r->m > 0 ? r->m : 1));
+    D->X = malloc(sizeof(double) * 3 * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
+    return D->diag && D->X ? PL_OK : oom(err);
+}
+
+/* Y (n x 3 cnt, coordinate-major columns) -> rows of each coordinate block:
+ * entries of (row rr, coordinate k) at rp[3 rr + k] .. rp[3 rr + k + 1] - 1,
+ * holding the column within its block (rj) and the value (rx). */
+typedef struct y_rows {
+    int *rp, *rj;
+    double *rx;
+} y_rows;
+
+static void y_rows_free(y_rows *t)
+{
+    free(t->rp);
+    free(t->rj);
+    free(t->rx);
+}
+
+static int y_rows_build(const pl_csc *Y, int cnt, y_rows *t, pl_error *err)
+{
+    int n = Y->nrows, nnz = Y->p[Y->ncols];
+    t->rp = calloc(3 * (size_t)n + 1, sizeof(int));
+    t->rj = malloc(sizeof(int) * (size_t)(nnz > 0 ? nnz : 1));
+    t->rx = malloc(sizeof(double) * (size_t)(nnz > 0 ? nnz : 1));
+    int *next = malloc(sizeof(int) * 3 * (size_t)(n > 0 ? n : 1));
+    if (!t->rp || !t->rj || !t->rx || !next) {
+        free(next);
+        return oom(err);
+    }
+    for (int c = 0; c < Y->ncols; ++c)
+        for (int p = Y->p[c]; p < Y->p[c + 1]; ++p) t->rp[3 * (size_t)Y->i[p] + (size_t)(c / cnt) + 1]++;
+    for (size_t a = 0; a < 3 * (size_t)n; ++a) t->rp[a + 1] += t->rp[a];
+    memcpy(next, t->rp, sizeof(int) * 3 * (size_t)n);
+    for (int c = 0; c < Y->ncols; ++c)
+        for (int p = Y->p[c]; p < Y->p[c + 1]; ++p) {
+            int q = next[3 * (size_t)Y->i[p] + (size_t)(c / cnt)]++;
+            t->rj[q] = c % cnt;
+            t->rx[q] = Y->x[p];
+        }
+    free(next);
+    return PL_OK;
+}
+
+/* Y of the active rows list[0..cnt-1] (all rows when list is NULL). */
+static int compute_y(const pl_ncpc_delassus *D, const pl_ncpc_rows *r, const int *list, int cnt,
+                     pl_csc *Y, pl_error *err)
+{
+    pl_csr H;
+    int st = pl_ncpc_rows_scalar_csr(r, D->nfree, list, cnt, &H, err);
+    if (st != PL_OK) return st;
+    memset(Y, 0, sizeof *Y);
+    st = D->ops->apply_inverse_to_rows(D->solver, &H, Y, err);
+    pl_csr_free(&H);
+    if (st == PL_OK && (Y->ncols != 3 * cnt || !Y->p))
+        st = pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact",
+                          "the global solver returned Y with %d columns for %d rows", Y->ncols, 3 * cnt);
+    return st;
+}
+
+int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                              pl_error *err)
+{
+    int st = prepare(D, sys, r, err), m = r->m;
+    if (st != PL_OK) return st;
+    if (!D->ops->apply_inverse_to_rows)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
+                            "delassus=explicit needs a global solver that applies its inverse to rows "
+                            "(SparseInverseSolver); use delassus=matrix-free");
+    if (!(D->W = malloc(sizeof(double) * (size_t)(m > 0 ? m : 1) * (size_t)(m > 0 ? m : 1)))) return oom(err);
+    D->explicit_w = 1;
+    pl_csc Y;
+    if ((st = compute_y(D, r, NULL, m, &Y, err)) != PL_OK) return st;
+    y_rows t = {NULL, NULL, NULL};
+    if ((st = y_rows_build(&Y, m > 0 ? m : 1, &t, err)) == PL_OK) {
+        double *W = D->W;
+#pragma omp parallel for schedule(dynamic, 16) if (m > 64)
+        for (int i = 0; i < m; ++i) {
+            double *row = W + (size_t)i * (size_t)m;
+            memset(row, 0, sizeof(double) * (size_t)m);
+            for (int k = 0; k < 3; ++k) {
+                int c = k * m + i;
+                for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) {
+                    size_t rr = 3 * (size_t)Y.i[p] + (size_t)k;
+                    double y = Y.x[p];
+                    for (int q = t.rp[rr]; q < t.rp[rr + 1]; ++q) row[t.rj[q]] += y * t.rx[q];
+                }
+            }
+        }
+        for (int j = 0; j < m; ++j) D->diag[j] = W[(size_t)j * (size_t)m + (size_t)j];
+    }
+    y_rows_free(&t);
+    pl_csc_free(&Y);
+    return st;
+}
+
+int pl_ncpc_delassus_apply(void *user, const double *x, double *y)
+{
+    pl_ncpc_delassus *D = user;
+    if (D->explicit_w) {
+        pl_ncp_operator op = {D->m, D->W, NULL, NULL, D->diag};
+        return pl_ncp_operator_apply(&op, x, y);
+    }
+    pl_ncpc_rows_scatter(D->rows, D->nfree, x, 1.0, D->X);
+    pl_buffer b = pl_buffer_host_f64(D->X, (size_t)D->nfree, 3);
+    int st = D->ops->solve(D->solver, &b, &b, &D->err);
+    if (st != PL_OK) {
+        if (D->status == PL_OK) D->status = st;
+        return st;
+    }
+    pl_ncpc_rows_gather(D->rows, D->X, y);
+    return PL_OK;
+}
+
+/* Diagonal entries of the rows list[0..cnt-1] from their Y columns, in
+ * chunks of at most CHUNK rows (Y's memory stays bounded). */
+enum { CHUNK = 1024 };
+
+static int diag_from_y(pl_ncpc_delassus *D, const pl_ncpc_rows *r, const int *list, int cnt,
+                       pl_error *err)
+{
+    for (int first = 0; first < cnt; first += CHUNK) {
+        int c = cnt - first < CHUNK ? cnt - first : CHUNK;
+        pl_csc Y;
+        int st = compute_y(D, r, list + first, c, &Y, err);
+        if (st != PL_OK) return st;
+        for (int t = 0; t < c; ++t) {
+            double s = 0.0;
+            for (int k = 0; k < 3; ++k)
+                for (int p = Y.p[k * c + t]; p < Y.p[k * c + t + 1]; ++p) s += Y.x[p] * Y.x[p];
+            D->diag[list[first + t]] = s;
+        }
+        pl_csc_free(&Y);
+    }
+    return PL_OK;
+}
+
+/* (W e_j)_j by the matrix-free product, one solve per row. */
+static int diag_from_products(pl_ncpc_delassus *D, const int *list, int cnt, pl_error *err)
+{
+    double *e = calloc((size_t)D->m, sizeof(double)), *y = malloc(sizeof(double) * (size_t)D->m);
+    int st = e && y ? PL_OK : oom(err);
+    for (int t = 0; t < cnt && st == PL_OK; ++t) {
+        e[list[t]] = 1.0;
+        if ((st = pl_ncpc_delassus_apply(D, e, y)) != PL_OK) *err = D->err;
+        D->diag[list[t]] = y[list[t]];
+        e[list[t]] = 0.0;
+    }
+    free(e);
+    free(y);
+    return st;
+}
+
+int pl_ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
+                                 const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
+{
+    int st = prepare(D, sys, r, err), m = r->m, nmulti = 0;
+    if (st != PL_OK) return st;
+    int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
+    if (!multi) return oom(err);
+    for (int j = 0; j < m; ++j) {
+        int e = r->fstart[j];
+        if (inv_diag && r->fstart[j + 1] - e == 1) {
+            /* one unknown a: W_jj = |c|^2 [A^-1]_aa (PAPER_NOTES 5) */
+            const double *c = r->fcoef + 3 * e;
+            D->diag[j] = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) * inv_diag[r->fcol[e]];
+        } else {
+            /* several unknowns: sum_ab (c_a . c_b) [A^-1]_ab needs the
+             * off-diagonal entries of A^-1 */
+            multi[nmulti++] = j;
+        }
+    }
+    if (nmulti > 0)
+        st = D->ops->apply_inverse_to_rows ? diag_from_y(D, r, multi, nmulti, err)
+                                           : diag_from_products(D, multi, nmulti, err);
+    free(multi);
+    return st;
+}
+
+pl_ncp_operator pl_ncpc_delassus_operator(pl_ncpc_delassus *D)
+{
+    pl_ncp_operator op = {D->m, D->explicit_w ? D->W : NULL, pl_ncpc_delassus_apply, D, D->diag};
+    return op;
+}
+
+int pl_ncpc_mass_diagonal(const pl_ncpc_rows *r, const pl_system *sys, double *diag, pl_error *err)
+{
+    if (!sys->mass)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
+                            "preconditioner=mass: the animation loop gives no vertex masses");
+    for (int j = 0; j < r->m; ++j) {
+        double s = 0.0;
+        for (int e = r->fstart[j]; e < r->fstart[j + 1]; ++e) {
+            const double *c = r->fcoef + 3 * e;
+            double mass = sys->mass[sys->free_vertex[r->fcol[e]]];
+            if (!(mass > 0.0))
+                return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
+                                    "preconditioner=mass: vertex %d has mass %g",
+                                    sys->free_vertex[r->fcol[e]], mass);
+            s += (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / mass;
+        }
+        diag[j] = s;
+    }
+    return PL_OK;
+}

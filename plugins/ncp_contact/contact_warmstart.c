@@ -1,0 +1,162 @@
+/* contact_warmstart.c - lambda of the rows that persist from one step to
+ * the next (a resting contact keeps nearly the same force).
+ *
+ * Matching rule.  Each active row of a step leaves a record: its owner
+ * (a hash of the emitting component's path, stable across runs and saved
+ * states), kind, the global vertex of its first entry and the direction of
+ * that entry's coefficient (normalised), with its final lambda.  At the
+ * next step:
+ *   - a bilateral, normal or bounded row takes the lambda of an unused old
+ *     record with the same owner, kind and first vertex whose direction is
+ *     within 30 degrees of its own (cos >= 0.866); among several, the one
+ *     with the closest direction, then the first in the old order (rows
+ *     that differ only in direction, like the x/y/z rows pinning one
+ *     vertex, keep their own lambda);
+ *   - a friction row whose normal row was matched gets the old friction
+ *     force of that contact projected on its own direction,
+ *     lambda_t = (sum_old lambda_t' dir_t') . dir_t, so a contact whose
+ *     tangent basis turned keeps its friction force vector;
+ *   - every other row starts from 0.
+ * The records live in a pl_data slot (see contact_solver.c), so that
+ * save/restore, reset and several states over one model stay exact. */
+#include "contact.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WARM_COS_MIN 0.8660254037844386 /* cos 30 deg */
+
+static uint64_t fnv1a(const char *s)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (; *s; ++s) {
+        h ^= (unsigned char)*s;
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys, pl_error *err)
+{
+    const pl_component *last = NULL;
+    uint64_t hash = 0;
+    (void)err;
+    for (int j = 0; j < r->m; ++j) {
+        int i = r->full[j];
+        pl_ncpc_key *k = &keys[j];
+        const pl_component *owner = rows->owner ? rows->owner[i] : NULL;
+        if (j == 0 || owner != last) {
+            char path[512];
+            hash = owner ? fnv1a(pl_component_path(owner, path, sizeof path)) : 0;
+            last = owner;
+        }
+        memset(k, 0, sizeof *k);
+        k->owner = hash;
+        k->kind = (int32_t)r->kind[j];
+        k->pair = r->kind[j] == PL_ROW_FRICTION ? r->pair[j] : -1;
+        int e = rows->start[i];
+        k->vertex = rows->vertex[e];
+        const double *c = &rows->coef[3 * e];
+        double n = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        for (int a = 0; a < 3; ++a) k->dir[a] = n > 0.0 ? c[a] / n : 0.0;
+    }
+    return PL_OK;
+}
+
+static int cmp_key(const pl_ncpc_key *a, const pl_ncpc_key *b)
+{
+    if (a->owner != b->owner) return a->owner < b->owner ? -1 : 1;
+    if (a->kind != b->kind) return a->kind < b->kind ? -1 : 1;
+    if (a->vertex != b->vertex) return a->vertex < b->vertex ? -1 : 1;
+    return 0;
+}
+
+/* Sorted copies carry their old index in `pad`: ties keep the old order. */
+static int cmp_sorted(const void *pa, const void *pb)
+{
+    const pl_ncpc_key *a = pa, *b = pb;
+    int c = cmp_key(a, b);
+    return c ? c : (a->pad > b->pad) - (a->pad < b->pad);
+}
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
+                       double *lambda, pl_error *err)
+{
+    for (int j = 0; j < m; ++j) lambda[j] = 0.0;
+    if (m == 0 || nold == 0) return 0;
+    size_t no = (size_t)nold;
+    pl_ncpc_key *sorted = malloc(sizeof *sorted * no);
+    int *used = calloc(no, sizeof(int));
+    int *fric = malloc(sizeof(int) * 2 * no), *match = malloc(sizeof(int) * (size_t)m);
+    if (!sorted || !used || !fric || !match) {
+        free(sorted);
+        free(used);
+        free(fric);
+        free(match);
+        return -pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
+    }
+    /* old friction rows of each old normal record (at most two) */
+    for (size_t a = 0; a < 2 * no; ++a) fric[a] = -1;
+    int nsorted = 0;
+    for (int a = 0; a < nold; ++a) {
+        if (old[a].kind != PL_ROW_FRICTION) {
+            sorted[nsorted] = old[a];
+            sorted[nsorted++].pad = a;
+            continue;
+        }
+        int n = old[a].pair;
+        if (n < 0 || n >= nold) continue;
+        if (fric[2 * n] < 0) fric[2 * n] = a;
+        else if (fric[2 * n + 1] < 0) fric[2 * n + 1] = a;
+    }
+    qsort(sorted, (size_t)nsorted, sizeof *sorted, cmp_sorted);
+    int matched = 0;
+    for (int j = 0; j < m; ++j) {
+        match[j] = -1;
+        if (keys[j].kind == PL_ROW_FRICTION) continue;
+        /* first sorted record not less than keys[j] */
+        int lo = 0, hi = nsorted;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (cmp_key(&sorted[mid], &keys[j]) < 0) lo = mid + 1;
+            else hi = mid;
+        }
+        int best = -1;
+        double best_dot = WARM_COS_MIN;
+        for (int t = lo; t < nsorted && cmp_key(&sorted[t], &keys[j]) == 0; ++t) {
+            int a = sorted[t].pad;
+            double d = dot3(old[a].dir, keys[j].dir);
+            if (!used[a] && (d > best_dot || (best < 0 && d >= best_dot))) {
+                best = a;
+                best_dot = d;
+            }
+        }
+        if (best >= 0) {
+            used[best] = 1;
+            match[j] = best;
+            lambda[j] = old[best].lambda;
+            ++matched;
+        }
+    }
+    for (int j = 0; j < m; ++j) {
+        if (keys[j].kind != PL_ROW_FRICTION) continue;
+        int n = keys[j].pair, J = n >= 0 && n < m ? match[n] : -1;
+        if (J < 0) continue;
+        double F[3] = {0.0, 0.0, 0.0};
+        for (int s = 0; s < 2; ++s) {
+            int a = fric[2 * J + s];
+            if (a < 0) continue;
+            for (int c = 0; c < 3; ++c) F[c] += old[a].lambda * old[a].dir[c];
+        }
+        lambda[j] = dot3(F, keys[j].dir);
+        ++matched;
+    }
+    free(sorted);
+    free(used);
+    free(fric);
+    free(match);
+    return matched;
+}
