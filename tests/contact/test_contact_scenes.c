@@ -16,14 +16,19 @@ static const double G = 9.81;
 
 /* Moves the stick-slip box for `steps` steps with the given mu and
  * preconditioner; returns the mean displacement along the slope [m]
- * (positive downhill) after each of the last two steps. */
+ * (positive downhill) after each of the last two steps.  The tests run the
+ * local-global loop to convergence (the issue's run-to-tolerance mode):
+ * with the paper's fixed 10 iterations the first steps, where every contact
+ * starts cold, are not converged and the box slips a few 1e-5 m while it
+ * lands (the sweep in tests/bench measures the fixed-iteration threshold). */
 static void slide(double mu, const char *precond, int steps, double *d_prev, double *d_last)
 {
     char set_mu[64], set_pc[64];
     snprintf(set_mu, sizeof set_mu, "slope.mu=%.10g", mu);
     snprintf(set_pc, sizeof set_pc, "contact.preconditioner=%s", precond);
-    const char *sets[] = {set_mu, set_pc, "vtk.every=100000000"};
-    pl_sim *s = dyn_load_file("scenes/stick_slip.xml", sets, 3);
+    const char *sets[] = {set_mu, set_pc, "vtk.every=100000000", "solver.iterations=200",
+                          "solver.tolerance=1e-11"};
+    pl_sim *s = dyn_load_file("scenes/stick_slip.xml", sets, 5);
     int n;
     const double *r = dyn_positions(s, "box/dofs", &n);
     double *x0 = malloc((size_t)n * 3 * sizeof *x0);
