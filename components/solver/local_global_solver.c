@@ -9,31 +9,18 @@
  * appends its rows of H; when there are rows, the contact solver builds W
  * and, in each iteration, replaces the plain global solve by the constrained
  * one (lambda update and corrected positions).  The multipliers go back to
- * the components that emitted the rows. */
+ * the components that emitted the rows.
+ *
+ * device = "cuda" (or "auto" with a CudaDevice in the scene) runs the
+ * iterations on the GPU through the device service: local_global_device.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "dynamics.h"
+#include "local_global.h"
 #include "solver.h"
 
-typedef struct local_global_solver {
-    pl_component base;
-    int iterations;
-    double tolerance;
-    double damping;
-    int compute_energy;
-    pl_link solver_link;
-    pl_link contact_link;
-    pl_dynamics dyn;
-    pl_component *solver;
-    pl_component *contact;     /* contact solver, or NULL */
-    pl_component **constraints;
-    int nconstraints;
-    pl_rows rows;
-    int ready;
-    int t_local, t_global, t_assembly;
-} local_global_solver;
+static const char *const device_choices[] = {"cpu", "cuda", "auto", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(local_global_solver, iterations, "iterations", PL_F_INT, "5",
@@ -53,6 +40,11 @@ static const pl_field FIELDS[] = {
              "the global solver (default: the first one in this node or below)", 0),
     PL_FIELD(local_global_solver, contact_link, "contactSolver", PL_F_LINK, NULL,
              "the constraint solver (default: the first one in this node or below, if any)", 0),
+    PL_FIELD_ENUM(local_global_solver, device, "device", device_choices, "cpu",
+                  "where the iterations run: cpu; cuda (needs <CudaDevice/> in this node or above, "
+                  "a global solver and local terms that take device buffers, no constraints); auto "
+                  "(cuda when all of that holds, else cpu)",
+                  0),
 };
 
 typedef struct collect {
@@ -81,6 +73,7 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     local_global_solver *s = (local_global_solver *)c;
     pl_error err;
     s->ready = 0;
+    pl_lg_device_free(s);
     pl_dynamics_free(&s->dyn);
     if (s->iterations < 1) return pl_component_error(c, ctx, PL_EINPUT, "iterations must be >= 1");
     if (s->tolerance < 0) return pl_component_error(c, ctx, PL_EINPUT, "tolerance must be >= 0");
@@ -119,8 +112,10 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     s->t_local = pl_timer_id(ctx->timers, "Local");
     s->t_assembly = pl_timer_id(ctx->timers, "Assembly");
     s->t_global = pl_timer_id(ctx->timers, "Global");
-    pl_log_info("LocalGlobalSolver: %d vertices (%d unknowns), %d local terms, %d iterations",
-                s->dyn.n, s->dyn.nfree, s->dyn.nterms, s->iterations);
+    if ((rc = pl_lg_device_setup(s, ctx))) return rc;
+    pl_log_info("LocalGlobalSolver: %d vertices (%d unknowns), %d local terms, %d iterations%s",
+                s->dyn.n, s->dyn.nfree, s->dyn.nterms, s->iterations,
+                s->gpu.dev ? ", on the device" : "");
     s->ready = 1;
     return PL_OK;
 }
@@ -128,6 +123,7 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
 static void lg_destroy(pl_component *c)
 {
     local_global_solver *s = (local_global_solver *)c;
+    pl_lg_device_free(s);
     pl_dynamics_free(&s->dyn);
     pl_rows_free(&s->rows);
     free(s->constraints);
@@ -196,6 +192,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
                                  "dt changed from %g to %g s: the system must be refactored "
                                  "(set dt before loading)",
                                  d->h, dt);
+    if (s->gpu.dev) return pl_lg_device_step(s, ctx, err);
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     pl_dynamics_gather(d, ctx->data);
     pl_dynamics_predict(d);

@@ -2,7 +2,9 @@
  * NeoHookean: finds its mesh (init) and state (bind), builds the element
  * set from the state's rest positions (reinit, again whenever a field
  * changes), and plays PL_ROLE_LOCAL_TERM through hyperelastic_core.
- * ADMM-PD duals (3 x d per element) live in the pl_data slot "dual". */
+ * ADMM-PD duals (3 x d per element) live in the pl_data slot "dual".
+ * project() on device buffers (tetrahedra, CUDA builds) goes to
+ * fem_term_device.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,6 +89,9 @@ int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_fem *f = (hyper_fem *)c;
     pl_hyper_elements_free(&f->el);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_fem_device_free(f); /* the device copy of the old elements */
+#endif
     if (!f->state || !f->mesh) return PL_EINPUT; /* init or bind already reported why */
     int nrest;
     const double *rest = pl_util_rest(f->state, &nrest);
@@ -112,12 +117,28 @@ int hyper_fem_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
     (void)err;
     if (f->dual_slot >= 0 && !f->warm_start)
         memset(pl_data_slot(ctx->data, f->dual_slot), 0, pl_data_slot_bytes(ctx->data, f->dual_slot));
+#ifdef PLIANT_HAVE_CUDA
+    hyper_fem_device_begin_step(f);
+#endif
     return PL_OK;
+}
+
+int hyper_fem_end_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+{
+#ifdef PLIANT_HAVE_CUDA
+    return hyper_fem_device_end_step((hyper_fem *)c, ctx->data, err);
+#else
+    (void)c, (void)ctx, (void)err;
+    return PL_OK;
+#endif
 }
 
 void hyper_fem_destroy(pl_component *c)
 {
     pl_hyper_elements_free(&((hyper_fem *)c)->el);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_fem_device_free((hyper_fem *)c);
+#endif
 }
 
 /* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
@@ -140,6 +161,14 @@ static int fem_project(pl_component *c, pl_data *d, int offset, double h2, const
                        pl_buffer *rhs, pl_error *err)
 {
     hyper_fem *f = (hyper_fem *)c;
+    if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
+#ifdef PLIANT_HAVE_CUDA
+        return hyper_fem_project_device(f, d, offset, h2, q, rhs, err);
+#else
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but this build has no CUDA");
+#endif
+    }
     const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
     double *b = x ? hyper_term_block(c, rhs, offset, f->el.nverts, "right-hand side", err) : NULL;
     if (!b) return PL_EINTERNAL;
@@ -197,6 +226,19 @@ static int fem_add_hessian(const pl_component *c, const pl_data *d, int offset, 
     return PL_OK;
 }
 
+/* Host float64 always; device float64 for tetrahedra in CUDA builds. */
+static int fem_accepts(const pl_component *c, pl_location where, pl_precision prec)
+{
+    if (prec != PL_F64) return 0;
+    if (where == PL_HOST) return 1;
+#ifdef PLIANT_HAVE_CUDA
+    return ((const hyper_fem *)c)->k == 4;
+#else
+    (void)c;
+    return 0;
+#endif
+}
+
 const pl_local_term_ops hyper_fem_local_term_ops = {
     .version = PL_LOCAL_TERM_OPS_VERSION,
     .state = fem_state,
@@ -206,4 +248,5 @@ const pl_local_term_ops hyper_fem_local_term_ops = {
     .add_gradient = fem_add_gradient,
     .add_hessian = fem_add_hessian,
     .matrix_changed = NULL,
+    .accepts = fem_accepts,
 };

@@ -24,6 +24,7 @@ const pl_type hyper_neohookean_type = {
             .bind = hyper_fem_bind,
             .reinit = hyper_fem_reinit,
             .begin_step = hyper_fem_begin_step,
+            .end_step = hyper_fem_end_step,
             .destroy = hyper_fem_destroy},
     .roles = {[PL_ROLE_LOCAL_TERM] = &hyper_fem_local_term_ops},
 };

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include "pliant/component.h"
 #include "pliant/log.h"
+#include "pliant/node.h"
 #include "pliant/plugin.h"
 #include "pliant/roles.h"
 #include "pliant/timer.h"
@@ -21,16 +22,17 @@ typedef struct sparse_inverse_solver {
     int threads;
     pl_sparse_inverse *solver; /* built by factor */
 #ifdef PLIANT_HAVE_CUDA
-    int device;                /* 0 cpu, 1 cuda */
+    int device;                /* 0 cpu, 1 cuda, 2 auto (cuda with a device service) */
     int precision;             /* 0 float64, 1 float32 (pl_precision) */
     pl_spinv_cuda *gpu;        /* device copy of S, built by factor when device = cuda */
+    struct CUstream_st *stream; /* the scene's device stream (CudaDevice), or NULL */
 #endif
 } sparse_inverse_solver;
 
 static const char *const ordering_choices[] = {"metis", "nesdis", "amd", "natural", NULL};
 static const char *const mode_choices[] = {"sparse", "direct", NULL};
 #ifdef PLIANT_HAVE_CUDA
-static const char *const device_choices[] = {"cpu", "cuda", NULL};
+static const char *const device_choices[] = {"cpu", "cuda", "auto", NULL};
 static const char *const precision_choices[] = {"float64", "float32", NULL};
 #endif
 
@@ -47,7 +49,10 @@ static const pl_field solver_fields[] = {
              "OpenMP threads for the inverse and the products [count] (0 = OpenMP's default)", 0),
 #ifdef PLIANT_HAVE_CUDA
     PL_FIELD_ENUM(sparse_inverse_solver, device, "device", device_choices, "cpu",
-                  "where the global step runs: cpu, or cuda (S copied to the GPU; mode sparse)", 0),
+                  "where the global step runs: cpu, cuda (S copied to the GPU; mode sparse; work "
+                  "queued on the stream of a CudaDevice in this node or above, if any), or auto "
+                  "(cuda when there is such a CudaDevice and mode is sparse)",
+                  0),
     PL_FIELD_ENUM(sparse_inverse_solver, precision, "precision", precision_choices, "float64",
                   "values and arithmetic of the device copy of S: float64 or float32 (device cuda)",
                   0),
@@ -123,7 +128,10 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
 #ifdef PLIANT_HAVE_CUDA
     pl_spinv_cuda_destroy(s->gpu);
     s->gpu = NULL;
-    if (s->device == 1) {
+    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    const pl_device_ops *dops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
+    s->stream = dops && dops->stream ? (struct CUstream_st *)dops->stream(dev) : NULL;
+    if (s->device == 1 || (s->device == 2 && dev && s->mode == PL_SPINV_SPARSE)) {
         s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64,
                                       PL_SPINV_CUDA_OWN, &e);
         if (!s->gpu) return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
@@ -141,7 +149,7 @@ static int solver_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_er
     int n = pl_sparse_inverse_size(s->solver);
     if (n == 0) return pl_component_fail(c, err, PL_EINPUT, "solve called before factor");
 #ifdef PLIANT_HAVE_CUDA
-    if (s->gpu) return pl_spinv_cuda_solve_buffers(s->gpu, s->solver, b, x, err);
+    if (s->gpu) return pl_spinv_cuda_solve_buffers(s->gpu, s->solver, b, x, s->stream, err);
 #endif
     double *bd = pl_buffer_f64(b), *xd = pl_buffer_f64(x);
     if (!bd || !xd)
@@ -173,6 +181,20 @@ static int solver_size(const pl_component *c)
     return pl_sparse_inverse_size(((const sparse_inverse_solver *)c)->solver);
 }
 
+/* Host float64 blocks always; device blocks (float64 or float32) once S is
+ * on the GPU. */
+static int solver_accepts(const pl_component *c, pl_location where, pl_precision prec)
+{
+    if (where == PL_HOST) return prec == PL_F64;
+#ifdef PLIANT_HAVE_CUDA
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
+    return s->gpu && (prec == PL_F64 || prec == PL_F32);
+#else
+    (void)c;
+    return 0;
+#endif
+}
+
 static const pl_global_solver_ops solver_ops = {
     .version = PL_GLOBAL_SOLVER_OPS_VERSION,
     .factor = solver_factor,
@@ -180,6 +202,7 @@ static const pl_global_solver_ops solver_ops = {
     .apply_inverse_to_rows = solver_apply_rows,
     .inverse_diagonal = solver_inverse_diagonal,
     .size = solver_size,
+    .accepts = solver_accepts,
 };
 
 const pl_type pl_sparse_inverse_solver_type = {

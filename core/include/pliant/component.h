@@ -37,6 +37,7 @@ typedef enum pl_role {
     PL_ROLE_CONTROLLER,      /* pl_controller_ops */
     PL_ROLE_PRESCRIBED,      /* pl_prescribed_ops: fixed or moving DOFs */
     PL_ROLE_ANIMATION_LOOP,  /* pl_animation_loop_ops: advances one step */
+    PL_ROLE_DEVICE,          /* pl_device_ops: device memory, copies, a stream (CudaDevice) */
     PL_ROLE_COUNT
 } pl_role;
 

@@ -71,7 +71,7 @@ typedef struct pl_prescribed_ops {
 } pl_prescribed_ops;
 
 /* ---- pl_local_term: a projective term w ||G q - p||^2 (elements, targets) */
-#define PL_LOCAL_TERM_OPS_VERSION 1
+#define PL_LOCAL_TERM_OPS_VERSION 2 /* 2: accepts */
 typedef struct pl_local_term_ops {
     int version;
     /* the state its vertices belong to */
@@ -95,6 +95,9 @@ typedef struct pl_local_term_ops {
                        int psd, pl_triplets *H, pl_error *err);
     /* optional: the term changes A when this returns non-zero (refactor) */
     int (*matrix_changed)(const pl_component *c);
+    /* version 2, optional: non-zero when project() takes q and rhs in `where`
+     * with element type `prec` (NULL: host float64 only) */
+    int (*accepts)(const pl_component *c, pl_location where, pl_precision prec);
 } pl_local_term_ops;
 
 /* ---- pl_system: what the animation loop shares with solvers -------------- */
@@ -109,7 +112,7 @@ typedef struct pl_system {
 } pl_system;
 
 /* ---- pl_global_solver: A^-1 for the constant system ---------------------- */
-#define PL_GLOBAL_SOLVER_OPS_VERSION 1
+#define PL_GLOBAL_SOLVER_OPS_VERSION 2 /* 2: accepts */
 typedef struct pl_global_solver_ops {
     int version;
     /* factors the scalar SPD matrix A (n x n over the unknowns, both triangles
@@ -125,6 +128,9 @@ typedef struct pl_global_solver_ops {
     int (*inverse_diagonal)(pl_component *c, double *diag, pl_error *err);
     /* number of unknowns factored (0 before factor) */
     int (*size)(const pl_component *c);
+    /* version 2, optional: non-zero when solve() takes n x 3 blocks in `where`
+     * with element type `prec` (NULL: host float64 only) */
+    int (*accepts)(const pl_component *c, pl_location where, pl_precision prec);
 } pl_global_solver_ops;
 
 /* ---- pl_constraint: emits rows of H once per step ------------------------ */
@@ -226,6 +232,61 @@ typedef struct pl_animation_loop_ops {
     int version;
     int (*step)(pl_component *c, pl_ctx *ctx, double dt, pl_error *err);
 } pl_animation_loop_ops;
+
+/* ---- pl_device: a compute device, its memory and its stream -------------- */
+/* Device memory is addressed by plain pointers (inside pl_buffer descriptors
+ * with location PL_DEVICE).  Every member queues its work on the device's
+ * one stream, in call order, and returns without waiting unless it says so;
+ * other components queue their own kernels on stream().  The vector kernels
+ * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
+#define PL_DEVICE_OPS_VERSION 1
+enum {
+    PL_DEVICE_GRAPHS = 1, /* callers should capture repeated work (an iteration) as a graph */
+    PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
+};
+typedef struct pl_device_ops {
+    int version;
+    /* PL_DEVICE_* flags the scene asked for */
+    int (*flags)(const pl_component *c);
+    /* the native stream (cudaStream_t for CUDA) */
+    void *(*stream)(const pl_component *c);
+    /* `bytes` of device memory (NULL with err set on failure) */
+    void *(*alloc)(pl_component *c, size_t bytes, pl_error *err);
+    /* frees device memory from alloc (NULL: nothing) */
+    void (*free)(pl_component *c, void *p);
+    /* sets `bytes` bytes at device address p to zero */
+    int (*zero)(pl_component *c, void *p, size_t bytes, pl_error *err);
+    /* copies `bytes` bytes between host and device memory (returns after the
+     * copy when `to` is PL_HOST) */
+    int (*copy)(pl_component *c, void *dst, pl_location to, const void *src, pl_location from,
+                size_t bytes, pl_error *err);
+    /* page-locks host memory until unpin (faster, asynchronous copies) */
+    int (*pin)(pl_component *c, void *host, size_t bytes, pl_error *err);
+    /* undoes pin */
+    void (*unpin)(pl_component *c, void *host);
+    /* waits for all queued work; reports errors of earlier asynchronous work */
+    int (*sync)(pl_component *c, pl_error *err);
+    /* y[i] = s[i] x[i] for rows i < n (rhs = M sn) */
+    int (*scale_rows)(pl_component *c, int n, const double *s, const double *x, double *y,
+                      pl_error *err);
+    /* y[f] = x[map[f]] for rows f < m (all vertices -> unknowns) */
+    int (*gather_rows)(pl_component *c, int m, const int *map, const double *x, double *y,
+                       pl_error *err);
+    /* x[map[f]] = y[f] for rows f < m; *change (device) = max(*change, the
+     * largest |change| of a coordinate), +inf if a value is not finite */
+    int (*scatter_rows)(pl_component *c, int m, const int *map, const double *y, double *x,
+                        double *change, pl_error *err);
+    /* y -= A x, A a CSR whose p, j, x are device arrays (one thread per row: deterministic) */
+    int (*sub_csr)(pl_component *c, const pl_csr *A, const double *x, double *y, pl_error *err);
+    /* starts recording the work queued next on the stream (recorded, not run) */
+    int (*capture_begin)(pl_component *c, pl_error *err);
+    /* stops recording: *graph = the recorded work, ready to replay */
+    int (*capture_end)(pl_component *c, void **graph, pl_error *err);
+    /* queues the recorded work again (same buffers, same scalars) */
+    int (*replay)(pl_component *c, void *graph, pl_error *err);
+    /* frees a graph from capture_end (NULL: nothing) */
+    void (*graph_free)(pl_component *c, void *graph);
+} pl_device_ops;
 
 #ifdef __cplusplus
 }

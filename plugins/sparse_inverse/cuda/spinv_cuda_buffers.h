@@ -10,11 +10,11 @@
 extern "C" {
 #endif
 
-/* x = A^-1 b: device n x 3 blocks on the GPU (asynchronously, legacy
- * default stream), host float64 blocks through copies (synchronously; k != 3
- * columns on the CPU solver cpu). */
+/* x = A^-1 b: device n x 3 blocks on the GPU (asynchronously, on stream;
+ * NULL: the legacy default stream), host float64 blocks through copies
+ * (synchronously; k != 3 columns on the CPU solver cpu). */
 int pl_spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const pl_buffer *b,
-                                pl_buffer *x, pl_error *err);
+                                pl_buffer *x, struct CUstream_st *stream, pl_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,58 @@
+/* local_global.h - the LocalGlobalSolver's state, shared by its CPU path
+ * (local_global_solver.c) and its device path (local_global_device.c).
+ * Internal to libpliant's solver folder. */
+#ifndef PLIANT_LOCAL_GLOBAL_H
+#define PLIANT_LOCAL_GLOBAL_H
+
+#include "dynamics.h"
+
+/* Device copies of the loop's vectors (float64, n x 3 unless said), made
+ * through the scene's device service (pl_device_ops); dev == NULL: the loop
+ * runs on the CPU. */
+typedef struct lg_device {
+    pl_component *dev;
+    const pl_device_ops *ops;
+    int flags;                 /* PL_DEVICE_GRAPHS / PL_DEVICE_PROFILE */
+    double *q, *sn, *rhs;
+    double *b_free, *q_free;   /* nfree x 3 */
+    double *mass;              /* n */
+    double *change;            /* 1: largest position change of an iteration */
+    int *free_vertex;          /* nfree */
+    pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
+    int fp_nnz;                /* its entries (0: nothing prescribed) */
+    void *graph;               /* one iteration, captured (PL_DEVICE_GRAPHS) */
+    int pinned;                /* dyn.q and dyn.sn are page-locked */
+} lg_device;
+
+typedef struct local_global_solver {
+    pl_component base;
+    int iterations;
+    double tolerance;
+    double damping;
+    int compute_energy;
+    pl_link solver_link;
+    pl_link contact_link;
+    int device;                /* 0 cpu, 1 cuda, 2 auto */
+    pl_dynamics dyn;
+    pl_component *solver;
+    pl_component *contact;     /* contact solver, or NULL */
+    pl_component **constraints;
+    int nconstraints;
+    pl_rows rows;
+    int ready;
+    int t_local, t_global, t_assembly;
+    lg_device gpu;
+} local_global_solver;
+
+/* After the dynamics are set up and A_ff factored: resolves `device`
+ * (auto: cuda when a device service is found in this node or above and
+ * every part of the loop can run there) and allocates the device copies.
+ * Errors (device="cuda" with a part that cannot run there) are recorded
+ * against the solver in ctx. */
+int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx);
+/* Frees the device copies and graph; call before pl_dynamics_free. */
+void pl_lg_device_free(local_global_solver *s);
+/* One time step with the iterations on the device (no constraints). */
+int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err);
+
+#endif

@@ -1,0 +1,355 @@
+/* local_global_device.c - the LocalGlobalSolver's iterations on a device
+ * (device = "cuda", or "auto" with a CudaDevice in the scene).
+ *
+ * libpliant knows no CUDA: everything goes through the device service
+ * found by role (pl_device_ops, plugins/cuda).  Per time step:
+ *   host:   gather q_t, v_t from the states, sn = q_t + h v_t + h^2 g,
+ *           q = sn with the prescribed vertices at t + h (as on the CPU);
+ *   copy:   sn and q to the device (page-locked host buffers);
+ *   device: K iterations of
+ *             rhs = M sn; every local term's project(q, rhs) on device
+ *             buffers; b_f = rhs restricted to the unknowns - A_fp q_p;
+ *             q_f = solve(b_f) by the global solver on device buffers;
+ *             q[free] = q_f (and the largest change, for tolerances);
+ *           from the second iteration on, one captured iteration is
+ *           replayed as a graph when the device asks for graphs (the first
+ *           iteration of each step stays eager: terms upload their per-step
+ *           data, such as ADMM duals, when first called in a step);
+ *   copy:   q back to the host once, then v = (q - q_t) / h and the
+ *           scatter into the states on the host.
+ * q comes back every iteration only when tolerance > 0 (the change, one
+ * number) or computeEnergy is set (all of q, for the energy).
+ * Constraints (contact, cables) stay on the CPU for now: with any, cuda is
+ * refused and auto runs on the CPU. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "local_global.h"
+
+/* Appends to a reason message (truncated silently: it is only a message). */
+static void say(char *buf, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void say(char *buf, size_t size, const char *fmt, ...)
+{
+    size_t len = strlen(buf);
+    if (len + 1 >= size) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf + len, size - len, fmt, ap);
+    va_end(ap);
+}
+
+/* Why the loop cannot run on the device, or "" when it can. */
+static void device_refusals(local_global_solver *s, char *why, size_t size)
+{
+    pl_dynamics *d = &s->dyn;
+    char path[256];
+    why[0] = '\0';
+    if (s->nconstraints || s->contact)
+        say(why, size, "constraints and contact run on the CPU only for now (the scene has %s)",
+            s->nconstraints ? "constraint components" : "a contact solver");
+    const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    if (!(gs->version >= 2 && gs->accepts && gs->accepts(s->solver, PL_DEVICE, PL_F64)))
+        say(why, size,
+            "%sthe global solver %s (%s) does not take device buffers (SparseInverseSolver: set "
+            "device=\"cuda\" or \"auto\" on it)",
+            why[0] ? "; " : "", pl_component_path(s->solver, path, sizeof path),
+            s->solver->type->name);
+    int first = 1;
+    for (int k = 0; k < d->nterms; ++k) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
+        if (ops->version >= 2 && ops->accepts && ops->accepts(d->terms[k], PL_DEVICE, PL_F64))
+            continue;
+        if (first)
+            say(why, size,
+                "%slocal terms without a device local step (tetrahedral ARAP, Corotational and "
+                "NeoHookean have one):",
+                why[0] ? "; " : "");
+        say(why, size, "%s %s (%s)", first ? "" : ",",
+            pl_component_path(d->terms[k], path, sizeof path), d->terms[k]->type->name);
+        first = 0;
+    }
+}
+
+/* The device service for this solver, or NULL (why says why). */
+static pl_component *find_device(local_global_solver *s, char *why, size_t size)
+{
+    pl_component *c = &s->base, *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    why[0] = '\0';
+    if (!dev) {
+        snprintf(why, size,
+                 "no device service in this node or above (add <RequiredPlugin "
+                 "name=\"cuda\"/> and <CudaDevice/> to the root node, in a CUDA build)");
+        return NULL;
+    }
+    const pl_device_ops *ops = pl_component_role(dev, PL_ROLE_DEVICE);
+    if (ops->version < 1) {
+        snprintf(why, size, "the device service %s is of an unknown version", dev->name);
+        return NULL;
+    }
+    /* components of a node are destroyed in reverse order: the device must
+     * outlive this solver, which frees its memory through it */
+    if (dev->node == c->node)
+        for (int k = 0; k < c->node->ncomponents; ++k) {
+            if (c->node->components[k] == dev) break;
+            if (c->node->components[k] == c) {
+                snprintf(why, size,
+                         "%s must come before the solver in the scene (it has to "
+                         "outlive it)",
+                         dev->name);
+                return NULL;
+            }
+        }
+    return dev;
+}
+
+static void *dalloc(lg_device *g, size_t bytes, int *rc, pl_error *err)
+{
+    if (*rc) return NULL;
+    void *p = g->ops->alloc(g->dev, bytes, err);
+    if (!p) *rc = err->code ? err->code : PL_EINTERNAL;
+    return p;
+}
+
+static void put(lg_device *g, void *dst, const void *src, size_t bytes, int *rc, pl_error *err)
+{
+    if (!*rc && bytes) *rc = g->ops->copy(g->dev, dst, PL_DEVICE, src, PL_HOST, bytes, err);
+}
+
+/* The rows of A_fp (CSC nfree x n) as a host CSR, entries of a row in
+ * increasing column order: the order in which the CPU loop subtracts them. */
+static int fp_rows(const pl_csc *A, pl_csr *R)
+{
+    int m = A->nrows, nnz = pl_csc_nnz(A);
+    R->nrows = m, R->ncols = A->ncols;
+    R->p = calloc((size_t)m + 1, sizeof *R->p);
+    R->j = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->j);
+    R->x = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->x);
+    if (!R->p || !R->j || !R->x) return PL_EINTERNAL;
+    for (int p = 0; p < nnz; ++p) R->p[A->i[p] + 1]++;
+    for (int r = 0; r < m; ++r) R->p[r + 1] += R->p[r];
+    int *next = malloc((size_t)(m ? m : 1) * sizeof *next);
+    if (!next) return PL_EINTERNAL;
+    memcpy(next, R->p, (size_t)m * sizeof *next);
+    for (int j = 0; j < A->ncols; ++j)
+        for (int p = A->p[j]; p < A->p[j + 1]; ++p) {
+            int q = next[A->i[p]]++;
+            R->j[q] = j;
+            R->x[q] = A->x[p];
+        }
+    free(next);
+    return PL_OK;
+}
+
+static int allocate(local_global_solver *s, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    lg_device *g = &s->gpu;
+    size_t n3 = (size_t)d->n * 3 * sizeof(double);
+    size_t f3 = (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double);
+    int rc = PL_OK;
+    g->q = dalloc(g, n3, &rc, err);
+    g->sn = dalloc(g, n3, &rc, err);
+    g->rhs = dalloc(g, n3, &rc, err);
+    g->b_free = dalloc(g, f3, &rc, err);
+    g->q_free = dalloc(g, f3, &rc, err);
+    g->mass = dalloc(g, (size_t)d->n * sizeof(double), &rc, err);
+    g->change = dalloc(g, sizeof(double), &rc, err);
+    g->free_vertex = dalloc(g, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
+    put(g, g->mass, d->mass, (size_t)d->n * sizeof(double), &rc, err);
+    put(g, g->free_vertex, d->free_vertex, (size_t)d->nfree * sizeof(int), &rc, err);
+    if (rc) return rc;
+    pl_csr R = {0};
+    if (fp_rows(&d->A_fp, &R) != PL_OK) {
+        pl_csr_free(&R);
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    }
+    int nnz = pl_csr_nnz(&R);
+    g->fp_nnz = nnz;
+    g->A_fp.nrows = R.nrows, g->A_fp.ncols = R.ncols;
+    g->A_fp.p = dalloc(g, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
+    g->A_fp.j = dalloc(g, (size_t)(nnz ? nnz : 1) * sizeof(int), &rc, err);
+    g->A_fp.x = dalloc(g, (size_t)(nnz ? nnz : 1) * sizeof(double), &rc, err);
+    put(g, g->A_fp.p, R.p, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
+    put(g, g->A_fp.j, R.j, (size_t)nnz * sizeof(int), &rc, err);
+    put(g, g->A_fp.x, R.x, (size_t)nnz * sizeof(double), &rc, err);
+    pl_csr_free(&R);
+    if (!rc) rc = g->ops->sync(g->dev, err); /* the host arrays above may go */
+    if (rc) return rc;
+    /* page-locked q and sn: their copies are the per-step traffic */
+    pl_error pe;
+    if (g->ops->pin && g->ops->pin(g->dev, d->q, n3, &pe) == PL_OK) {
+        if (g->ops->pin(g->dev, d->sn, n3, &pe) == PL_OK)
+            g->pinned = 1;
+        else
+            g->ops->unpin(g->dev, d->q);
+    }
+    return PL_OK;
+}
+
+int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx)
+{
+    pl_component *c = &s->base;
+    char why[1024], path[256];
+    if (s->device == 0) return PL_OK;
+    pl_component *dev = find_device(s, why, sizeof why);
+    if (dev) device_refusals(s, why, sizeof why);
+    if (why[0]) {
+        if (s->device == 1)
+            return pl_component_error(c, ctx, PL_EINPUT, "device=\"cuda\": %s", why);
+        pl_log_info("%s: device=\"auto\" runs on the CPU: %s",
+                    pl_component_path(c, path, sizeof path), why);
+        return PL_OK;
+    }
+    lg_device *g = &s->gpu;
+    g->dev = dev;
+    g->ops = pl_component_role(dev, PL_ROLE_DEVICE);
+    g->flags = g->ops->flags ? g->ops->flags(dev) : 0;
+    pl_error err;
+    pl_error_clear(&err);
+    int rc = allocate(s, &err);
+    if (rc) {
+        pl_lg_device_free(s);
+        return pl_component_error(c, ctx, rc, "device buffers: %s", err.msg);
+    }
+    return PL_OK;
+}
+
+void pl_lg_device_free(local_global_solver *s)
+{
+    lg_device *g = &s->gpu;
+    if (!g->dev) return;
+    const pl_device_ops *o = g->ops;
+    pl_error err;
+    o->sync(g->dev, &err); /* nothing may still use the buffers */
+    if (g->graph) o->graph_free(g->dev, g->graph);
+    void *bufs[] = {g->q,      g->sn,          g->rhs,    g->b_free, g->q_free, g->mass,
+                    g->change, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
+    for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
+    if (g->pinned) {
+        o->unpin(g->dev, s->dyn.q);
+        o->unpin(g->dev, s->dyn.sn);
+    }
+    memset(g, 0, sizeof *g);
+}
+
+/* Waits for the device when profiling, so that the phase timer is right. */
+static int phase_end(local_global_solver *s, pl_ctx *ctx, int timer, pl_error *err)
+{
+    int rc = s->gpu.ops->sync(s->gpu.dev, err);
+    pl_timer_stop(ctx->timers, timer);
+    return rc;
+}
+
+/* One iteration queued on the device: rhs, local step, reduction to the
+ * unknowns, global step, positions.  profile: time each phase (syncs). */
+static int iteration(local_global_solver *s, pl_ctx *ctx, int profile, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    lg_device *g = &s->gpu;
+    const pl_device_ops *o = g->ops;
+    pl_component *dev = g->dev;
+    pl_buffer qb = {g->q, (size_t)d->n, 3, PL_DEVICE, PL_F64};
+    pl_buffer rb = {g->rhs, (size_t)d->n, 3, PL_DEVICE, PL_F64};
+    pl_buffer bb = {g->b_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
+    pl_buffer xb = {g->q_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
+    if (profile) pl_timer_start(ctx->timers, s->t_local);
+    int rc = o->zero(dev, g->change, sizeof(double), err);
+    if (!rc) rc = o->scale_rows(dev, d->n, g->mass, g->sn, g->rhs, err);
+    for (int t = 0; !rc && t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);
+    }
+    if (profile && !rc) rc = phase_end(s, ctx, s->t_local, err);
+    if (rc || d->nfree == 0) return rc;
+    if (profile) pl_timer_start(ctx->timers, s->t_assembly);
+    rc = o->gather_rows(dev, d->nfree, g->free_vertex, g->rhs, g->b_free, err);
+    if (!rc && g->fp_nnz) rc = o->sub_csr(dev, &g->A_fp, g->q, g->b_free, err);
+    if (profile && !rc) rc = phase_end(s, ctx, s->t_assembly, err);
+    if (rc) return rc;
+    if (profile) pl_timer_start(ctx->timers, s->t_global);
+    const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    rc = gs->solve(s->solver, &bb, &xb, err);
+    if (profile && !rc) rc = phase_end(s, ctx, s->t_global, err);
+    if (!rc) rc = o->scatter_rows(dev, d->nfree, g->free_vertex, g->q_free, g->q, g->change, err);
+    return rc;
+}
+
+/* Iteration `it` of a step: eager, or through the captured graph. */
+static int run_iteration(local_global_solver *s, pl_ctx *ctx, int it, pl_error *err)
+{
+    lg_device *g = &s->gpu;
+    int profile = (g->flags & PL_DEVICE_PROFILE) != 0;
+    if (profile || !(g->flags & PL_DEVICE_GRAPHS) || it == 0)
+        return iteration(s, ctx, profile, err);
+    if (!g->graph) {
+        int rc = g->ops->capture_begin(g->dev, err);
+        if (rc) return rc;
+        rc = iteration(s, ctx, 0, err);
+        pl_error e2;
+        int rc2 = g->ops->capture_end(g->dev, &g->graph, rc ? &e2 : err);
+        if (rc || rc2) {
+            g->ops->graph_free(g->dev, g->graph);
+            g->graph = NULL;
+            return rc ? rc : rc2;
+        }
+    }
+    return g->ops->replay(g->dev, g->graph, err);
+}
+
+int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+{
+    pl_dynamics *d = &s->dyn;
+    lg_device *g = &s->gpu;
+    const pl_device_ops *o = g->ops;
+    pl_component *c = &s->base;
+    size_t n3 = (size_t)d->n * 3 * sizeof(double);
+    int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
+    if (flags != g->flags && g->graph) {
+        int rc = o->sync(g->dev, err);
+        if (rc) return rc;
+        o->graph_free(g->dev, g->graph);
+        g->graph = NULL;
+    }
+    g->flags = flags;
+    pl_dynamics_gather(d, ctx->data);
+    pl_dynamics_predict(d);
+    memcpy(d->q, d->sn, n3);
+    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    if (rc) return rc;
+    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(d->q_t, d->n) : 1.0;
+    if (s->compute_energy)
+        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
+    rc = o->copy(g->dev, g->sn, PL_DEVICE, d->sn, PL_HOST, n3, err);
+    if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, d->q, PL_HOST, n3, err);
+    for (int it = 0; !rc && it < s->iterations; ++it) {
+        rc = run_iteration(s, ctx, it, err);
+        if (rc || !(s->tolerance > 0 || s->compute_energy) || d->nfree == 0) continue;
+        double change = 0.0;
+        if (s->tolerance > 0)
+            rc = o->copy(g->dev, &change, PL_HOST, g->change, PL_DEVICE, sizeof change, err);
+        if (!rc && s->compute_energy) {
+            rc = o->copy(g->dev, d->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+            if (!rc) pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
+        }
+        if (rc) break;
+        if (!isfinite(change))
+            return pl_component_fail(c, err, PL_EINTERNAL,
+                                     "the solution became NaN/inf at iteration %d of step %ld",
+                                     it + 1, ctx->data->step + 1);
+        if (s->tolerance > 0 && change < s->tolerance * scale) break;
+    }
+    if (!rc) rc = o->copy(g->dev, d->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+    if (rc) return rc;
+    for (int f = 0; f < d->nfree; ++f) {
+        const double *x = &d->q[3 * d->free_vertex[f]];
+        if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
+            return pl_component_fail(c, err, PL_EINTERNAL,
+                                     "the solution became NaN/inf during step %ld (vertex %d)",
+                                     ctx->data->step + 1, d->free_vertex[f]);
+    }
+    pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
+    return PL_OK;
+}

@@ -1,0 +1,166 @@
+/* cuda_device_ops.c - CudaDevice's pl_device_ops: memory, copies and
+ * kernels queued on the component's stream, and CUDA graphs captured from
+ * it (thread-local capture mode: other threads may keep using CUDA). */
+#include <stdint.h>
+
+#include "cuda_device.h"
+#include "cuda_kernels.h"
+
+#define DEV(c) ((cuda_device *)(c))
+#define CK(c, call, what)                                              \
+    do {                                                               \
+        cudaError_t ck_ = (call);                                      \
+        if (ck_ != cudaSuccess) return pl_cuda_fail(c, err, ck_, what); \
+    } while (0)
+
+static int dev_flags(const pl_component *c)
+{
+    const cuda_device *d = (const cuda_device *)c;
+    if (d->profile) return PL_DEVICE_PROFILE;
+    return d->graph ? PL_DEVICE_GRAPHS : 0;
+}
+
+static void *dev_stream(const pl_component *c)
+{
+    return ((const cuda_device *)c)->stream;
+}
+
+static void *dev_alloc(pl_component *c, size_t bytes, pl_error *err)
+{
+    void *p = NULL;
+    cudaError_t e = cudaMalloc(&p, bytes ? bytes : 1);
+    if (e != cudaSuccess) {
+        pl_cuda_fail(c, err, e, "cudaMalloc");
+        return NULL;
+    }
+    DEV(c)->live++;
+    return p;
+}
+
+static void dev_free(pl_component *c, void *p)
+{
+    if (!p) return;
+    cudaFree(p);
+    DEV(c)->live--;
+}
+
+static int dev_zero(pl_component *c, void *p, size_t bytes, pl_error *err)
+{
+    CK(c, cudaMemsetAsync(p, 0, bytes, DEV(c)->stream), "cudaMemsetAsync");
+    return PL_OK;
+}
+
+static int dev_copy(pl_component *c, void *dst, pl_location to, const void *src, pl_location from,
+                    size_t bytes, pl_error *err)
+{
+    enum cudaMemcpyKind kind = to == PL_HOST ? (from == PL_HOST ? cudaMemcpyHostToHost
+                                                                 : cudaMemcpyDeviceToHost)
+                                             : (from == PL_HOST ? cudaMemcpyHostToDevice
+                                                                 : cudaMemcpyDeviceToDevice);
+    if (bytes == 0) return PL_OK;
+    CK(c, cudaMemcpyAsync(dst, src, bytes, kind, DEV(c)->stream), "cudaMemcpyAsync");
+    if (to == PL_HOST) CK(c, cudaStreamSynchronize(DEV(c)->stream), "copy to the host");
+    return PL_OK;
+}
+
+static int dev_pin(pl_component *c, void *host, size_t bytes, pl_error *err)
+{
+    if (!host || bytes == 0) return PL_OK;
+    CK(c, cudaHostRegister(host, bytes, cudaHostRegisterDefault), "cudaHostRegister");
+    return PL_OK;
+}
+
+static void dev_unpin(pl_component *c, void *host)
+{
+    (void)c;
+    if (host) cudaHostUnregister(host);
+}
+
+static int dev_sync(pl_component *c, pl_error *err)
+{
+    CK(c, cudaStreamSynchronize(DEV(c)->stream), "device work");
+    return PL_OK;
+}
+
+static int launched(pl_component *c, int code, const char *what, pl_error *err)
+{
+    return code ? pl_cuda_fail(c, err, (cudaError_t)code, what) : PL_OK;
+}
+
+static int dev_scale_rows(pl_component *c, int n, const double *s, const double *x, double *y,
+                          pl_error *err)
+{
+    return launched(c, pl_cuda_scale_rows(DEV(c)->stream, n, s, x, y), "scale_rows", err);
+}
+
+static int dev_gather_rows(pl_component *c, int m, const int *map, const double *x, double *y,
+                           pl_error *err)
+{
+    return launched(c, pl_cuda_gather_rows(DEV(c)->stream, m, map, x, y), "gather_rows", err);
+}
+
+static int dev_scatter_rows(pl_component *c, int m, const int *map, const double *y, double *x,
+                            double *change, pl_error *err)
+{
+    return launched(c, pl_cuda_scatter_rows(DEV(c)->stream, m, map, y, x, change), "scatter_rows",
+                    err);
+}
+
+static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double *y, pl_error *err)
+{
+    return launched(c, pl_cuda_sub_csr(DEV(c)->stream, A->nrows, A->p, A->j, A->x, x, y), "sub_csr",
+                    err);
+}
+
+static int dev_capture_begin(pl_component *c, pl_error *err)
+{
+    CK(c, cudaStreamBeginCapture(DEV(c)->stream, cudaStreamCaptureModeThreadLocal),
+       "cudaStreamBeginCapture");
+    return PL_OK;
+}
+
+static int dev_capture_end(pl_component *c, void **graph, pl_error *err)
+{
+    cudaGraph_t g = NULL;
+    cudaGraphExec_t exec = NULL;
+    *graph = NULL;
+    CK(c, cudaStreamEndCapture(DEV(c)->stream, &g), "cudaStreamEndCapture");
+    cudaError_t e = cudaGraphInstantiate(&exec, g, 0);
+    cudaGraphDestroy(g);
+    if (e != cudaSuccess) return pl_cuda_fail(c, err, e, "cudaGraphInstantiate");
+    *graph = exec;
+    return PL_OK;
+}
+
+static int dev_replay(pl_component *c, void *graph, pl_error *err)
+{
+    CK(c, cudaGraphLaunch((cudaGraphExec_t)graph, DEV(c)->stream), "cudaGraphLaunch");
+    return PL_OK;
+}
+
+static void dev_graph_free(pl_component *c, void *graph)
+{
+    (void)c;
+    if (graph) cudaGraphExecDestroy((cudaGraphExec_t)graph);
+}
+
+const pl_device_ops pl_cuda_device_ops = {
+    .version = PL_DEVICE_OPS_VERSION,
+    .flags = dev_flags,
+    .stream = dev_stream,
+    .alloc = dev_alloc,
+    .free = dev_free,
+    .zero = dev_zero,
+    .copy = dev_copy,
+    .pin = dev_pin,
+    .unpin = dev_unpin,
+    .sync = dev_sync,
+    .scale_rows = dev_scale_rows,
+    .gather_rows = dev_gather_rows,
+    .scatter_rows = dev_scatter_rows,
+    .sub_csr = dev_sub_csr,
+    .capture_begin = dev_capture_begin,
+    .capture_end = dev_capture_end,
+    .replay = dev_replay,
+    .graph_free = dev_graph_free,
+};

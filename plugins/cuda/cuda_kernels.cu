@@ -1,0 +1,120 @@
+/* cuda_kernels.cu - the device service's vector kernels (see cuda_kernels.h):
+ * one thread per row (a vertex's xyz), grid-stride free; launch errors are
+ * returned, execution errors surface at the next sync. */
+#include "cuda_kernels.h"
+
+#include <cuda_runtime.h>
+
+namespace {
+
+constexpr int kThreads = 256;
+
+unsigned blocks(long long n)
+{
+    return (unsigned)((n + kThreads - 1) / kThreads);
+}
+
+__global__ void k_scale_rows(int n, const double *__restrict__ s, const double *__restrict__ x,
+                             double *__restrict__ y)
+{
+    const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const double m = s[i];
+    y[3 * (size_t)i] = m * x[3 * (size_t)i];
+    y[3 * (size_t)i + 1] = m * x[3 * (size_t)i + 1];
+    y[3 * (size_t)i + 2] = m * x[3 * (size_t)i + 2];
+}
+
+__global__ void k_gather_rows(int m, const int *__restrict__ map, const double *__restrict__ x,
+                              double *__restrict__ y)
+{
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (f >= m) return;
+    const double *src = x + 3 * (size_t)map[f];
+    y[3 * (size_t)f] = src[0];
+    y[3 * (size_t)f + 1] = src[1];
+    y[3 * (size_t)f + 2] = src[2];
+}
+
+/* Non-negative doubles order like their bit patterns, so the maximum can be
+ * taken with an integer atomicMax: the result does not depend on the order. */
+__global__ void k_scatter_rows(int m, const int *__restrict__ map, const double *__restrict__ y,
+                               double *__restrict__ x, double *__restrict__ change)
+{
+    __shared__ double red[kThreads / 32];
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    double d = 0.0;
+    if (f < m) {
+        double *dst = x + 3 * (size_t)map[f];
+#pragma unroll
+        for (int k = 0; k < 3; ++k) {
+            const double nv = y[3 * (size_t)f + k];
+            const double dk = fabs(nv - dst[k]);
+            d = isfinite(nv) ? fmax(d, dk) : INFINITY;
+            dst[k] = nv;
+        }
+    }
+    for (int o = 16; o > 0; o >>= 1) d = fmax(d, __shfl_down_sync(0xffffffffu, d, o));
+    if ((threadIdx.x & 31) == 0) red[threadIdx.x >> 5] = d;
+    __syncthreads();
+    if (threadIdx.x == 0) {
+        for (int w = 1; w < kThreads / 32; ++w) d = fmax(d, red[w]);
+        if (d > 0.0)
+            atomicMax(reinterpret_cast<unsigned long long *>(change),
+                      (unsigned long long)__double_as_longlong(d));
+    }
+}
+
+/* Entries in row order, each subtracted in turn (as the CPU loop does). */
+__global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__restrict__ j,
+                          const double *__restrict__ a, const double *__restrict__ x,
+                          double *__restrict__ y)
+{
+    const int r = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (r >= nrows) return;
+    const int b = p[r], e = p[r + 1];
+    if (b == e) return;
+    double y0 = y[3 * (size_t)r], y1 = y[3 * (size_t)r + 1], y2 = y[3 * (size_t)r + 2];
+    for (int q = b; q < e; ++q) {
+        const double v = a[q];
+        const double *xs = x + 3 * (size_t)j[q];
+        y0 -= v * xs[0];
+        y1 -= v * xs[1];
+        y2 -= v * xs[2];
+    }
+    y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
+}
+
+} // namespace
+
+extern "C" int pl_cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x,
+                                  double *y)
+{
+    if (n <= 0) return 0;
+    k_scale_rows<<<blocks(n), kThreads, 0, st>>>(n, s, x, y);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_cuda_gather_rows(struct CUstream_st *st, int m, const int *map, const double *x,
+                                   double *y)
+{
+    if (m <= 0) return 0;
+    k_gather_rows<<<blocks(m), kThreads, 0, st>>>(m, map, x, y);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const double *y,
+                                    double *x, double *change)
+{
+    if (m <= 0) return 0;
+    k_scatter_rows<<<blocks(m), kThreads, 0, st>>>(m, map, y, x, change);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j,
+                               const double *a, const double *x, double *y)
+{
+    if (nrows <= 0) return 0;
+    k_sub_csr<<<blocks(nrows), kThreads, 0, st>>>(nrows, p, j, a, x, y);
+    return (int)cudaGetLastError();
+}

@@ -1,0 +1,147 @@
+/* fem_term_device.c - the FEM term's local step on device buffers (CUDA
+ * builds): tetrahedral ARAP, Corotational and NeoHookean through
+ * pl_hyper_cuda (cuda/hyper_cuda.h), queued on the stream of the scene's
+ * device service (CudaDevice, found in this node or above).
+ *
+ * Duals (see fem_term.h): the pl_data slot stays the state between steps;
+ * the term owns a device copy during a step, filled from the slot by the
+ * first project() of the step (with the same pl_data) and written back by
+ * end_step.  So save/restore/clone/reset and several pl_data over one model
+ * work as on the CPU, at the price of one copy each way per step (none for
+ * ARAP, which has no duals).  The local step's statistics (largest Newton
+ * count, missed tolerances, the first element with a non-finite F) are read
+ * once per step, at end_step. */
+#include <cuda_runtime_api.h>
+#include <stdlib.h>
+
+#include "fem_term.h"
+#include "hyper_cuda.h"
+
+typedef struct hyper_fem_gpu {
+    pl_hyper_cuda *g;
+    struct CUstream_st *stream;
+    double *dual;              /* device n x 9 (ADMM materials), or NULL */
+    size_t dual_bytes;
+    const pl_data *fresh;      /* whose duals the device copy holds this step, or NULL */
+    int used;                  /* a device project ran this step */
+} hyper_fem_gpu;
+
+static int fail_cuda(const hyper_fem *f, pl_error *err, cudaError_t e, const char *what)
+{
+    return pl_component_fail(&f->base, err, PL_EINTERNAL, "%s: %s", what, cudaGetErrorString(e));
+}
+
+/* The device copy of the elements and the stream, made on first use. */
+static int prepare(hyper_fem *f, pl_error *err)
+{
+    if (f->gpu) return PL_OK;
+    pl_component *c = &f->base;
+    if (f->k != 4)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but the device local step takes "
+                                 "tetrahedra only (this term has triangles)");
+    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
+    if (!ops || !ops->stream)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but no device service (CudaDevice) in "
+                                 "this node or above");
+    hyper_fem_gpu *gpu = calloc(1, sizeof *gpu);
+    if (!gpu) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    gpu->stream = ops->stream(dev);
+    pl_error e;
+    gpu->g = pl_hyper_cuda_create(&f->el, &e);
+    if (!gpu->g) {
+        free(gpu);
+        return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+    }
+    if (f->dual_slot >= 0) {
+        gpu->dual_bytes = (size_t)f->el.n * pl_hyper_elements_dual_size(&f->el) * sizeof(double);
+        cudaError_t ce = cudaMalloc((void **)&gpu->dual, gpu->dual_bytes ? gpu->dual_bytes : 1);
+        if (ce != cudaSuccess) {
+            pl_hyper_cuda_destroy(gpu->g);
+            free(gpu);
+            return fail_cuda(f, err, ce, "device duals");
+        }
+    }
+    f->gpu = gpu;
+    return PL_OK;
+}
+
+static int check_block(const hyper_fem *f, const pl_buffer *b, int offset, const char *what,
+                       pl_error *err)
+{
+    if (b->location != PL_DEVICE || b->precision != PL_F64 || b->cols != 3)
+        return pl_component_fail(&f->base, err, PL_EINPUT,
+                                 "%s: the device local step takes device float64 n x 3 blocks",
+                                 what);
+    if (offset < 0 || b->rows < (size_t)offset + (size_t)f->el.nverts)
+        return pl_component_fail(&f->base, err, PL_EINPUT,
+                                 "%s: %zu rows, but its vertices are %d .. %d", what, b->rows,
+                                 offset, offset + f->el.nverts - 1);
+    return PL_OK;
+}
+
+int hyper_fem_project_device(hyper_fem *f, pl_data *d, int offset, double h2, const pl_buffer *q,
+                             pl_buffer *rhs, pl_error *err)
+{
+    int rc = check_block(f, q, offset, "positions", err);
+    if (!rc) rc = check_block(f, rhs, offset, "right-hand side", err);
+    if (!rc) rc = prepare(f, err);
+    if (rc) return rc;
+    hyper_fem_gpu *gpu = f->gpu;
+    if (gpu->dual && gpu->fresh != d) {
+        /* first device project of the step: the duals of d go up (a pl_data
+         * made before the model knew its size gets zero duals, as on the CPU) */
+        if (pl_data_slot_bytes(d, f->dual_slot) != gpu->dual_bytes &&
+            pl_data_resize_slot(d, f->dual_slot, gpu->dual_bytes) != 0)
+            return pl_component_fail(&f->base, err, PL_EINTERNAL, "out of memory (duals)");
+        cudaError_t ce = cudaMemcpyAsync(gpu->dual, pl_data_slot(d, f->dual_slot), gpu->dual_bytes,
+                                         cudaMemcpyHostToDevice, gpu->stream);
+        if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the device");
+    }
+    gpu->fresh = d;
+    gpu->used = 1;
+    pl_error e;
+    if (pl_hyper_cuda_project(gpu->g, offset, h2, q->data, gpu->dual, rhs->data,
+                              PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
+        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+    return PL_OK;
+}
+
+int hyper_fem_device_end_step(hyper_fem *f, pl_data *d, pl_error *err)
+{
+    hyper_fem_gpu *gpu = f->gpu;
+    if (!gpu || !gpu->used) return PL_OK;
+    gpu->used = 0;
+    if (gpu->dual && gpu->fresh == d) {
+        cudaError_t ce = cudaMemcpyAsync(pl_data_slot(d, f->dual_slot), gpu->dual, gpu->dual_bytes,
+                                         cudaMemcpyDeviceToHost, gpu->stream);
+        if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the host");
+    }
+    gpu->fresh = NULL;
+    int stats[2];
+    pl_error e;
+    if (pl_hyper_cuda_stats(gpu->g, gpu->stream, stats, &e) != PL_OK) /* waits for the stream */
+        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
+                                 "local step on the device, step %ld: %s", d->step, e.msg);
+    if (stats[1] > 0)
+        pl_log_debug("%s: %d local solves stopped before their tolerance (last iteration)",
+                     f->base.name, stats[1]);
+    return PL_OK;
+}
+
+void hyper_fem_device_begin_step(hyper_fem *f)
+{
+    if (f->gpu) f->gpu->fresh = NULL, f->gpu->used = 0;
+}
+
+void hyper_fem_device_free(hyper_fem *f)
+{
+    hyper_fem_gpu *gpu = f->gpu;
+    if (!gpu) return;
+    pl_hyper_cuda_destroy(gpu->g);
+    if (gpu->dual) cudaFree(gpu->dual);
+    free(gpu);
+    f->gpu = NULL;
+}

@@ -1,0 +1,314 @@
+/* gpu_scenes.c - whole scenes with the local-global loop on the GPU
+ * (LocalGlobalSolver device="cuda", a CudaDevice added to the scene); needs
+ * a GPU: run by tests/gpu/run.sh, not by ctest.
+ *
+ *   gpu_scenes CHECKS.md TIMINGS.md [frames [small]]
+ * (frames 0: checks only; small: the two small scenes only; timing: no checks)
+ *
+ * Checks (each scene: twisting_bar_small, twisting_bar, hanging_bar_small):
+ * the CPU steps 10 frames and saves its state; from that state one more
+ * frame on the CPU and on the device (float64 with and without a CUDA graph,
+ * float32 S) must agree: positions within 1e-9 relative (float64) and 1e-4
+ * (float32), velocities and ADMM duals within 1e-9 (float64); 10 frames
+ * from the state are reported; a device run restored twice from one state
+ * must repeat itself bitwise (duals go up from the restored slot).
+ * Timings: the twisting bars 5.3k, 11.3k, 20.8k; medians of the wall time
+ * of a frame (pl_sim_step of one frame) over `frames` frames after 5
+ * warm-up frames, next to the paper's Table 3 Frame; Local / Assembly /
+ * Global: the phase timers' medians (with CudaDevice profile="1" on the
+ * device, where every phase waits for the GPU). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu_util.h"
+#include "pliant/pliant.h"
+
+static FILE *md;
+static const char *STATE = "/tmp/gpu_scenes_state.bin";
+
+/* The scene's text with the cuda plugin and a CudaDevice first in the root. */
+static char *with_device(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    const char *add = "<RequiredPlugin name=\"cuda\"/><CudaDevice name=\"gpu\" graph=\"1\"/>";
+    char *s = malloc((size_t)n + strlen(add) + 1), *out = malloc((size_t)n + strlen(add) + 1);
+    size_t got = s ? fread(s, 1, (size_t)n, f) : 0;
+    fclose(f);
+    if (!s || !out || got != (size_t)n) return free(s), free(out), NULL;
+    s[n] = '\0';
+    char *node = strstr(s, "<Node"), *gt = node ? strchr(node, '>') : NULL;
+    if (!gt) return free(s), free(out), NULL;
+    size_t head = (size_t)(gt + 1 - s);
+    memcpy(out, s, head);
+    strcpy(out + head, add);
+    strcat(out, gt + 1);
+    free(s);
+    return out;
+}
+
+typedef struct config {
+    const char *name;
+    int cuda;           /* LocalGlobalSolver and SparseInverseSolver on the device */
+    int f32;            /* S in float32 */
+    int graph, profile; /* CudaDevice (profile: set by time_run) */
+} config;
+
+static pl_sim *load(const char *path, const config *c)
+{
+    char *xml = c->cuda ? with_device(path) : NULL;
+    const char *ov[3] = {"solver.device=cuda", "global.device=cuda",
+                         c->f32 ? "global.precision=float32" : "global.precision=float64"};
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.export_every = 1000000; /* the first frame only */
+    opt.overrides = c->cuda ? ov : NULL;
+    opt.noverrides = c->cuda ? 3 : 0;
+    pl_sim *sim = c->cuda ? (xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL)
+                          : pl_sim_load_file(path, &opt, &diag);
+    if (!sim) pl_diag_print(&diag, stdout);
+    pl_diag_free(&diag);
+    free(xml);
+    pl_error err;
+    if (sim && c->cuda && pl_sim_set(sim, "gpu.graph", c->graph ? "1" : "0", &err) != PL_OK) {
+        printf("set: %s\n", err.msg);
+        pl_sim_free(sim);
+        return NULL;
+    }
+    return sim;
+}
+
+/* Positions, velocities and every ".dual" slot of the state. */
+typedef struct snap {
+    double *x, *v, *u;
+    size_t nx, nu;
+} snap;
+
+static void snap_free(snap *s)
+{
+    free(s->x), free(s->v), free(s->u);
+    memset(s, 0, sizeof *s);
+}
+
+static int take(pl_sim *sim, snap *s)
+{
+    memset(s, 0, sizeof *s);
+    pl_component *c = pl_sim_component(sim, "bar/dofs");
+    const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
+    if (!ops) return -1;
+    pl_data *d = pl_sim_data(sim);
+    pl_buffer x = ops->positions(c, d), v = ops->velocities(c, d);
+    s->nx = x.rows * 3;
+    s->x = malloc(s->nx * sizeof(double));
+    s->v = malloc(s->nx * sizeof(double));
+    const pl_model *m = pl_sim_model(sim);
+    for (int k = 0; k < m->nslots; ++k) {
+        const char *nm = m->slots[k].name, *dot = strrchr(nm, '.');
+        if (dot && !strcmp(dot, ".dual")) s->nu += pl_data_slot_bytes(d, k) / sizeof(double);
+    }
+    s->u = malloc((s->nu ? s->nu : 1) * sizeof(double));
+    if (!s->x || !s->v || !s->u) return -1;
+    memcpy(s->x, x.data, s->nx * sizeof(double));
+    memcpy(s->v, v.data, s->nx * sizeof(double));
+    size_t at = 0;
+    for (int k = 0; k < m->nslots; ++k) {
+        const char *nm = m->slots[k].name, *dot = strrchr(nm, '.');
+        if (!dot || strcmp(dot, ".dual")) continue;
+        size_t b = pl_data_slot_bytes(d, k);
+        memcpy(s->u + at, pl_data_slot(d, k), b);
+        at += b / sizeof(double);
+    }
+    return 0;
+}
+
+/* Restores the saved state, steps, takes a snapshot. */
+static int step_from_state(pl_sim *sim, int frames, snap *s)
+{
+    pl_error err;
+    if (pl_sim_restore_state(sim, STATE, &err) != PL_OK ||
+        pl_sim_step(sim, frames, &err) != PL_OK) {
+        printf("restore/step: %s\n", err.msg);
+        return -1;
+    }
+    return take(sim, s);
+}
+
+/* ||a - b|| / ||b|| (0 for empty vectors). */
+static double rel(const double *a, const double *b, size_t n)
+{
+    double d = 0.0, r = 0.0;
+    for (size_t i = 0; i < n; ++i) d += (a[i] - b[i]) * (a[i] - b[i]), r += b[i] * b[i];
+    return n ? (r > 0 ? sqrt(d / r) : sqrt(d)) : 0.0;
+}
+
+static void check_scene(const char *scene)
+{
+    char path[256], what[256];
+    snprintf(path, sizeof path, "scenes/%s.xml", scene);
+    const config cpu = {"cpu", 0, 0, 0, 0};
+    const config gpus[3] = {{"cuda float64, no graph", 1, 0, 0, 0},
+                            {"cuda float64, graph", 1, 0, 1, 0},
+                            {"cuda float32 S, graph", 1, 1, 1, 0}};
+    pl_sim *ref = load(path, &cpu);
+    pl_error err;
+    snap one = {0}, ten = {0}, s = {0}, s2 = {0};
+    if (!ref || pl_sim_step(ref, 10, &err) != PL_OK ||
+        pl_sim_save_state(ref, STATE, &err) != PL_OK || step_from_state(ref, 1, &one) ||
+        step_from_state(ref, 10, &ten)) {
+        snprintf(what, sizeof what, "%s: CPU reference", scene);
+        gpu_check_line(md, what, INFINITY, 0.0);
+        goto done;
+    }
+    for (int g = 0; g < 3; ++g) {
+        pl_sim *sim = load(path, &gpus[g]);
+        int f32 = gpus[g].f32;
+        if (!sim || step_from_state(sim, 1, &s)) {
+            snprintf(what, sizeof what, "%s, %s: loads and steps", scene, gpus[g].name);
+            gpu_check_line(md, what, INFINITY, 0.0);
+            pl_sim_free(sim);
+            continue;
+        }
+        snprintf(what, sizeof what, "%s, 1 frame from a saved state, %s: positions", scene,
+                 gpus[g].name);
+        gpu_check_line(md, what, rel(s.x, one.x, one.nx), f32 ? 1e-4 : 1e-9);
+        snprintf(what, sizeof what, "%s, 1 frame, %s: velocities", scene, gpus[g].name);
+        if (f32)
+            gpu_note_line(md, what, rel(s.v, one.v, one.nx));
+        else
+            gpu_check_line(md, what, rel(s.v, one.v, one.nx), 1e-9);
+        if (one.nu) {
+            snprintf(what, sizeof what, "%s, 1 frame, %s: ADMM duals", scene, gpus[g].name);
+            if (f32)
+                gpu_note_line(md, what, rel(s.u, one.u, one.nu));
+            else
+                gpu_check_line(md, what, rel(s.u, one.u, one.nu), 1e-9);
+        }
+        snap_free(&s);
+        if (step_from_state(sim, 10, &s) == 0) {
+            snprintf(what, sizeof what, "%s, 10 frames from the state, %s: positions", scene,
+                     gpus[g].name);
+            gpu_note_line(md, what, rel(s.x, ten.x, ten.nx));
+        }
+        if (g == 1 && step_from_state(sim, 5, &s2) == 0) {
+            snap_free(&s);
+            if (step_from_state(sim, 5, &s) == 0) {
+                size_t diff = 0;
+                for (size_t i = 0; i < s.nx; ++i)
+                    diff += memcmp(&s.x[i], &s2.x[i], sizeof(double)) != 0;
+                for (size_t i = 0; i < s.nu; ++i)
+                    diff += memcmp(&s.u[i], &s2.u[i], sizeof(double)) != 0;
+                snprintf(what, sizeof what,
+                         "%s, %s: restored twice, 5 frames each: values that differ", scene,
+                         gpus[g].name);
+                gpu_check_line(md, what, (double)diff, 0.0);
+            }
+        }
+        snap_free(&s), snap_free(&s2);
+        pl_sim_free(sim);
+    }
+done:
+    snap_free(&one), snap_free(&ten);
+    pl_sim_free(ref);
+}
+
+/* Median frame (and phase) times over `frames` frames after 5 warm-up
+ * frames, as the CudaDevice's graph / profile say (set at run time, so one
+ * load, one factorisation, serves several runs). */
+static void time_run(FILE *tab, pl_sim *sim, const char *size, double paper, const char *name,
+                     int graph, int profile, int frames)
+{
+    pl_error err;
+    if (pl_sim_component(sim, "gpu") &&
+        (pl_sim_set(sim, "gpu.graph", graph ? "1" : "0", &err) != PL_OK ||
+         pl_sim_set(sim, "gpu.profile", profile ? "1" : "0", &err) != PL_OK))
+        printf("set: %s\n", err.msg);
+    pl_timers *t = pl_sim_timers(sim);
+    double *ms = malloc((size_t)(frames > 0 ? frames : 1) * sizeof *ms);
+    if (!ms || pl_sim_step(sim, 5, &err) != PL_OK) goto failed;
+    /* each frame timed here: the sim's own timers pool every run of this sim */
+    for (int k = 0; k < frames; ++k) {
+        double t0 = pl_now();
+        if (pl_sim_step(sim, 1, &err) != PL_OK) goto failed;
+        ms[k] = 1e3 * (pl_now() - t0);
+    }
+    double frame = gpu_median(ms, frames);
+    free(ms);
+    char ph[3][32] = {"", "", ""};
+    const char *names[3] = {"Local", "Assembly", "Global"};
+    for (int k = 0; k < 3; ++k) {
+        int id = pl_timer_id(t, names[k]);
+        if (pl_timers_samples(t, id) > 0)
+            snprintf(ph[k], sizeof ph[k], "%.3f", pl_timers_median_ms(t, id));
+    }
+    fprintf(tab, "| %s | %s | **%.3f** | %.2f | %.1fx | %s | %s | %s |\n", size, name, frame, paper,
+            paper / frame, ph[0], ph[1], ph[2]);
+    printf("%s %s: Frame %.3f ms (paper %.2f), Local %s Assembly %s Global %s\n", size, name, frame,
+           paper, ph[0], ph[1], ph[2]);
+    fflush(tab);
+    return;
+failed:
+    free(ms);
+    printf("%s %s: %s\n", size, name, err.msg);
+    fprintf(tab, "| %s | %s | failed | | | | | |\n", size, name);
+    gpu_check_line(NULL, "timed scene runs", INFINITY, 0.0);
+}
+
+static void time_bar(FILE *tab, const char *scene, const char *size, double paper, int frames)
+{
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.xml", scene);
+    const config cfg[3] = {{"cpu", 0, 0, 0, 0}, {"f64", 1, 0, 1, 0}, {"f32", 1, 1, 1, 0}};
+    for (int k = 0; k < 3; ++k) {
+        pl_sim *sim = load(path, &cfg[k]);
+        if (!sim) {
+            fprintf(tab, "| %s | %s | load failed | | | | | |\n", size, cfg[k].name);
+            gpu_check_line(NULL, "timed scene loads", INFINITY, 0.0);
+            continue;
+        }
+        if (k == 0)
+            time_run(tab, sim, size, paper, "CPU (16 threads)", 0, 0, frames / 5);
+        else {
+            const char *p = k == 1 ? "float64" : "float32 S";
+            char name[96];
+            snprintf(name, sizeof name, "cuda %s, graph", p);
+            time_run(tab, sim, size, paper, name, 1, 0, frames);
+            snprintf(name, sizeof name, "cuda %s, no graph", p);
+            time_run(tab, sim, size, paper, name, 0, 0, frames);
+            /* last: the phase timers then hold only synced (profiled) frames */
+            snprintf(name, sizeof name, "cuda %s, profile (synced phases)", p);
+            time_run(tab, sim, size, paper, name, 0, 1, frames);
+        }
+        pl_sim_free(sim);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    md = argc > 1 ? fopen(argv[1], "w") : NULL;
+    FILE *tab = argc > 2 ? fopen(argv[2], "w") : stdout;
+    int frames = argc > 3 ? atoi(argv[3]) : 100;
+    if (!tab) return 1;
+    if (md) fprintf(md, "| check | value | tolerance | result |\n|---|---|---|---|\n");
+    int small = argc > 4 && !strcmp(argv[4], "small");
+    int timing_only = argc > 4 && !strcmp(argv[4], "timing");
+    const char *scenes[3] = {"twisting_bar_small", "hanging_bar_small", "twisting_bar"};
+    for (int k = 0; !timing_only && k < (small ? 2 : 3); ++k) check_scene(scenes[k]);
+    printf("gpu_scenes checks: %d failed\n", gpu_failures());
+    fprintf(tab, "| bar | run | Frame ms | paper Frame ms | speed-up | Local ms | Assembly ms | "
+                 "Global ms |\n|---|---|--:|--:|--:|--:|--:|--:|\n");
+    const char *bars[3] = {"twisting_bar", "twisting_bar_11k", "twisting_bar_20k"};
+    const char *sizes[3] = {"5.3k", "11.3k", "20.8k"};
+    const double paper[3] = {6.23, 13.55, 28.55};
+    for (int b = 0; frames > 0 && b < 3; ++b) time_bar(tab, bars[b], sizes[b], paper[b], frames);
+    if (md) fclose(md);
+    if (tab != stdout) fclose(tab);
+    printf("gpu_scenes: %d failed\n", gpu_failures());
+    return gpu_failures() > 100 ? 100 : gpu_failures();
+}

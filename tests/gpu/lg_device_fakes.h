@@ -1,0 +1,22 @@
+/* lg_device_fakes.h - test components for the LocalGlobalSolver's device
+ * path without a GPU: a device service in host memory ("HostDevice", no
+ * graphs; field profile), springs on tetrahedron edges ("TestSprings",
+ * fields stiffness, deviceOk) and a dense Cholesky global solver
+ * ("TestDenseSolver", field deviceOk).  The term and the solver read and
+ * write their buffers in place whatever their location says, so the device
+ * path runs the same arithmetic as the CPU path. */
+#ifndef PLIANT_TESTS_LG_DEVICE_FAKES_H
+#define PLIANT_TESTS_LG_DEVICE_FAKES_H
+
+#include "pliant/pliant.h"
+
+extern const pl_type fake_host_device_type;
+extern const pl_type fake_springs_type;
+extern const pl_type fake_dense_solver_type;
+
+/* Allocations HostDevice components still held when destroyed (all runs). */
+extern long fake_device_leaks;
+/* Kernel calls (scale, gather, scatter, sub) made on a HostDevice. */
+long fake_device_calls(const pl_component *c);
+
+#endif

@@ -1,0 +1,245 @@
+/* test_lg_device.c - the LocalGlobalSolver's device path (device="cuda" /
+ * "auto") without a GPU, through a device service in host memory
+ * (lg_device_fakes.h): the same scene stepped on the CPU path and on the
+ * device path gives bitwise the same positions, velocities and energies
+ * (the device path runs the same operations in the same order: M sn, the
+ * local step, the restriction to the unknowns minus A_fp q_p row by row,
+ * the solve, the scatter), also with a tolerance and with per-phase
+ * profiling; and every part that cannot run on the device is refused at
+ * load with its name, or (auto) sends the loop back to the CPU. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lg_device_fakes.h"
+
+/* A bar of springs, its left end fixed, its right end turning, under
+ * gravity: prescribed vertices that move make A_fp q_p matter. */
+static const char *SCENE =
+    "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">"
+    "%s"
+    "<LocalGlobalSolver name=\"solver\" iterations=\"6\" device=\"%s\" tolerance=\"%s\" "
+    "computeEnergy=\"%s\"/>"
+    "<TestDenseSolver name=\"global\" deviceOk=\"%s\"/>"
+    "%s"
+    "<Node name=\"bar\">"
+    "<RegularGridTetrahedra name=\"grid\" min=\"0 0 0\" max=\"1 0.2 0.2\" n=\"6 3 3\"/>"
+    "<MechanicalObject name=\"dofs\" src=\"@grid\"/>"
+    "<UniformMass totalMass=\"2\"/>"
+    "<TestSprings name=\"springs\" stiffness=\"800\" deviceOk=\"%s\"/>"
+    "<FixedConstraint name=\"left\" box=\"-0.01 -1 -1 0.01 1 1\"/>"
+    "<PrescribedMotion name=\"right\" box=\"0.99 -1 -1 1.01 1 1\" axis=\"1 0 0\" "
+    "angularVelocity=\"3\"/>"
+    "%s"
+    "</Node></Node>";
+
+typedef struct setup {
+    const char *device;        /* cpu, cuda, auto */
+    const char *tolerance;
+    const char *energy;
+    const char *before;        /* text before the solver (a HostDevice) */
+    const char *after;         /* after the global solver */
+    const char *solver_ok, *springs_ok;
+    const char *extra;         /* more components in the bar */
+} setup;
+
+static pl_registry *registry(void)
+{
+    pl_registry *r = pl_registry_create();
+    pl_error err;
+    ck_assert_ptr_nonnull(r);
+    ck_assert_int_eq(pl_register_builtin_components(r, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &fake_host_device_type, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &fake_springs_type, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &fake_dense_solver_type, &err), PL_OK);
+    return r;
+}
+
+static setup plain(const char *device)
+{
+    setup s = {device, "0", "0", "<HostDevice name=\"dev\"/>", "", "1", "1", ""};
+    return s;
+}
+
+/* Loads the scene; NULL with the first message in msg when it fails. */
+static pl_sim *load(pl_registry *r, const setup *s, char *msg, size_t size)
+{
+    char xml[4096];
+    snprintf(xml, sizeof xml, SCENE, s->before, s->device, s->tolerance, s->energy, s->solver_ok,
+             s->after, s->springs_ok, s->extra);
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.registry = r;
+    opt.out_dir = "/tmp";
+    pl_sim *sim = pl_sim_load_string(xml, "lg_device.xml", &opt, &diag);
+    if (msg) snprintf(msg, size, "%s", diag.count ? diag.items[0].msg : "");
+    pl_diag_free(&diag);
+    return sim;
+}
+
+typedef struct result {
+    double x[3 * 200], v[3 * 200];
+    size_t m;
+    int nenergy;
+    double energy[64];
+} result;
+
+static void run(pl_registry *r, const setup *s, int steps, result *out, pl_sim **keep)
+{
+    char msg[1024];
+    pl_sim *sim = load(r, s, msg, sizeof msg);
+    ck_assert_msg(sim != NULL, "load failed: %s", msg);
+    pl_error err;
+    ck_assert_msg(pl_sim_step(sim, steps, &err) == PL_OK, "step failed: %s", err.msg);
+    pl_component *c = pl_sim_component(sim, "bar/dofs");
+    const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
+    pl_buffer x = ops->positions(c, pl_sim_data(sim)), v = ops->velocities(c, pl_sim_data(sim));
+    out->m = x.rows * 3;
+    ck_assert_uint_le(out->m, 600);
+    memcpy(out->x, x.data, out->m * sizeof(double));
+    memcpy(out->v, v.data, out->m * sizeof(double));
+    const double *e = NULL;
+    out->nenergy = pl_series_get(pl_sim_timers(sim), "energy", &e);
+    if (out->nenergy > 64) out->nenergy = 64;
+    if (e) memcpy(out->energy, e, (size_t)out->nenergy * sizeof(double));
+    if (keep)
+        *keep = sim;
+    else
+        pl_sim_free(sim);
+}
+
+static void assert_same(const result *a, const result *b)
+{
+    ck_assert_uint_eq(a->m, b->m);
+    ck_assert_msg(!memcmp(a->x, b->x, a->m * sizeof(double)), "positions differ");
+    ck_assert_msg(!memcmp(a->v, b->v, a->m * sizeof(double)), "velocities differ");
+    ck_assert_int_eq(a->nenergy, b->nenergy);
+    ck_assert_msg(!memcmp(a->energy, b->energy, (size_t)a->nenergy * sizeof(double)),
+                  "energies differ");
+}
+
+/* The bar moved: not a trivial agreement of two states at rest. */
+static void assert_moved(const result *a, const result *rest)
+{
+    double d = 0;
+    for (size_t i = 0; i < a->m; ++i) d = fmax(d, fabs(a->x[i] - rest->x[i]));
+    ck_assert_msg(d > 1e-3, "the bar did not move (%g m)", d);
+}
+
+START_TEST(device_path_equals_cpu_path_bitwise)
+{
+    pl_registry *r = registry();
+    static result cpu, dev, start;
+    setup s = plain("cpu");
+    run(r, &s, 0, &start, NULL);
+    run(r, &s, 8, &cpu, NULL);
+    s.device = "cuda";
+    pl_sim *sim;
+    run(r, &s, 8, &dev, &sim);
+    assert_moved(&cpu, &start);
+    assert_same(&dev, &cpu);
+    /* the loop did run on the device service: 4 kernels per iteration, 6 iterations, 8 steps */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * 6 * 4);
+    pl_sim_free(sim);
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
+START_TEST(tolerance_energy_and_profiling_agree)
+{
+    pl_registry *r = registry();
+    static result cpu, dev;
+    setup s = plain("cpu");
+    s.tolerance = "2e-3";
+    s.energy = "1";
+    run(r, &s, 6, &cpu, NULL);
+    /* stopped early at least once, so the tolerance was tested */
+    ck_assert_int_gt(cpu.nenergy, 0);
+    ck_assert_int_lt(cpu.nenergy, 6 * 6);
+    s.device = "cuda";
+    s.before = "<HostDevice name=\"dev\" profile=\"1\"/>";
+    pl_sim *sim;
+    run(r, &s, 6, &dev, &sim);
+    assert_same(&dev, &cpu);
+    /* profiling: the phase timers have one sample per step */
+    pl_timers *t = pl_sim_timers(sim);
+    ck_assert_int_eq(pl_timers_samples(t, pl_timer_id(t, "Local")), 6);
+    ck_assert_int_eq(pl_timers_samples(t, pl_timer_id(t, "Global")), 6);
+    pl_sim_free(sim);
+    pl_registry_free(r);
+}
+END_TEST
+
+START_TEST(auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise)
+{
+    pl_registry *r = registry();
+    static result cpu, dev;
+    setup s = plain("cpu");
+    s.extra = "<ConstantForceField name=\"push\" indices=\"5\" totalForce=\"0 0 1\"/>";
+    run(r, &s, 4, &cpu, NULL);
+    s.device = "auto";
+    pl_sim *sim;
+    run(r, &s, 4, &dev, &sim);
+    assert_same(&dev, &cpu);
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 0);
+    pl_sim_free(sim);
+    s = plain("auto");
+    run(r, &s, 2, &dev, &sim);
+    ck_assert_int_gt(fake_device_calls(pl_sim_component(sim, "dev")), 0);
+    pl_sim_free(sim);
+    s.before = "";
+    run(r, &s, 2, &dev, NULL); /* no device at all: the CPU */
+    pl_registry_free(r);
+}
+END_TEST
+
+static void assert_refused(pl_registry *r, const setup *s, const char *a, const char *b)
+{
+    char msg[1024];
+    pl_sim *sim = load(r, s, msg, sizeof msg);
+    ck_assert_ptr_null(sim);
+    ck_assert_msg(strstr(msg, a) != NULL, "'%s' not in: %s", a, msg);
+    if (b) ck_assert_msg(strstr(msg, b) != NULL, "'%s' not in: %s", b, msg);
+}
+
+START_TEST(cuda_refuses_what_cannot_run_on_the_device_by_name)
+{
+    pl_registry *r = registry();
+    setup s = plain("cuda");
+    s.before = "";
+    assert_refused(r, &s, "CudaDevice", "no device service");
+    s.after = "<HostDevice name=\"dev\"/>";
+    assert_refused(r, &s, "dev must come before the solver", NULL);
+    s = plain("cuda");
+    s.extra = "<ConstantForceField name=\"push\" indices=\"5\" totalForce=\"0 0 1\"/>";
+    assert_refused(r, &s, "root/bar/push (ConstantForceField)", "local terms without a device");
+    s = plain("cuda");
+    s.springs_ok = "0";
+    assert_refused(r, &s, "root/bar/springs (TestSprings)", NULL);
+    s = plain("cuda");
+    s.solver_ok = "0";
+    assert_refused(r, &s, "the global solver root/global (TestDenseSolver)", NULL);
+    pl_registry_free(r);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *su = suite_create("lg_device");
+    TCase *tc = tcase_create("device path");
+    tcase_set_timeout(tc, 60);
+    tcase_add_test(tc, device_path_equals_cpu_path_bitwise);
+    tcase_add_test(tc, tolerance_energy_and_profiling_agree);
+    tcase_add_test(tc, auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise);
+    tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
+    suite_add_tcase(su, tc);
+    SRunner *sr = srunner_create(su);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
