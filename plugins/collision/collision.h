@@ -128,6 +128,31 @@ int pl_collision_emit_contact(pl_rows *rows, pl_component *owner, int nv, const 
                               const double vs[3], double mu, double contact_distance,
                               double t1[3], double t2[3]);
 
+/* One side of a contact between two collision models: its points' DOFs as
+ * (global vertex, weight) entries, and the part without DOFs (points of an
+ * obstacle, or of vertices that are not simulated) as a fixed point at the
+ * end of the step with its velocity: the contact point of that side is
+ * sum_a weight_a q_a + fixed. */
+#define PL_CONTACT_SIDE_MAX 16
+typedef struct pl_contact_side {
+    int n;
+    int vertex[PL_CONTACT_SIDE_MAX];
+    double weight[PL_CONTACT_SIDE_MAX];
+    double fixed[3];    /* [m] */
+    double fixed_v[3];  /* [m/s] */
+} pl_contact_side;
+
+/* Appends the three rows of a contact between side a (pushed along n) and
+ * side b (PAPER_NOTES item 5): normal entries w n on a's vertices and -w n on
+ * b's (a vertex on both sides gets the difference), d = contactDistance +
+ * n . (b.fixed - a.fixed); friction entries along t1, t2 likewise with
+ * d_f = t . (b.fixed_v - a.fixed_v).  Fills t1 and t2.  Returns the normal
+ * row's index, -2 when no entry is left (nothing can move: no rows), -1 on
+ * allocation failure. */
+int pl_collision_emit_pair(pl_rows *rows, pl_component *owner, const pl_contact_side *a,
+                           const pl_contact_side *b, const double n[3], double mu,
+                           double contact_distance, double t1[3], double t2[3]);
+
 /* Fills lambda and force of the contacts from the multipliers of their rows
  * (3 per contact in emission order, lambda[0..3 ncontacts-1]). */
 void pl_collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda);

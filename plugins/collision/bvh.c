@@ -1,0 +1,198 @@
+/* bvh.c - a bounding-volume hierarchy of axis-aligned boxes: built once by
+ * median splits of the primitive centres (deterministic quickselect with
+ * ties broken by index), refitted bottom-up every step, queried with an
+ * explicit stack.  Children are stored after their parent, two by two. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "detect.h"
+
+void pl_bvh_init(pl_bvh *b) { memset(b, 0, sizeof *b); }
+
+void pl_bvh_free(pl_bvh *b)
+{
+    free(b->box);
+    free(b->left);
+    free(b->start);
+    free(b->count);
+    free(b->order);
+    pl_bvh_init(b);
+}
+
+void pl_ivec_free(pl_ivec *a)
+{
+    free(a->v);
+    a->v = NULL;
+    a->n = a->cap = 0;
+}
+
+int pl_ivec_push(pl_ivec *a, int x)
+{
+    if (a->n == a->cap) {
+        int cap = a->cap ? 2 * a->cap : 32;
+        int *v = realloc(a->v, (size_t)cap * sizeof *v);
+        if (!v) return PL_EINTERNAL;
+        a->v = v;
+        a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return PL_OK;
+}
+
+typedef struct kv {
+    double key;
+    int idx;
+} kv;
+
+static int kv_less(const kv *a, const kv *b)
+{
+    return a->key < b->key || (a->key == b->key && a->idx < b->idx);
+}
+
+static void kv_swap(kv *a, kv *b)
+{
+    kv t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* Reorders a[0..n-1] so that a[k] is the k-th smallest, smaller ones before. */
+static void select_kth(kv *a, int n, int k)
+{
+    int lo = 0, hi = n - 1;
+    while (hi > lo) {
+        int mid = lo + (hi - lo) / 2;
+        /* median of three as pivot, moved to hi */
+        if (kv_less(&a[mid], &a[lo])) kv_swap(&a[mid], &a[lo]);
+        if (kv_less(&a[hi], &a[lo])) kv_swap(&a[hi], &a[lo]);
+        if (kv_less(&a[mid], &a[hi])) kv_swap(&a[mid], &a[hi]);
+        kv pivot = a[hi];
+        int store = lo;
+        for (int i = lo; i < hi; ++i)
+            if (kv_less(&a[i], &pivot)) kv_swap(&a[i], &a[store++]);
+        kv_swap(&a[store], &a[hi]);
+        if (store == k) return;
+        if (store < k)
+            lo = store + 1;
+        else
+            hi = store - 1;
+    }
+}
+
+static void box_union(pl_aabb *r, const pl_aabb *a)
+{
+    for (int k = 0; k < 3; ++k) {
+        if (a->lo[k] < r->lo[k]) r->lo[k] = a->lo[k];
+        if (a->hi[k] > r->hi[k]) r->hi[k] = a->hi[k];
+    }
+}
+
+static void box_empty(pl_aabb *r)
+{
+    for (int k = 0; k < 3; ++k) {
+        r->lo[k] = 1e300;
+        r->hi[k] = -1e300;
+    }
+}
+
+typedef struct build_ctx {
+    pl_bvh *b;
+    const pl_aabb *prims;
+    kv *scratch;
+} build_ctx;
+
+static void build_node(build_ctx *bc, int node, int s, int n)
+{
+    pl_bvh *b = bc->b;
+    b->start[node] = s;
+    b->count[node] = n;
+    b->left[node] = -1;
+    if (n <= PL_BVH_LEAF) return;
+    double clo[3] = {1e300, 1e300, 1e300}, chi[3] = {-1e300, -1e300, -1e300};
+    for (int i = s; i < s + n; ++i) {
+        const pl_aabb *p = &bc->prims[b->order[i]];
+        for (int k = 0; k < 3; ++k) {
+            double c = 0.5 * (p->lo[k] + p->hi[k]);
+            if (c < clo[k]) clo[k] = c;
+            if (c > chi[k]) chi[k] = c;
+        }
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+    kv *a = bc->scratch + s;
+    for (int i = 0; i < n; ++i) {
+        const pl_aabb *p = &bc->prims[b->order[s + i]];
+        a[i].key = 0.5 * (p->lo[axis] + p->hi[axis]);
+        a[i].idx = b->order[s + i];
+    }
+    int half = n / 2;
+    select_kth(a, n, half);
+    for (int i = 0; i < n; ++i) b->order[s + i] = a[i].idx;
+    int left = b->nnodes;
+    b->nnodes += 2;
+    b->left[node] = left;
+    build_node(bc, left, s, half);
+    build_node(bc, left + 1, s + half, n - half);
+}
+
+int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
+{
+    pl_bvh_free(b);
+    size_t cap = (size_t)(n > 0 ? 2 * n : 1);
+    b->box = malloc(cap * sizeof *b->box);
+    b->left = malloc(cap * sizeof *b->left);
+    b->start = malloc(cap * sizeof *b->start);
+    b->count = malloc(cap * sizeof *b->count);
+    b->order = malloc((size_t)(n > 0 ? n : 1) * sizeof *b->order);
+    kv *scratch = malloc((size_t)(n > 0 ? n : 1) * sizeof *scratch);
+    if (!b->box || !b->left || !b->start || !b->count || !b->order || !scratch) {
+        free(scratch);
+        pl_bvh_free(b);
+        return PL_EINTERNAL;
+    }
+    b->nprims = n;
+    for (int i = 0; i < n; ++i) b->order[i] = i;
+    b->nnodes = 1;
+    build_ctx bc = {b, prims, scratch};
+    build_node(&bc, 0, 0, n);
+    free(scratch);
+    pl_bvh_refit(b, prims);
+    return PL_OK;
+}
+
+void pl_bvh_refit(pl_bvh *b, const pl_aabb *prims)
+{
+    for (int node = b->nnodes - 1; node >= 0; --node) {
+        pl_aabb *r = &b->box[node];
+        box_empty(r);
+        if (b->left[node] < 0) {
+            for (int i = b->start[node]; i < b->start[node] + b->count[node]; ++i)
+                box_union(r, &prims[b->order[i]]);
+        } else {
+            box_union(r, &b->box[b->left[node]]);
+            box_union(r, &b->box[b->left[node] + 1]);
+        }
+    }
+}
+
+int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out)
+{
+    if (b->nprims == 0) return PL_OK;
+    int stack[128], top = 0; /* median splits: depth <= log2(n) + 1 */
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (!pl_aabb_overlap(&b->box[node], q)) continue;
+        if (b->left[node] < 0) {
+            for (int i = b->start[node]; i < b->start[node] + b->count[node]; ++i) {
+                int p = b->order[i];
+                if (pl_aabb_overlap(&prims[p], q) && pl_ivec_push(out, p)) return PL_EINTERNAL;
+            }
+        } else {
+            stack[top++] = b->left[node] + 1; /* left child popped first */
+            stack[top++] = b->left[node];
+        }
+    }
+    return PL_OK;
+}

@@ -1,0 +1,306 @@
+/* detect.c - proximities between two prepared meshes (or a mesh and
+ * itself): every vertex of one against the triangles of the other, both
+ * ways, and edge against edge.  Each candidate pair from the BVH is
+ * measured at the start of the step (x0); its normal is the direction from
+ * the closest point of B to that of A, which is the side A is on at the
+ * start of the step, or, for a closed (one-sided) mesh whose face A is
+ * behind, the outward face normal (A has penetrated: push it out).  The
+ * plane through the closest point along that normal separates the two
+ * convex primitives, so its half-space is a safe linearised constraint.
+ * A pair is kept when the gap minus the predicted approach over the step
+ * is below alarm.  The loops over candidates are in detect_run.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "detect_internal.h"
+
+/* closest points this close to an edge's end are vertex cases [fraction] */
+#define EDGE_END 1e-3
+/* edges crossing at less than ~12 degrees are nearly parallel: their closest
+ * points slide along them and their ends' contacts hold them [sin^2] */
+#define EDGE_SIN2 0.04
+/* an edge-edge normal this close to a face normal beside either edge [cos] */
+#define EDGE_FLAT 0.9396926207859084 /* cos 20 degrees */
+
+int coll_prox_push(pl_proximities *p, const pl_proximity *x)
+{
+    if (p->n == p->cap) {
+        int cap = p->cap ? 2 * p->cap : 64;
+        pl_proximity *items = realloc(p->items, (size_t)cap * sizeof *items);
+        if (!items) return PL_EINTERNAL;
+        p->items = items;
+        p->cap = cap;
+    }
+    p->items[p->n++] = *x;
+    return PL_OK;
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static int is_active(const pl_coll_mesh *m, int v) { return !m->active || m->active[v]; }
+
+static double tiny_of(const pl_detect_params *prm) { return 1e-12 + 1e-9 * prm->alarm; }
+
+/* n = +-c / |c| pointing against the relative motion d of A (A came from that side). */
+static int oppose_motion(const double c[3], const double d[3], double n[3])
+{
+    double len = sqrt(dot3(c, c));
+    if (!(len > 0.0)) return 0;
+    double s = dot3(c, d) > 0.0 ? -1.0 / len : 1.0 / len;
+    for (int k = 0; k < 3; ++k) n[k] = s * c[k];
+    return 1;
+}
+
+/* Vertex p of P against triangle j of T; fills out and returns 1 when kept.
+ * A closest point at a triangle's vertex is a vertex-vertex proximity that
+ * the other direction finds too: identical rows would make W singular, so
+ * only the first pass keeps it (second != 0 drops it; in self-collision the
+ * lower vertex index keeps it). */
+int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *T, int it,
+                        int j, int self, int second, const pl_detect_params *prm,
+                        pl_proximity *out, int *face)
+{
+    const int *tri = &T->tris[3 * j];
+    if (self && (tri[0] == p || tri[1] == p || tri[2] == p)) return 0;
+    if (!pl_aabb_overlap(&P->vbox[p], &T->tbox[j])) return 0; /* the broad phase's test */
+    if (!is_active(P, p) && !is_active(T, tri[0]) && !is_active(T, tri[1]) &&
+        !is_active(T, tri[2]))
+        return 0;
+    const double *x = &P->x0[3 * p];
+    double w[3];
+    double d0 = sqrt(pl_closest_point_triangle(x, &T->x0[3 * tri[0]], &T->x0[3 * tri[1]],
+                                               &T->x0[3 * tri[2]], w));
+    for (int a = 0; a < 3; ++a)
+        if (w[a] > 1.0 - EDGE_END && (second || (self && p > tri[a]))) return 0;
+    double c[3], diff[3], motion[3];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 0.0;
+        motion[k] = P->x1[3 * p + k] - x[k];
+        for (int a = 0; a < 3; ++a) {
+            c[k] += w[a] * T->x0[3 * tri[a] + k];
+            motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
+        }
+        diff[k] = x[k] - c[k];
+    }
+    const double *nf = &T->fnormal[3 * j];
+    double n[3], gap, tiny = tiny_of(prm), height = dot3(diff, nf);
+    /* the closest point is the foot of the perpendicular: x is over the face
+     * (edges included), not beside it */
+    int over_face = fabs(height) >= (1.0 - 1e-9) * d0;
+    memset(out, 0, sizeof *out);
+    out->kind = PL_PROX_VERTEX_FACE;
+    out->model_a = ip;
+    out->model_b = it;
+    out->na = 1;
+    out->nb = 3;
+    out->a[0] = p;
+    out->wa[0] = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        out->b[a] = tri[a];
+        out->wb[a] = w[a];
+    }
+    const double *hint = T->two_sided && over_face ? pl_side_hints_find(prm->hints, out) : NULL;
+    if (hint && dot3(hint, nf) != 0.0) {
+        /* in contact last step: keep that side, even if a little through */
+        double s = dot3(hint, nf) > 0.0 ? 1.0 : -1.0;
+        for (int k = 0; k < 3; ++k) n[k] = s * nf[k];
+        gap = s * height;
+        if (gap < -prm->alarm) return 0; /* through by more than alarm: lost */
+    } else if (!T->two_sided && height < 0.0) {
+        /* behind an outward face: inside, pushed out by the face it is
+         * under; deep points belong to another part of the surface */
+        if (!over_face || d0 > prm->alarm) return 0;
+        memcpy(n, nf, sizeof n);
+        gap = -d0;
+    } else if (d0 > tiny) {
+        /* over the face the direction is the face normal: take it exact (no
+         * round-off noise that would turn the friction tangents) */
+        double s = height >= 0.0 ? 1.0 : -1.0;
+        for (int k = 0; k < 3; ++k) n[k] = over_face ? s * nf[k] : diff[k] / d0;
+        gap = d0;
+    } else {
+        if (!T->two_sided)
+            memcpy(n, nf, sizeof n);
+        else if (!oppose_motion(nf, motion, n))
+            return 0;
+        gap = 0.0;
+    }
+    double approach = -dot3(n, motion);
+    if (!(gap - (approach > 0.0 ? approach : 0.0) < prm->alarm)) return 0;
+    *face = over_face;
+    memcpy(out->normal, n, sizeof n);
+    out->gap = gap;
+    return 1;
+}
+
+/* One-sided meshes: mo = the outward bisector of the faces beside edge e
+ * (unit); returns 1 when the edge-edge direction cr (length len) has a clear
+ * component along it (then its sign says which side is outside). */
+static int outward(const pl_coll_mesh *m, int e, const double *cr, double len, double mo[3])
+{
+    mo[0] = mo[1] = mo[2] = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        int t = m->edge_tris[2 * e + k];
+        if (t < 0) continue;
+        for (int i = 0; i < 3; ++i) mo[i] += m->fnormal[3 * t + i];
+    }
+    double l = sqrt(dot3(mo, mo));
+    if (!(l > 0.0)) return 0;
+    for (int i = 0; i < 3; ++i) mo[i] /= l;
+    return fabs(dot3(mo, cr)) > 0.2 * len;
+}
+
+/* One-sided meshes: whether the direction d from edge e points outside the
+ * mesh there: beyond at least one of the planes of its faces (a convex
+ * edge's outside is the union of the two half-spaces). */
+static int outside_of(const pl_coll_mesh *m, int e, const double d[3])
+{
+    int any = 0;
+    for (int k = 0; k < 2; ++k) {
+        int t = m->edge_tris[2 * e + k];
+        if (t < 0) continue;
+        any = 1;
+        if (dot3(d, &m->fnormal[3 * t]) > 0.0) return 1;
+    }
+    return !any;
+}
+
+/* Whether n is (anti)parallel to a face beside edge e, within EDGE_FLAT. */
+static int along_face(const pl_coll_mesh *m, int e, const double n[3])
+{
+    for (int k = 0; k < 2; ++k) {
+        int t = m->edge_tris[2 * e + k];
+        if (t >= 0 && fabs(dot3(n, &m->fnormal[3 * t])) > EDGE_FLAT) return 1;
+    }
+    return 0;
+}
+
+/* For a border edge of a thin rigid mesh (one triangle beside it): the unit
+ * direction in the triangle's plane, perpendicular to the edge, pointing out
+ * of the triangle.  Returns 0 for other edges. */
+static int border_out(const pl_coll_mesh *m, int e, double mo[3])
+{
+    /* only rigid sheets (no DOFs): a cloth's border may lie over a blade */
+    if (!m->two_sided || !m->active || m->active[m->edges[2 * e]] ||
+        m->active[m->edges[2 * e + 1]] || m->edge_tris[2 * e] < 0 || m->edge_tris[2 * e + 1] >= 0)
+        return 0;
+    int t = m->edge_tris[2 * e], a = m->edges[2 * e], b = m->edges[2 * e + 1], o = a;
+    for (int k = 0; k < 3; ++k)
+        if (m->tris[3 * t + k] != a && m->tris[3 * t + k] != b) o = m->tris[3 * t + k];
+    const double *nf = &m->fnormal[3 * t], *xa = &m->x0[3 * a], *xb = &m->x0[3 * b];
+    double ed[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]}, ao[3];
+    mo[0] = ed[1] * nf[2] - ed[2] * nf[1];
+    mo[1] = ed[2] * nf[0] - ed[0] * nf[2];
+    mo[2] = ed[0] * nf[1] - ed[1] * nf[0];
+    for (int k = 0; k < 3; ++k) ao[k] = m->x0[3 * o + k] - xa[k];
+    double len = sqrt(dot3(mo, mo)), sg = dot3(mo, ao) > 0.0 ? -1.0 : 1.0;
+    if (!(len > 0.0)) return 0;
+    for (int k = 0; k < 3; ++k) mo[k] *= sg / len;
+    return 1;
+}
+
+/* Whether both ends of segment p0 p1 are within dist of segment q0 q1. */
+static int ends_near(const double p0[3], const double p1[3], const double q0[3],
+                     const double q1[3], double dist)
+{
+    double s, t;
+    return pl_closest_segments(p0, p0, q0, q1, &s, &t) < dist * dist &&
+           pl_closest_segments(p1, p1, q0, q1, &s, &t) < dist * dist;
+}
+
+/* Edge e of A against edge f of B (interior points of both). */
+int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *B, int ib,
+                        int f, int self, const pl_detect_params *prm, pl_proximity *out)
+{
+    int a0 = A->edges[2 * e], a1 = A->edges[2 * e + 1];
+    int b0 = B->edges[2 * f], b1 = B->edges[2 * f + 1];
+    if (self && (f <= e || a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) return 0;
+    if (!pl_aabb_overlap(&A->ebox[e], &B->ebox[f])) return 0;
+    if (!A->sharp[e] && !B->sharp[f]) return 0;
+    if (!is_active(A, a0) && !is_active(A, a1) && !is_active(B, b0) && !is_active(B, b1))
+        return 0;
+    const double *pa0 = &A->x0[3 * a0], *pa1 = &A->x0[3 * a1];
+    const double *pb0 = &B->x0[3 * b0], *pb1 = &B->x0[3 * b1];
+    double s, t;
+    double d0 = sqrt(pl_closest_segments(pa0, pa1, pb0, pb1, &s, &t));
+    if (s < EDGE_END || s > 1.0 - EDGE_END || t < EDGE_END || t > 1.0 - EDGE_END) return 0;
+    double ea[3], eb[3], cr[3], diff[3], motion[3];
+    for (int k = 0; k < 3; ++k) {
+        ea[k] = pa1[k] - pa0[k];
+        eb[k] = pb1[k] - pb0[k];
+        diff[k] = (pa0[k] + s * ea[k]) - (pb0[k] + t * eb[k]);
+        motion[k] = (1.0 - s) * (A->x1[3 * a0 + k] - pa0[k]) + s * (A->x1[3 * a1 + k] - pa1[k]) -
+                    (1.0 - t) * (B->x1[3 * b0 + k] - pb0[k]) - t * (B->x1[3 * b1 + k] - pb1[k]);
+    }
+    cr[0] = ea[1] * eb[2] - ea[2] * eb[1];
+    cr[1] = ea[2] * eb[0] - ea[0] * eb[2];
+    cr[2] = ea[0] * eb[1] - ea[1] * eb[0];
+    /* (nearly) parallel edges: their end vertices carry the contact */
+    if (!(dot3(cr, cr) > EDGE_SIN2 * dot3(ea, ea) * dot3(eb, eb))) return 0;
+    memset(out, 0, sizeof *out);
+    out->kind = PL_PROX_EDGE_EDGE;
+    out->model_a = ia;
+    out->model_b = ib;
+    out->na = out->nb = 2;
+    out->a[0] = a0;
+    out->a[1] = a1;
+    out->wa[0] = 1.0 - s;
+    out->wa[1] = s;
+    out->b[0] = b0;
+    out->b[1] = b1;
+    out->wb[0] = 1.0 - t;
+    out->wb[1] = t;
+    double n[3], gap = d0, mo[3], len = sqrt(dot3(cr, cr));
+    /* The side is chosen, in this order, by: the border of a thin rigid
+     * sheet (a blade's edge: the other edge belongs outside it, beyond the
+     * border in the sheet's plane); the outside of a closed mesh (the other
+     * edge belongs on the outer side of the edge's two faces); the side of
+     * the last step (thin against thin); the side now.  The first two hold
+     * whatever side the edge is on now, so that an edge pushed a little
+     * through (an unconverged step) comes back out. */
+    double sg = 0.0;
+    if (border_out(A, e, mo) && fabs(dot3(mo, cr)) > 0.2 * len)
+        sg = dot3(mo, cr) > 0.0 ? -1.0 : 1.0; /* n . mo < 0: B outside A */
+    else if (border_out(B, f, mo) && fabs(dot3(mo, cr)) > 0.2 * len)
+        sg = dot3(mo, cr) > 0.0 ? 1.0 : -1.0; /* n . mo > 0: A outside B */
+    else if (!A->two_sided && outward(A, e, cr, len, mo))
+        sg = dot3(mo, cr) > 0.0 ? -1.0 : 1.0;
+    else if (!B->two_sided && outward(B, f, cr, len, mo))
+        sg = dot3(mo, cr) > 0.0 ? 1.0 : -1.0;
+    const double *hint = sg == 0.0 && A->two_sided && B->two_sided
+                             ? pl_side_hints_find(prm->hints, out)
+                             : NULL;
+    if (hint && dot3(hint, cr) != 0.0) sg = dot3(hint, cr) > 0.0 ? 1.0 : -1.0;
+    if (sg != 0.0) {
+        for (int k = 0; k < 3; ++k) n[k] = sg * cr[k] / len;
+        gap = dot3(diff, n);
+        if (gap < -prm->alarm) return 0; /* through by more than alarm: lost */
+    } else if (d0 > tiny_of(prm)) {
+        for (int k = 0; k < 3; ++k) n[k] = diff[k] / d0;
+    } else if (!oppose_motion(cr, motion, n)) {
+        return 0;
+    }
+    /* a closed mesh repels only towards its outside */
+    if (!B->two_sided && !outside_of(B, f, n)) return 0;
+    if (!A->two_sided) {
+        double m[3] = {-n[0], -n[1], -n[2]};
+        if (!outside_of(A, e, m)) return 0;
+    }
+    /* an edge lying (nearly) flat on a face beside the other edge, with both
+     * its ends near that edge, is held by the contacts of its ends: the
+     * edge-edge row would be (close to) their linear combination, an
+     * ill-conditioned W.  A blade edge under a flat cloth is not: its ends
+     * are far from the cloth edge it crosses. */
+    if ((along_face(B, f, n) && ends_near(pa0, pa1, pb0, pb1, prm->alarm)) ||
+        (along_face(A, e, n) && ends_near(pb0, pb1, pa0, pa1, prm->alarm)))
+        return 0;
+    double approach = -dot3(n, motion);
+    if (!(gap - (approach > 0.0 ? approach : 0.0) < prm->alarm)) return 0;
+    memcpy(out->normal, n, sizeof n);
+    out->gap = gap;
+    return 1;
+}

@@ -1,0 +1,220 @@
+/* detect.h - mesh-versus-mesh proximity detection, the numeric part of the
+ * CollisionPipeline (static library collision_core, no scene code):
+ *   - narrow phase: closest points point-triangle and segment-segment;
+ *   - a bounding-volume hierarchy over axis-aligned boxes, built once from a
+ *     mesh's primitives and refitted every step;
+ *   - detection between two triangle meshes (or one mesh and itself):
+ *     vertex-triangle proximities in both directions and edge-edge
+ *     proximities within alarmDistance, with the motion over the step.
+ *
+ * Conventions of a proximity: side A is pushed along `normal` (the unit
+ * normal points from B to A), the gap is the signed distance along it at the
+ * start of the step.  One of the two sides may be an obstacle (no DOFs). */
+#ifndef PLIANT_COLLISION_DETECT_H
+#define PLIANT_COLLISION_DETECT_H
+
+#include "pliant/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- narrow phase ---------------------------------------------------------- */
+
+/* Closest point of the triangle (a, b, c) to p: w = its barycentric weights
+ * (w0 a + w1 b + w2 c, all >= 0, summing to 1).  Returns the squared
+ * distance.  Degenerate triangles are handled (the closest point of their
+ * edges). */
+double pl_closest_point_triangle(const double p[3], const double a[3], const double b[3],
+                                 const double c[3], double w[3]);
+
+/* Closest points of the segments p0 p1 and q0 q1: p0 + s (p1 - p0) and
+ * q0 + t (q1 - q0), s and t in [0, 1].  Returns the squared distance.
+ * Parallel segments get one pair of the closest set; points (zero-length
+ * segments) are handled. */
+double pl_closest_segments(const double p0[3], const double p1[3], const double q0[3],
+                           const double q1[3], double *s, double *t);
+
+/* ---- bounding boxes and the BVH ------------------------------------------ */
+
+typedef struct pl_aabb {
+    double lo[3], hi[3];
+} pl_aabb;
+
+static inline int pl_aabb_overlap(const pl_aabb *a, const pl_aabb *b)
+{
+    return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] &&
+           b->lo[1] <= a->hi[1] && a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+}
+
+/* A binary tree over primitive boxes: node 0 is the root, children come
+ * after their parent (so refitting runs from the last node back), a leaf
+ * holds up to PL_BVH_LEAF primitives order[start .. start + count - 1]. */
+#define PL_BVH_LEAF 4
+typedef struct pl_bvh {
+    int nprims, nnodes;
+    pl_aabb *box;       /* per node */
+    int *left;          /* per node: first child (its sibling is left + 1), -1 for a leaf */
+    int *start, *count; /* per node: its primitives in `order` */
+    int *order;         /* primitive indices, grouped by leaf */
+} pl_bvh;
+
+void pl_bvh_init(pl_bvh *b);
+void pl_bvh_free(pl_bvh *b);
+/* Builds the tree over n primitive boxes (median splits of the centres along
+ * the widest axis; deterministic) and fits it.  PL_OK or PL_EINTERNAL. */
+int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n);
+/* Refits every node to the primitives' new boxes (same topology). */
+void pl_bvh_refit(pl_bvh *b, const pl_aabb *prims);
+
+/* A growable list of ints. */
+typedef struct pl_ivec {
+    int *v;
+    int n, cap;
+} pl_ivec;
+void pl_ivec_free(pl_ivec *a);
+int pl_ivec_push(pl_ivec *a, int x);
+
+/* Appends to out the primitives whose boxes overlap q (leaf order).
+ * PL_OK or PL_EINTERNAL. */
+int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out);
+
+/* ---- meshes prepared for detection ----------------------------------------- */
+
+typedef enum pl_mesh_sides {
+    PL_SIDES_AUTO = 0, /* one-sided when closed (every edge shared by 2 triangles), else two */
+    PL_SIDES_ONE = 1,  /* closed and oriented: only the outside repels, inside points are pushed out */
+    PL_SIDES_TWO = 2   /* thin: repels on both sides (cloth, knife blades) */
+} pl_mesh_sides;
+
+/* A triangle mesh at the start (x0) and predicted end (x1) of the step.
+ * The caller owns x0, x1, tris and edges; detection owns the rest
+ * (pl_coll_mesh_prepare / pl_coll_mesh_free). */
+typedef struct pl_coll_mesh {
+    int nverts, ntris, nedges;
+    const double *x0, *x1;      /* nverts x 3 [m] */
+    const int *tris;            /* ntris x 3 */
+    const int *edges;           /* nedges x 2 */
+    const unsigned char *active;/* per vertex: 0 = this point carries no DOF (NULL: all active) */
+    pl_mesh_sides sides;
+    /* derived, by pl_coll_mesh_prepare */
+    int two_sided;              /* resolved from sides */
+    double orientation;         /* +1 outward-oriented triangles, -1 flipped (one-sided) */
+    double *fnormal;            /* ntris x 3 unit face normals at x0, outward for one-sided */
+    int *edge_tris;             /* nedges x 2 adjacent triangles (-1 when missing) */
+    unsigned char *sharp;       /* per edge: a feature that can poke through a surface between
+                                   its vertices (a boundary edge, a fold, a convex crease of a
+                                   closed mesh sharper than PL_SHARP_COS) */
+    pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges */
+    pl_bvh tbvh, ebvh;          /* over tbox and ebox */
+    int built;
+} pl_coll_mesh;
+
+/* cos of the smallest angle between the face normals of a sharp edge (30 deg) */
+#define PL_SHARP_COS 0.8660254037844386
+
+void pl_coll_mesh_init(pl_coll_mesh *m);
+void pl_coll_mesh_free(pl_coll_mesh *m);
+/* Once per step after x0/x1 changed: face normals, swept boxes inflated by
+ * margin / 2 on every side [m], BVHs built on first use and refitted after.
+ * The topology (counts, tris, edges) must not change between calls.
+ * PL_OK, PL_EINPUT (an index out of range), PL_EINTERNAL. */
+int pl_coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
+
+/* ---- proximities ------------------------------------------------------------ */
+
+typedef enum pl_prox_kind {
+    PL_PROX_VERTEX_FACE = 0, /* vertex a[0] of A against triangle b[0..2] of B */
+    PL_PROX_EDGE_EDGE = 1    /* edge a[0..1] of A against edge b[0..1] of B */
+} pl_prox_kind;
+
+typedef struct pl_proximity {
+    int kind;
+    int model_a, model_b;
+    int na, nb;
+    int a[3], b[3];          /* vertices of each mesh */
+    double wa[3], wb[3];     /* barycentric weights of the closest points */
+    double normal[3];        /* unit, from B to A */
+    double gap;              /* signed distance along normal at the start of the step [m] */
+} pl_proximity;
+
+typedef struct pl_proximities {
+    pl_proximity *items;
+    int n, cap;
+} pl_proximities;
+
+void pl_proximities_free(pl_proximities *p);
+
+/* Sides remembered from the previous step: a pair of primitives that was in
+ * contact with a thin (two-sided) mesh keeps the side it was on, so that a
+ * point pushed slightly through a blade by an unconverged solve is pushed
+ * back instead of being kept on the wrong side.  Keys are the proximities'
+ * models and vertices; a hash table, rebuilt every step. */
+typedef struct pl_side_hints {
+    int n, cap;          /* entries, slots (a power of two) */
+    unsigned long long *key;
+    double *normal;      /* per slot: 3 doubles */
+    pl_proximity *keyed; /* per slot: the proximity (for exact key comparison) */
+} pl_side_hints;
+
+void pl_side_hints_init(pl_side_hints *h);
+void pl_side_hints_free(pl_side_hints *h);
+/* Clears h and inserts the normals of the given proximities.  PL_OK or
+ * PL_EINTERNAL. */
+int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
+/* The remembered normal of a proximity with the same kind, models and
+ * vertices (NULL when none). */
+const double *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p);
+
+typedef struct pl_detect_params {
+    double alarm;        /* alarmDistance [m] */
+    const pl_side_hints *hints; /* sides from the previous step (NULL: none) */
+    int vertex_face;     /* detect vertex-triangle proximities (both directions) */
+    int edge_edge;       /* detect edge-edge proximities */
+    int max_per_vertex;  /* vertex-face proximities kept per vertex and mesh pair (>= 1) */
+    double normal_cos;   /* a vertex keeps a further proximity only if its normal differs from
+                            the kept ones by more than acos(normal_cos) */
+} pl_detect_params;
+
+/* Default parameters for an alarm distance. */
+pl_detect_params pl_detect_defaults(double alarm);
+
+/* Appends the proximities between the prepared meshes A (index ia) and B
+ * (index ib); A == B (same pointer) is self-collision: primitives sharing a
+ * vertex are skipped.  Edge-edge proximities are made only where one of the
+ * two edges is sharp (elsewhere the vertex-triangle contacts of the edges'
+ * ends hold the surfaces apart and an edge-edge row would nearly repeat
+ * them).  A proximity is kept when its gap minus the predicted
+ * approach over the step (relative motion x1 - x0 along the normal) is below
+ * alarm, so fast bodies are caught before they cross.  Parallel (OpenMP),
+ * deterministic: the order depends on the inputs only.  PL_OK or
+ * PL_EINTERNAL. */
+int pl_detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                   const pl_detect_params *prm, pl_proximities *out);
+
+/* The same by brute force over all primitive pairs (tests, small meshes):
+ * identical results, possibly in another order. */
+int pl_detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                         const pl_detect_params *prm, pl_proximities *out);
+
+/* ---- barycentric mapping into tetrahedra ------------------------------------ */
+
+/* For each of the npts points: the tetrahedron containing it (the one it is
+ * deepest in when on shared faces) or, outside the mesh, the nearest one,
+ * and its 4 barycentric coordinates there (extrapolated outside: they may be
+ * negative; sum_k bary_k v_k reproduces the point exactly).  tet_of: npts,
+ * bary: npts x 4.  *outside (may be NULL) counts the points outside every
+ * tetrahedron.  PL_OK, PL_EINPUT (no tetrahedra, an index out of range, a
+ * flat tetrahedron), PL_EINTERNAL. */
+int pl_barycentric_map(const double *verts, int nverts, const int *tets, int ntets,
+                       const double *pts, int npts, int *tet_of, double *bary, int *outside,
+                       pl_error *err);
+
+/* Unique undirected edges of triangles, sorted (a < b, lexicographic).
+ * *edges malloc'ed (NULL when none).  PL_OK or PL_EINTERNAL. */
+int pl_triangle_edges(const int *tris, int ntris, int **edges, int *nedges);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,214 @@
+/* detect_run.c - the loops of detection: for every vertex (or edge) of one
+ * mesh the BVH candidates of the other, measured by detect.c, the closest
+ * vertex-face proximities kept per vertex.  Loops are split into one
+ * contiguous chunk per thread whose results are concatenated in chunk
+ * order: deterministic, whatever the number of threads. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "detect_internal.h"
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+pl_detect_params pl_detect_defaults(double alarm)
+{
+    pl_detect_params p = {.alarm = alarm, .hints = NULL, .vertex_face = 1, .edge_edge = 1,
+                          .max_per_vertex = 3, .normal_cos = 0.9};
+    return p;
+}
+
+void pl_proximities_free(pl_proximities *p)
+{
+    free(p->items);
+    p->items = NULL;
+    p->n = p->cap = 0;
+}
+
+/* ---- per-thread work ---------------------------------------------------- */
+
+typedef struct cand {
+    pl_proximity p;
+    int prim;
+    int over_face; /* the vertex projects inside the triangle */
+} cand;
+
+typedef struct work {
+    pl_proximities out;
+    pl_ivec q;
+    cand *c;
+    int nc, capc;
+    int fail;
+} work;
+
+/* Nearest first: |gap| (an inside point's way out is its nearest face). */
+static int cand_less(const cand *x, const cand *y)
+{
+    double a = fabs(x->p.gap), b = fabs(y->p.gap);
+    return a < b || (a == b && x->prim < y->prim);
+}
+
+/* Keeps the nearest proximity of a vertex and, at most max_per_vertex in
+ * all, further ones over a face whose normals differ from every kept one (a
+ * vertex in a concave corner touches two faces); beside a convex edge the
+ * nearest alone holds it, a second row would be nearly dependent. */
+static int finish_vertex(work *w, const pl_detect_params *prm)
+{
+    for (int i = 1; i < w->nc; ++i) { /* insertion sort: few candidates */
+        cand x = w->c[i];
+        int j = i - 1;
+        while (j >= 0 && cand_less(&x, &w->c[j])) {
+            w->c[j + 1] = w->c[j];
+            j--;
+        }
+        w->c[j + 1] = x;
+    }
+    int first = w->out.n, kept = 0;
+    for (int i = 0; i < w->nc && kept < prm->max_per_vertex; ++i) {
+        if (kept > 0 && !w->c[i].over_face) continue;
+        int distinct = 1;
+        for (int k = first; k < w->out.n && distinct; ++k)
+            if (dot3(w->out.items[k].normal, w->c[i].p.normal) >= prm->normal_cos) distinct = 0;
+        if (!distinct) continue;
+        if (coll_prox_push(&w->out, &w->c[i].p)) return PL_EINTERNAL;
+        kept++;
+    }
+    w->nc = 0;
+    return PL_OK;
+}
+
+static int cand_push(work *w, const pl_proximity *p, int prim, int face)
+{
+    if (w->nc == w->capc) {
+        int cap = w->capc ? 2 * w->capc : 16;
+        cand *c = realloc(w->c, (size_t)cap * sizeof *c);
+        if (!c) return PL_EINTERNAL;
+        w->c = c;
+        w->capc = cap;
+    }
+    w->c[w->nc].p = *p;
+    w->c[w->nc].over_face = face;
+    w->c[w->nc++].prim = prim;
+    return PL_OK;
+}
+
+typedef struct pass {
+    const pl_coll_mesh *P, *T; /* vertex-face: points of P, triangles of T; edge-edge: edges */
+    int ip, it, self, edges, brute, second;
+    const pl_detect_params *prm;
+} pass;
+
+/* Item i of a pass (a vertex of P or an edge of P) against its candidates. */
+static int run_item(const pass *ps, work *w, int i)
+{
+    const pl_coll_mesh *P = ps->P, *T = ps->T;
+    pl_proximity p;
+    int face = 0;
+    w->q.n = 0;
+    int nt = ps->edges ? T->nedges : T->ntris;
+    if (!ps->brute) {
+        const pl_bvh *b = ps->edges ? &T->ebvh : &T->tbvh;
+        const pl_aabb *prims = ps->edges ? T->ebox : T->tbox;
+        const pl_aabb *q = ps->edges ? &P->ebox[i] : &P->vbox[i];
+        if (pl_bvh_query(b, prims, q, &w->q)) return PL_EINTERNAL;
+    }
+    int count = ps->brute ? nt : w->q.n;
+    for (int k = 0; k < count; ++k) {
+        int j = ps->brute ? k : w->q.v[k];
+        if (ps->edges) {
+            if (coll_ee_candidate(P, ps->ip, i, T, ps->it, j, ps->self, ps->prm, &p) &&
+                coll_prox_push(&w->out, &p))
+                return PL_EINTERNAL;
+        } else if (coll_vf_candidate(P, ps->ip, i, T, ps->it, j, ps->self, ps->second, ps->prm, &p,
+                                &face) &&
+                   cand_push(w, &p, j, face)) {
+            return PL_EINTERNAL;
+        }
+    }
+    return ps->edges ? PL_OK : finish_vertex(w, ps->prm);
+}
+
+static int max_threads(void)
+{
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+static int run_pass(const pass *ps, pl_proximities *out)
+{
+    int n = ps->edges ? ps->P->nedges : ps->P->nverts;
+    if (n == 0 || (ps->edges ? ps->T->nedges : ps->T->ntris) == 0) return PL_OK;
+    int nw = max_threads();
+    work *w = calloc((size_t)nw, sizeof *w);
+    if (!w) return PL_EINTERNAL;
+    int used = 1;
+#pragma omp parallel if (n > 256)
+    {
+        int tid = 0, nth = 1;
+#ifdef _OPENMP
+        tid = omp_get_thread_num();
+        nth = omp_get_num_threads();
+#endif
+#pragma omp single
+        used = nth;
+        int chunk = (n + nth - 1) / nth, lo = tid * chunk, hi = lo + chunk < n ? lo + chunk : n;
+        for (int i = lo; i < hi && !w[tid].fail; ++i)
+            if (run_item(ps, &w[tid], i)) w[tid].fail = 1;
+    }
+    int rc = PL_OK;
+    for (int t = 0; t < used; ++t) {
+        if (w[t].fail) rc = PL_EINTERNAL;
+        for (int k = 0; k < w[t].out.n && rc == PL_OK; ++k)
+            rc = coll_prox_push(out, &w[t].out.items[k]);
+    }
+    for (int t = 0; t < nw; ++t) {
+        pl_proximities_free(&w[t].out);
+        pl_ivec_free(&w[t].q);
+        free(w[t].c);
+    }
+    free(w);
+    return rc;
+}
+
+static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                  const pl_detect_params *prm, pl_proximities *out, int brute)
+{
+    int self = A == B;
+    pass ps = {.prm = prm, .self = self, .brute = brute};
+    int rc = PL_OK;
+    if (prm->vertex_face) {
+        ps.P = A, ps.T = B, ps.ip = ia, ps.it = ib, ps.edges = 0;
+        rc = run_pass(&ps, out);
+        if (rc == PL_OK && !self) {
+            ps.P = B, ps.T = A, ps.ip = ib, ps.it = ia, ps.second = 1;
+            rc = run_pass(&ps, out);
+            ps.second = 0;
+        }
+    }
+    if (rc == PL_OK && prm->edge_edge) {
+        ps.P = A, ps.T = B, ps.ip = ia, ps.it = ib, ps.edges = 1;
+        rc = run_pass(&ps, out);
+    }
+    return rc;
+}
+
+int pl_detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                   const pl_detect_params *prm, pl_proximities *out)
+{
+    return detect(A, ia, B, ib, prm, out, 0);
+}
+
+int pl_detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                         const pl_detect_params *prm, pl_proximities *out)
+{
+    return detect(A, ia, B, ib, prm, out, 1);
+}

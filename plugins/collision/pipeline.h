@@ -1,0 +1,71 @@
+/* pipeline.h - the CollisionPipeline component's internals (plugin-
+ * internal): its fields and model, the per-step stages (pipeline_step.c)
+ * and the contact records kept in the pl_data slot "contacts". */
+#ifndef PLIANT_COLLISION_PIPELINE_H
+#define PLIANT_COLLISION_PIPELINE_H
+
+#include "detect.h"
+#include "pliant/pliant.h"
+
+/* One contact as recorded per step (an array of these in the slot). */
+typedef struct coll_contact_record {
+    pl_proximity prox;             /* what detection found: models, mesh vertices, weights,
+                                      normal (from B to A), gap at the start of the step */
+    double point_a[3], point_b[3]; /* closest points at the start of the step [m] */
+    double t1[3], t2[3];           /* tangents of the friction rows */
+    double lambda[3];              /* multipliers: normal, t1, t2 [N] (0 until solved) */
+    double force[3];               /* force on side A [N]; side B gets -force */
+} coll_contact_record;
+
+/* frictionRule: how two models' mu combine */
+enum { COLL_RULE_MIN, COLL_RULE_MAX, COLL_RULE_MEAN, COLL_RULE_PRODUCT };
+
+/* A collision model as the pipeline keeps it between steps. */
+typedef struct pipe_model {
+    pl_component *c;
+    pl_collision_geometry g;       /* this step's geometry */
+    pl_coll_mesh mesh;             /* detection structures (BVHs refitted per step) */
+    double *x0, *x1;               /* nverts x 3 [m] */
+    unsigned char *active;         /* per point: maps to at least one free vertex */
+    int nverts, ntris, nedges;     /* topology of the last step (a change rebuilds) */
+    const int *tris, *edges;
+} pipe_model;
+
+typedef struct collision_pipeline {
+    pl_component base;
+    /* fields */
+    double alarm, contact, mu;
+    int rule, self, vertex_face, edge_edge, max_per_vertex;
+    int out_count, out_ee;
+    pl_doubles out_points, out_normals, out_forces;
+    /* model */
+    pipe_model *models;
+    int nmodels;
+    int slot, t_detect;
+    /* per-step scratch */
+    pl_proximities prox;
+    pl_side_hints hints;           /* sides of the previous step's contacts */
+    pl_proximity *prev;            /* their proximities (copied out of the state) */
+    int capprev;
+    coll_contact_record *work;
+    int nwork, capwork;
+} collision_pipeline;
+
+extern const pl_type coll_pipeline_type;
+
+/* Stage 1: geometry of every model, x0 / x1, prepared meshes. */
+int coll_pipeline_update_models(collision_pipeline *p, pl_ctx *ctx, const pl_system *sys,
+                                const pl_buffer *q, pl_error *err);
+/* Stage 2: proximities of every pair of models that may touch (p->prox);
+ * d holds the previous step's contacts (their sides are kept). */
+int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err);
+/* Stage 3: rows and records (p->work) of the proximities. */
+int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *rows,
+                       pl_error *err);
+
+/* The contacts recorded in d during the last step (count; *items points
+ * into d, valid until the next step). */
+int coll_pipeline_contacts(const pl_component *c, const pl_data *d,
+                           const coll_contact_record **items);
+
+#endif

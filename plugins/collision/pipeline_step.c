@@ -1,0 +1,236 @@
+/* pipeline_step.c - the three per-step stages of the CollisionPipeline:
+ * model geometry at both ends of the step, detection over the pairs of
+ * models, and the rows and records of the proximities found. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "collision.h"
+#include "models.h"
+#include "pipeline.h"
+
+/* (Re)allocates a model's per-point arrays when its topology changed. */
+static int fit_model(pipe_model *m)
+{
+    const pl_collision_geometry *g = &m->g;
+    if (m->x0 && g->nverts == m->nverts && g->ntris == m->ntris && g->nedges == m->nedges &&
+        g->tris == m->tris && g->edges == m->edges)
+        return PL_OK;
+    pl_coll_mesh_free(&m->mesh);
+    pl_coll_mesh_init(&m->mesh);
+    free(m->x0);
+    free(m->x1);
+    free(m->active);
+    size_t n = (size_t)(g->nverts ? g->nverts : 1);
+    m->x0 = malloc(n * 3 * sizeof *m->x0);
+    m->x1 = malloc(n * 3 * sizeof *m->x1);
+    m->active = malloc(n);
+    m->nverts = g->nverts;
+    m->ntris = g->ntris;
+    m->nedges = g->nedges;
+    m->tris = g->tris;
+    m->edges = g->edges;
+    return (m->x0 && m->x1 && m->active) ? PL_OK : PL_EINTERNAL;
+}
+
+/* x0 / x1 over the step and which points carry a free DOF. */
+static void fill_positions(pipe_model *m, const pl_system *sys)
+{
+    const pl_collision_geometry *g = &m->g;
+    double h = sys->h;
+    for (int i = 0; i < g->nverts; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            double x = g->x[3 * i + k], v = g->v ? g->v[3 * i + k] : 0.0;
+            /* obstacles are posed at t + h, deformables given at t */
+            m->x0[3 * i + k] = g->is_obstacle ? x - h * v : x;
+            m->x1[3 * i + k] = g->is_obstacle ? x : x + h * v;
+        }
+        unsigned char act = 0;
+        for (int a = 0; a < 4 && !g->is_obstacle; ++a) {
+            int v = g->map_vertex[4 * i + a];
+            if (v >= 0 && v < sys->nverts && (!sys->free_index || sys->free_index[v] >= 0)) act = 1;
+        }
+        m->active[i] = act;
+    }
+}
+
+int coll_pipeline_update_models(collision_pipeline *p, pl_ctx *ctx, const pl_system *sys,
+                                const pl_buffer *q, pl_error *err)
+{
+    for (int k = 0; k < p->nmodels; ++k) {
+        pipe_model *m = &p->models[k];
+        const pl_collision_model_ops *ops = pl_component_role(m->c, PL_ROLE_COLLISION_MODEL);
+        memset(&m->g, 0, sizeof m->g);
+        int rc = ops->update(m->c, ctx, q, &m->g, err);
+        if (rc) return rc;
+        if (m->g.nverts > 0 && (!m->g.x || !m->g.map_vertex || !m->g.map_weight))
+            return pl_component_fail(&p->base, err, PL_EINTERNAL,
+                                     "collision model '%s' gave no positions or mapping",
+                                     m->c->name);
+        if (fit_model(m)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        fill_positions(m, sys);
+        pl_coll_mesh *cm = &m->mesh;
+        cm->nverts = m->g.nverts;
+        cm->ntris = m->g.ntris;
+        cm->nedges = m->g.nedges;
+        cm->x0 = m->x0;
+        cm->x1 = m->x1;
+        cm->tris = m->g.tris;
+        cm->edges = m->g.edges;
+        cm->active = m->active;
+        cm->sides = coll_model_sides(m->c);
+        pl_error e;
+        if ((rc = pl_coll_mesh_prepare(cm, p->alarm, &e)))
+            return pl_component_fail(&p->base, err, rc, "collision model '%s': %s", m->c->name,
+                                     e.msg);
+    }
+    return PL_OK;
+}
+
+static int any_active(const pipe_model *m)
+{
+    for (int i = 0; i < m->g.nverts; ++i)
+        if (m->active[i]) return 1;
+    return 0;
+}
+
+/* The sides of the previous step's contacts (in d: exact on restore). */
+static int build_hints(collision_pipeline *p, const pl_data *d)
+{
+    const coll_contact_record *items;
+    int n = coll_pipeline_contacts(&p->base, d, &items);
+    if (n > p->capprev) {
+        pl_proximity *prev = realloc(p->prev, (size_t)n * sizeof *prev);
+        if (!prev) return PL_EINTERNAL;
+        p->prev = prev;
+        p->capprev = n;
+    }
+    for (int k = 0; k < n; ++k) p->prev[k] = items[k].prox;
+    return pl_side_hints_build(&p->hints, p->prev, n);
+}
+
+int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err)
+{
+    p->prox.n = 0;
+    if (build_hints(p, d)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+    pl_detect_params prm = pl_detect_defaults(p->alarm);
+    prm.hints = &p->hints;
+    prm.vertex_face = p->vertex_face;
+    prm.edge_edge = p->edge_edge;
+    prm.max_per_vertex = p->max_per_vertex;
+    for (int k = 0; k < p->nmodels; ++k) {
+        pipe_model *a = &p->models[k];
+        int ak = any_active(a);
+        for (int l = k; l < p->nmodels; ++l) {
+            pipe_model *b = &p->models[l];
+            if (a->g.ntris == 0 && b->g.ntris == 0) continue; /* points against points */
+            if (a->g.is_obstacle && b->g.is_obstacle) continue;
+            if (l == k && (!p->self || a->g.is_obstacle)) continue;
+            if (a->g.group != 0 && a->g.group == b->g.group) continue;
+            if (!ak && !any_active(b)) continue;
+            if (pl_detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &p->prox))
+                return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        }
+    }
+    return PL_OK;
+}
+
+static double pair_mu(const collision_pipeline *p, double a, double b)
+{
+    if (a < 0.0 && b < 0.0) return p->mu;
+    if (a < 0.0) return b;
+    if (b < 0.0) return a;
+    switch (p->rule) {
+    case COLL_RULE_MAX: return a > b ? a : b;
+    case COLL_RULE_MEAN: return 0.5 * (a + b);
+    case COLL_RULE_PRODUCT: return a * b;
+    default: return a < b ? a : b;
+    }
+}
+
+/* One side of a proximity: the DOF entries of its points (mapped through the
+ * model) and the fixed part of the points without DOFs; point = the closest
+ * point at the start of the step. */
+static int make_side(const pipe_model *m, int nv, const int *v, const double *w,
+                     pl_contact_side *s, double point[3])
+{
+    memset(s, 0, sizeof *s);
+    point[0] = point[1] = point[2] = 0.0;
+    for (int j = 0; j < nv; ++j) {
+        int i = v[j];
+        for (int k = 0; k < 3; ++k) point[k] += w[j] * m->x0[3 * i + k];
+        int has_dof = 0;
+        for (int a = 0; a < 4 && !m->g.is_obstacle; ++a) {
+            int g = m->g.map_vertex[4 * i + a];
+            if (g < 0) continue;
+            has_dof = 1;
+            double wg = w[j] * m->g.map_weight[4 * i + a];
+            int e = 0;
+            while (e < s->n && s->vertex[e] != g) e++;
+            if (e == s->n) {
+                if (s->n == PL_CONTACT_SIDE_MAX) return PL_EINTERNAL;
+                s->vertex[s->n] = g;
+                s->weight[s->n++] = 0.0;
+            }
+            s->weight[e] += wg;
+        }
+        if (!has_dof)
+            for (int k = 0; k < 3; ++k) {
+                s->fixed[k] += w[j] * m->x1[3 * i + k];
+                s->fixed_v[k] += w[j] * (m->g.v ? m->g.v[3 * i + k] : 0.0);
+            }
+    }
+    return PL_OK;
+}
+
+static coll_contact_record *push_record(collision_pipeline *p)
+{
+    if (p->nwork == p->capwork) {
+        int cap = p->capwork ? 2 * p->capwork : 256;
+        coll_contact_record *w = realloc(p->work, (size_t)cap * sizeof *w);
+        if (!w) return NULL;
+        p->work = w;
+        p->capwork = cap;
+    }
+    coll_contact_record *r = &p->work[p->nwork++];
+    memset(r, 0, sizeof *r);
+    return r;
+}
+
+int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *rows, pl_error *err)
+{
+    for (int k = 0; k < p->prox.n; ++k) {
+        const pl_proximity *x = &p->prox.items[k];
+        const pipe_model *ma = &p->models[x->model_a], *mb = &p->models[x->model_b];
+        pl_contact_side sa, sb;
+        double pa[3], pb[3];
+        if (make_side(ma, x->na, x->a, x->wa, &sa, pa) || make_side(mb, x->nb, x->b, x->wb, &sb, pb))
+            return pl_component_fail(&p->base, err, PL_EINTERNAL,
+                                     "a contact touches more than %d DOFs", PL_CONTACT_SIDE_MAX);
+        for (int a = 0; a < sa.n; ++a)
+            if (sa.vertex[a] >= sys->nverts)
+                return pl_component_fail(&p->base, err, PL_EINTERNAL,
+                                         "collision model '%s' maps to vertex %d outside the "
+                                         "system (%d vertices)",
+                                         ma->c->name, sa.vertex[a], sys->nverts);
+        for (int a = 0; a < sb.n; ++a)
+            if (sb.vertex[a] >= sys->nverts)
+                return pl_component_fail(&p->base, err, PL_EINTERNAL,
+                                         "collision model '%s' maps to vertex %d outside the "
+                                         "system (%d vertices)",
+                                         mb->c->name, sb.vertex[a], sys->nverts);
+        double t1[3], t2[3];
+        double mu = pair_mu(p, ma->g.mu, mb->g.mu);
+        int rn = pl_collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu, p->contact, t1, t2);
+        if (rn == -2) continue; /* nothing movable */
+        if (rn < 0) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        coll_contact_record *r = push_record(p);
+        if (!r) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        r->prox = *x;
+        memcpy(r->point_a, pa, sizeof pa);
+        memcpy(r->point_b, pb, sizeof pb);
+        memcpy(r->t1, t1, sizeof t1);
+        memcpy(r->t2, t2, sizeof t2);
+    }
+    return PL_OK;
+}

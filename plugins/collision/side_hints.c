@@ -1,0 +1,105 @@
+/* side_hints.c - the normals of the previous step's proximities, looked up
+ * by their models and vertices (open addressing, linear probing), so that
+ * contacts with thin two-sided meshes keep their side while they last. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "detect.h"
+
+void pl_side_hints_init(pl_side_hints *h) { memset(h, 0, sizeof *h); }
+
+void pl_side_hints_free(pl_side_hints *h)
+{
+    free(h->key);
+    free(h->normal);
+    free(h->keyed);
+    pl_side_hints_init(h);
+}
+
+/* What identifies a proximity: kind, models, vertices (b's triangle sorted,
+ * it is the same triangle whatever vertex comes first). */
+static void ident(const pl_proximity *p, int id[10])
+{
+    int b[3] = {p->b[0], p->b[1], p->nb == 3 ? p->b[2] : -1};
+    for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+            if (b[j] < b[i]) {
+                int t = b[i];
+                b[i] = b[j];
+                b[j] = t;
+            }
+    id[0] = p->kind;
+    id[1] = p->model_a;
+    id[2] = p->model_b;
+    id[3] = p->a[0];
+    id[4] = p->na > 1 ? p->a[1] : -1;
+    id[5] = b[0];
+    id[6] = b[1];
+    id[7] = b[2];
+    id[8] = id[9] = 0;
+}
+
+static unsigned long long hash(const int id[10])
+{
+    unsigned long long x = 1469598103934665603ull;
+    for (int k = 0; k < 8; ++k) {
+        x ^= (unsigned long long)(unsigned)id[k];
+        x *= 1099511628211ull;
+        x ^= x >> 29;
+    }
+    return x | 1ull; /* 0 marks an empty slot */
+}
+
+static int same(const pl_proximity *p, const pl_proximity *q)
+{
+    int a[10], b[10];
+    ident(p, a);
+    ident(q, b);
+    return memcmp(a, b, sizeof a) == 0;
+}
+
+int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
+{
+    int cap = 64;
+    while (cap < 2 * n) cap *= 2;
+    if (cap != h->cap) {
+        pl_side_hints_free(h);
+        h->key = malloc((size_t)cap * sizeof *h->key);
+        h->normal = malloc((size_t)cap * 3 * sizeof *h->normal);
+        h->keyed = malloc((size_t)cap * sizeof *h->keyed);
+        if (!h->key || !h->normal || !h->keyed) {
+            pl_side_hints_free(h);
+            return PL_EINTERNAL;
+        }
+        h->cap = cap;
+    }
+    memset(h->key, 0, (size_t)cap * sizeof *h->key);
+    h->n = 0;
+    for (int k = 0; k < n; ++k) {
+        int id[10];
+        ident(&items[k], id);
+        unsigned long long x = hash(id);
+        size_t s = (size_t)x & (size_t)(cap - 1);
+        while (h->key[s] != 0 && !(h->key[s] == x && same(&h->keyed[s], &items[k])))
+            s = (s + 1) & (size_t)(cap - 1);
+        if (h->key[s] == 0) h->n++;
+        h->key[s] = x;
+        h->keyed[s] = items[k];
+        memcpy(&h->normal[3 * s], items[k].normal, 3 * sizeof(double));
+    }
+    return PL_OK;
+}
+
+const double *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p)
+{
+    if (!h || h->n == 0) return NULL;
+    int id[10];
+    ident(p, id);
+    unsigned long long x = hash(id);
+    size_t s = (size_t)x & (size_t)(h->cap - 1);
+    while (h->key[s] != 0) {
+        if (h->key[s] == x && same(&h->keyed[s], p)) return &h->normal[3 * s];
+        s = (s + 1) & (size_t)(h->cap - 1);
+    }
+    return NULL;
+}
