@@ -3,7 +3,13 @@
  * It plays the local-term role with G = 0: nothing enters the matrix, and
  * every local step adds h^2 f to the right-hand side (the same as putting
  * h^2 M^-1 f into the predicted state).  Its energy is -f . q, so the
- * Newton reference sees the same load. */
+ * Newton reference sees the same load.
+ *
+ * On device buffers (LocalGlobalSolver device="cuda") it needs no kernel of
+ * its own: through the scene's device service (pl_device_ops) it keeps a
+ * CSR R over its state's vertices with R(sel[k], k) = -1 and the block
+ * h^2 f on the device, and sub_csr (rhs -= R (h^2 f)) adds h^2 f to the
+ * selected rows of rhs, in selection order, with the CPU's rounding. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +26,13 @@ typedef struct constant_force_field {
     int *sel;
     int nsel;
     double *f;   /* nsel x 3 [N] */
+    /* device copies (made on the first device project) */
+    pl_component *dev;
+    const pl_device_ops *dops;
+    pl_csr R;    /* device arrays: rows = selected vertices' range, R(sel[k], k) = -1 */
+    double *hf;  /* device nsel x 3: h2 f */
+    double *hf_host;
+    double h2;   /* the h2 of hf (0: not uploaded yet) */
 } constant_force_field;
 
 static const pl_field FIELDS[] = {
@@ -56,9 +69,25 @@ static int cf_bind(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
+static void cf_device_free(constant_force_field *f)
+{
+    if (f->dev) {
+        pl_error err;
+        f->dops->sync(f->dev, &err); /* nothing may still read them */
+        f->dops->free(f->dev, f->R.p);
+        f->dops->free(f->dev, f->R.j);
+        f->dops->free(f->dev, f->R.x);
+        f->dops->free(f->dev, f->hf);
+    }
+    free(f->hf_host);
+    f->dev = NULL, f->dops = NULL, f->hf = NULL, f->hf_host = NULL, f->h2 = 0.0;
+    memset(&f->R, 0, sizeof f->R);
+}
+
 static void cf_destroy(pl_component *c)
 {
     constant_force_field *f = (constant_force_field *)c;
+    cf_device_free(f);
     free(f->sel);
     free(f->f);
 }
@@ -73,10 +102,103 @@ static int cf_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A,
     return PL_OK;
 }
 
+/* The scene's device service (this node or above), or NULL. */
+static const pl_device_ops *find_device(const pl_component *c, pl_component **dev)
+{
+    *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    const pl_device_ops *ops = *dev ? pl_component_role(*dev, PL_ROLE_DEVICE) : NULL;
+    return ops && ops->version >= 1 && ops->sub_csr && ops->alloc && ops->copy ? ops : NULL;
+}
+
+/* R and the device block, from the selection (once). */
+static int device_prepare(constant_force_field *f, pl_error *err)
+{
+    pl_component *c = &f->base;
+    if (f->dev) return PL_OK;
+    pl_component *dev;
+    const pl_device_ops *o = find_device(c, &dev);
+    if (!o)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but no device service in this node "
+                                 "or above");
+    /* components of a node are destroyed in reverse order: the device must
+     * outlive this force field, which frees its memory through it */
+    if (dev->node == c->node)
+        for (int k = 0; k < c->node->ncomponents && c->node->components[k] != dev; ++k)
+            if (c->node->components[k] == c)
+                return pl_component_fail(c, err, PL_EINPUT,
+                                         "%s must come before this force field in the scene",
+                                         dev->name);
+    int rows = 0;
+    for (int k = 0; k < f->nsel; ++k)
+        if (f->sel[k] + 1 > rows) rows = f->sel[k] + 1;
+    int *p = calloc((size_t)rows + 1, sizeof *p), *j = malloc((size_t)f->nsel * sizeof *j);
+    double *x = malloc((size_t)f->nsel * sizeof *x);
+    f->hf_host = malloc((size_t)f->nsel * 3 * sizeof *f->hf_host);
+    int rc = p && j && x && f->hf_host ? PL_OK
+                                       : pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    if (!rc) {
+        /* row v lists the k with sel[k] = v in increasing k: the CPU's order */
+        for (int k = 0; k < f->nsel; ++k) p[f->sel[k] + 1]++;
+        for (int v = 0; v < rows; ++v) p[v + 1] += p[v];
+        int *next = malloc(((size_t)rows + 1) * sizeof *next);
+        if (!next) rc = pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+        for (int v = 0; !rc && v < rows; ++v) next[v] = p[v];
+        for (int k = 0; !rc && k < f->nsel; ++k) {
+            int at = next[f->sel[k]]++;
+            j[at] = k;
+            x[at] = -1.0;
+        }
+        free(next);
+    }
+    f->dev = dev, f->dops = o;
+    f->R.nrows = rows, f->R.ncols = f->nsel;
+    size_t ip = ((size_t)rows + 1) * sizeof(int), ij = (size_t)f->nsel * sizeof(int);
+    size_t ix = (size_t)f->nsel * sizeof(double);
+    if (!rc && (!(f->R.p = o->alloc(dev, ip, err)) || !(f->R.j = o->alloc(dev, ij, err)) ||
+                !(f->R.x = o->alloc(dev, ix, err)) || !(f->hf = o->alloc(dev, 3 * ix, err))))
+        rc = err->code ? err->code : PL_EINTERNAL;
+    if (!rc) rc = o->copy(dev, f->R.p, PL_DEVICE, p, PL_HOST, ip, err);
+    if (!rc) rc = o->copy(dev, f->R.j, PL_DEVICE, j, PL_HOST, ij, err);
+    if (!rc) rc = o->copy(dev, f->R.x, PL_DEVICE, x, PL_HOST, ix, err);
+    if (!rc) rc = o->sync(dev, err); /* p, j, x go below */
+    free(p), free(j), free(x);
+    if (rc) cf_device_free(f);
+    return rc;
+}
+
+static int cf_project_device(constant_force_field *f, int offset, double h2, pl_buffer *rhs,
+                             pl_error *err)
+{
+    pl_component *c = &f->base;
+    const pl_state_ops *so = pl_component_role(f->state, PL_ROLE_STATE);
+    int n = so->count(f->state);
+    if (rhs->location != PL_DEVICE || rhs->precision != PL_F64 || rhs->cols != 3 || offset < 0 ||
+        rhs->rows < (size_t)offset + (size_t)n)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: expected a device float64 block of at least %d x 3",
+                                 offset + n);
+    int rc = device_prepare(f, err);
+    if (rc) return rc;
+    if (h2 != f->h2) {
+        /* h2 f as the CPU forms it; only when h2 changes (not while a graph
+         * is being recorded: h2 is the same in every iteration) */
+        for (int k = 0; k < 3 * f->nsel; ++k) f->hf_host[k] = h2 * f->f[k];
+        rc = f->dops->copy(f->dev, f->hf, PL_DEVICE, f->hf_host, PL_HOST,
+                           (size_t)f->nsel * 3 * sizeof(double), err);
+        if (!rc) rc = f->dops->sync(f->dev, err);
+        if (rc) return rc;
+        f->h2 = h2;
+    }
+    return f->dops->sub_csr(f->dev, &f->R, f->hf, (double *)rhs->data + 3 * (size_t)offset, err);
+}
+
 static int cf_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
                       pl_buffer *rhs, pl_error *err)
 {
-    const constant_force_field *f = (const constant_force_field *)c;
+    constant_force_field *f = (constant_force_field *)c;
+    (void)d, (void)q;
+    if (rhs->location == PL_DEVICE) return cf_project_device(f, offset, h2, rhs, err);
     double *r = pl_buffer_f64(rhs);
     if (!r) return pl_component_fail(c, err, PL_EINTERNAL, "needs a host float64 buffer");
     for (int k = 0; k < f->nsel; ++k)
@@ -111,6 +233,14 @@ static int cf_hessian(const pl_component *c, const pl_data *d, int offset, const
     return PL_OK; /* a constant force has no stiffness */
 }
 
+/* Host float64; device float64 with a device service in this node or above. */
+static int cf_accepts(const pl_component *c, pl_location where, pl_precision prec)
+{
+    pl_component *dev;
+    if (prec != PL_F64) return 0;
+    return where == PL_HOST || (where == PL_DEVICE && find_device(c, &dev) != NULL);
+}
+
 static const pl_local_term_ops OPS = {
     .version = PL_LOCAL_TERM_OPS_VERSION,
     .state = cf_state,
@@ -119,6 +249,7 @@ static const pl_local_term_ops OPS = {
     .energy = cf_energy,
     .add_gradient = cf_gradient,
     .add_hessian = cf_hessian,
+    .accepts = cf_accepts,
 };
 
 const pl_type pl_constant_force_field_type = {

@@ -21,6 +21,8 @@ typedef struct lg_device {
     pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
     int fp_nnz;                /* its entries (0: nothing prescribed) */
     void *graph;               /* one iteration, captured (PL_DEVICE_GRAPHS) */
+    int graph_rows;            /* the graph holds the contact solver's iterate */
+    int nrows;                 /* constraint rows of the step being taken */
     int pinned;                /* dyn.q and dyn.sn are page-locked */
 } lg_device;
 
@@ -52,7 +54,12 @@ typedef struct local_global_solver {
 int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx);
 /* Frees the device copies and graph; call before pl_dynamics_free. */
 void pl_lg_device_free(local_global_solver *s);
-/* One time step with the iterations on the device (no constraints). */
+/* One time step with the iterations on the device. */
 int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err);
+/* The step's constraint rows and the contact solver's begin (host, q_t):
+ * the number of rows, or minus an error code.  local_global_solver.c. */
+int pl_lg_begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err);
+/* The multipliers to the state (constraint forces) and to their emitters. */
+void pl_lg_end_constraints(local_global_solver *s, pl_ctx *ctx);
 
 #endif

@@ -19,8 +19,16 @@
  *           scatter into the states on the host.
  * q comes back every iteration only when tolerance > 0 (the change, one
  * number) or computeEnergy is set (all of q, for the energy).
- * Constraints (contact, cables) stay on the CPU for now: with any, cuda is
- * refused and auto runs on the CPU. */
+ * Constraints (contact, cables): the rows and the contact solver's begin
+ * run on the host at the start of the step (with q_t, as on the CPU path);
+ * when there are rows, each iteration's global step is the contact
+ * solver's iterate() on the device buffers (its device path queues the
+ * constraint update and the correction on the same stream), the graph is
+ * captured again for the step (the rows' sizes change from step to step),
+ * and after the copy of q the multipliers go to the constraints on the
+ * host.  The contact solver must have a device path: a field "device"
+ * whose value is not "cpu" (NonSmoothNewtonContactSolver in a CUDA build;
+ * pl_contact_solver_ops has no accepts member yet). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -47,9 +55,15 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
     pl_dynamics *d = &s->dyn;
     char path[256];
     why[0] = '\0';
-    if (s->nconstraints || s->contact)
-        say(why, size, "constraints and contact run on the CPU only for now (the scene has %s)",
-            s->nconstraints ? "constraint components" : "a contact solver");
+    if (s->contact) {
+        const pl_field *f = pl_component_field(s->contact, "device");
+        char v[64] = "";
+        if (!f || pl_field_format(f, s->contact, v, sizeof v) != PL_OK || !strcmp(v, "cpu"))
+            say(why, size,
+                "the contact solver %s (%s) has no device path here (NonSmoothNewtonContactSolver "
+                "in a CUDA build with device=\"auto\" has one)",
+                pl_component_path(s->contact, path, sizeof path), s->contact->type->name);
+    }
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (!(gs->version >= 2 && gs->accepts && gs->accepts(s->solver, PL_DEVICE, PL_F64)))
         say(why, size,
@@ -64,8 +78,8 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
             continue;
         if (first)
             say(why, size,
-                "%slocal terms without a device local step (tetrahedral ARAP, Corotational and "
-                "NeoHookean have one):",
+                "%slocal terms without a device local step (ARAP, Corotational, NeoHookean, "
+                "the bending terms, PositionTarget and ConstantForceField have one):",
                 why[0] ? "; " : "");
         say(why, size, "%s %s (%s)", first ? "" : ",",
             pl_component_path(d->terms[k], path, sizeof path), d->terms[k]->type->name);
@@ -269,10 +283,17 @@ static int iteration(local_global_solver *s, pl_ctx *ctx, int profile, pl_error 
     if (!rc && g->fp_nnz) rc = o->sub_csr(dev, &g->A_fp, g->q, g->b_free, err);
     if (profile && !rc) rc = phase_end(s, ctx, s->t_assembly, err);
     if (rc) return rc;
-    if (profile) pl_timer_start(ctx->timers, s->t_global);
-    const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
-    rc = gs->solve(s->solver, &bb, &xb, err);
-    if (profile && !rc) rc = phase_end(s, ctx, s->t_global, err);
+    if (g->nrows > 0) {
+        /* Algorithm 4: the contact solver's constrained global step (it
+         * times its own phases) */
+        const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
+        rc = cs->iterate(s->contact, ctx, &d->sys, &qb, &bb, &xb, err);
+    } else {
+        if (profile) pl_timer_start(ctx->timers, s->t_global);
+        const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+        rc = gs->solve(s->solver, &bb, &xb, err);
+        if (profile && !rc) rc = phase_end(s, ctx, s->t_global, err);
+    }
     if (!rc) rc = o->scatter_rows(dev, d->nfree, g->free_vertex, g->q_free, g->q, g->change, err);
     return rc;
 }
@@ -287,6 +308,7 @@ static int run_iteration(local_global_solver *s, pl_ctx *ctx, int it, pl_error *
     if (!g->graph) {
         int rc = g->ops->capture_begin(g->dev, err);
         if (rc) return rc;
+        g->graph_rows = g->nrows > 0;
         rc = iteration(s, ctx, 0, err);
         pl_error e2;
         int rc2 = g->ops->capture_end(g->dev, &g->graph, rc ? &e2 : err);
@@ -307,18 +329,26 @@ int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
     pl_component *c = &s->base;
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
     int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
-    if (flags != g->flags && g->graph) {
-        int rc = o->sync(g->dev, err);
-        if (rc) return rc;
-        o->graph_free(g->dev, g->graph);
-        g->graph = NULL;
-    }
-    g->flags = flags;
     pl_dynamics_gather(d, ctx->data);
     pl_dynamics_predict(d);
     memcpy(d->q, d->sn, n3);
     int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
     if (rc) return rc;
+    g->nrows = 0;
+    if (s->nconstraints) {
+        g->nrows = pl_lg_begin_constraints(s, ctx, err);
+        if (g->nrows < 0) return -g->nrows;
+    }
+    /* a graph with the contact solver's iterate holds this step's row
+     * buffers: captured again for every step with rows */
+    if ((flags != g->flags || g->nrows > 0 || g->graph_rows) && g->graph) {
+        rc = o->sync(g->dev, err);
+        if (rc) return rc;
+        o->graph_free(g->dev, g->graph);
+        g->graph = NULL;
+        g->graph_rows = 0;
+    }
+    g->flags = flags;
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(d->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
@@ -350,6 +380,10 @@ int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
                                      "the solution became NaN/inf during step %ld (vertex %d)",
                                      ctx->data->step + 1, d->free_vertex[f]);
     }
+    if (g->nrows > 0)
+        pl_lg_end_constraints(s, ctx);
+    else if (s->nconstraints)
+        pl_dynamics_store_forces(d, ctx->data, NULL, NULL); /* no contact this step */
     pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
     return PL_OK;
 }

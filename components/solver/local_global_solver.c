@@ -42,8 +42,9 @@ static const pl_field FIELDS[] = {
              "the constraint solver (default: the first one in this node or below, if any)", 0),
     PL_FIELD_ENUM(local_global_solver, device, "device", device_choices, "cpu",
                   "where the iterations run: cpu; cuda (needs <CudaDevice/> in this node or above, "
-                  "a global solver and local terms that take device buffers, no constraints); auto "
-                  "(cuda when all of that holds, else cpu)",
+                  "a global solver and local terms that take device buffers and, with constraints, "
+                  "a contact solver with a device path); auto (cuda when all of that holds, else "
+                  "cpu)",
                   0),
 };
 
@@ -130,8 +131,9 @@ static void lg_destroy(pl_component *c)
 }
 
 /* Rows of every constraint at the start of the step; the contact solver's
- * begin when there are any.  Returns the number of rows (or < 0). */
-static int begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+ * begin when there are any.  Returns the number of rows (or < 0).  Shared
+ * with the device path (local_global.h). */
+int pl_lg_begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err)
 {
     pl_dynamics *d = &s->dyn;
     pl_rows_clear(&s->rows);
@@ -148,7 +150,7 @@ static int begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err)
 }
 
 /* Hands every constraint component the multipliers of its own rows. */
-static void end_constraints(local_global_solver *s, pl_ctx *ctx)
+void pl_lg_end_constraints(local_global_solver *s, pl_ctx *ctx)
 {
     const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
     int count = 0;
@@ -201,7 +203,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     if (rc) return rc;
     int nrows = 0;
     if (s->nconstraints) {
-        nrows = begin_constraints(s, ctx, err);
+        nrows = pl_lg_begin_constraints(s, ctx, err);
         if (nrows < 0) return -nrows;
     }
     const pl_contact_solver_ops *cs =
@@ -247,7 +249,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         if (s->tolerance > 0 && change < s->tolerance * scale) break;
     }
     if (cs)
-        end_constraints(s, ctx);
+        pl_lg_end_constraints(s, ctx);
     else if (s->nconstraints)
         pl_dynamics_store_forces(d, ctx->data, NULL, NULL); /* no contact this step */
     pl_dynamics_scatter(d, ctx->data, d->q, s->damping);

@@ -1,11 +1,15 @@
 /* bending_term.c - the cloth bending local terms: a stencil per interior
  * edge (isometric) or per vertex (Laplace-Beltrami), rebuilt in reinit from
- * the state's rest positions; no state of their own. */
+ * the state's rest positions; no state of their own.  project() on device
+ * buffers (CUDA builds) goes to stencil_device.c. */
 #include <math.h>
 
 #include "base/component_util.h"
 #include "bending_term.h"
 #include "fem_term.h"
+#ifdef PLIANT_HAVE_CUDA
+#include "stencil_device.h"
+#endif
 
 int hyper_bending_init(pl_component *c, pl_ctx *ctx, hyper_bending_kind kind)
 {
@@ -34,6 +38,9 @@ int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_bending *b = (hyper_bending *)c;
     pl_hyper_stencils_free(&b->s);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_stencil_device_free(&b->gpu); /* the device copy of the old stencils */
+#endif
     if (!b->state || !b->mesh) return PL_EINPUT;
     int n;
     const double *rest = pl_util_rest(b->state, &n);
@@ -74,6 +81,9 @@ int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 void hyper_bending_destroy(pl_component *c)
 {
     pl_hyper_stencils_free(&((hyper_bending *)c)->s);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_stencil_device_free(&((hyper_bending *)c)->gpu);
+#endif
 }
 
 static pl_component *bend_state(const pl_component *c)
@@ -93,6 +103,14 @@ static int bend_project(pl_component *c, pl_data *d, int offset, double h2, cons
                         pl_buffer *rhs, pl_error *err)
 {
     hyper_bending *b = (hyper_bending *)c;
+    if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
+#ifdef PLIANT_HAVE_CUDA
+        return hyper_stencil_project_device(c, &b->s, &b->gpu, d, NULL, offset, h2, q, rhs, err);
+#else
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but this build has no CUDA");
+#endif
+    }
     (void)d;
     const double *x = hyper_term_block(c, q, offset, b->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, b->s.nverts, "right-hand side", err) : NULL;
@@ -130,6 +148,18 @@ static int bend_add_hessian(const pl_component *c, const pl_data *d, int offset,
     return pl_hyper_stencils_add_hessian(&b->s, offset, x, psd, H, err);
 }
 
+/* Host float64 always; device float64 in CUDA builds. */
+static int bend_accepts(const pl_component *c, pl_location where, pl_precision prec)
+{
+    (void)c;
+    if (prec != PL_F64) return 0;
+#ifdef PLIANT_HAVE_CUDA
+    return where == PL_HOST || where == PL_DEVICE;
+#else
+    return where == PL_HOST;
+#endif
+}
+
 const pl_local_term_ops hyper_bending_local_term_ops = {
     .version = PL_LOCAL_TERM_OPS_VERSION,
     .state = bend_state,
@@ -139,4 +169,5 @@ const pl_local_term_ops hyper_bending_local_term_ops = {
     .add_gradient = bend_add_gradient,
     .add_hessian = bend_add_hessian,
     .matrix_changed = NULL,
+    .accepts = bend_accepts,
 };

@@ -3,8 +3,7 @@
  * set from the state's rest positions (reinit, again whenever a field
  * changes), and plays PL_ROLE_LOCAL_TERM through hyperelastic_core.
  * ADMM-PD duals (3 x d per element) live in the pl_data slot "dual".
- * project() on device buffers (tetrahedra, CUDA builds) goes to
- * fem_term_device.c. */
+ * project() on device buffers (CUDA builds) goes to fem_term_device.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -226,15 +225,16 @@ static int fem_add_hessian(const pl_component *c, const pl_data *d, int offset, 
     return PL_OK;
 }
 
-/* Host float64 always; device float64 for tetrahedra in CUDA builds. */
+/* Host float64 always; device float64 (tetrahedra and triangles) in CUDA
+ * builds. */
 static int fem_accepts(const pl_component *c, pl_location where, pl_precision prec)
 {
+    (void)c;
     if (prec != PL_F64) return 0;
     if (where == PL_HOST) return 1;
 #ifdef PLIANT_HAVE_CUDA
-    return ((const hyper_fem *)c)->k == 4;
+    return 1;
 #else
-    (void)c;
     return 0;
 #endif
 }

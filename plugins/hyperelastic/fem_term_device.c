@@ -1,5 +1,6 @@
 /* fem_term_device.c - the FEM term's local step on device buffers (CUDA
- * builds): tetrahedral ARAP, Corotational and NeoHookean through
+ * builds): ARAP, Corotational and NeoHookean on tetrahedra or membrane
+ * triangles through
  * pl_hyper_cuda (cuda/hyper_cuda.h), queued on the stream of the scene's
  * device service (CudaDevice, found in this node or above).
  *
@@ -20,7 +21,7 @@
 typedef struct hyper_fem_gpu {
     pl_hyper_cuda *g;
     struct CUstream_st *stream;
-    double *dual;              /* device n x 9 (ADMM materials), or NULL */
+    double *dual;              /* device n x 3d (ADMM materials), or NULL */
     size_t dual_bytes;
     const pl_data *fresh;      /* whose duals the device copy holds this step, or NULL */
     int used;                  /* a device project ran this step */
@@ -36,10 +37,6 @@ static int prepare(hyper_fem *f, pl_error *err)
 {
     if (f->gpu) return PL_OK;
     pl_component *c = &f->base;
-    if (f->k != 4)
-        return pl_component_fail(c, err, PL_EINPUT,
-                                 "project: device buffers, but the device local step takes "
-                                 "tetrahedra only (this term has triangles)");
     pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     if (!ops || !ops->stream)

@@ -3,7 +3,9 @@
  * rest positions and move (constant velocity, rotation about an axis, or
  * keyframes).  A PD term with a constant matrix (PAPER_NOTES.md item 3);
  * the targets of the step being taken (time t + dt, implicit Euler) live in
- * the pl_data slot "target", written at bind (t) and at each begin_step. */
+ * the pl_data slot "target", written at bind (t) and at each begin_step.
+ * project() on device buffers (CUDA builds) goes to stencil_device.c, which
+ * uploads the slot's targets once per step. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +13,9 @@
 #include "base/component_util.h"
 #include "fem_term.h"
 #include "hyperelastic.h"
+#ifdef PLIANT_HAVE_CUDA
+#include "stencil_device.h"
+#endif
 
 typedef struct position_target {
     pl_component base;
@@ -26,6 +31,7 @@ typedef struct position_target {
     double *base_pos;         /* n x 3 rest positions of the indices */
     pl_hyper_stencils s;
     int slot;
+    struct hyper_stencil_gpu *gpu; /* device copy (CUDA builds), made on first device project */
 } position_target;
 
 static const char *const MOTIONS[] = {"none", "velocity", "rotation", "keyframes", NULL};
@@ -116,6 +122,9 @@ static int pt_reinit(pl_component *c, pl_ctx *ctx)
 {
     position_target *p = (position_target *)c;
     pl_hyper_stencils_free(&p->s);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_stencil_device_free(&p->gpu); /* the device copy of the old stencils */
+#endif
     if (!p->state) return PL_EINPUT;
     int n;
     pl_util_rest(p->state, &n);
@@ -138,6 +147,9 @@ static int pt_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
     /* the step ends at t + dt: implicit Euler pulls towards the targets there */
     double t = ctx->data->time + pl_node_dt(c->node);
     pl_hyper_motion_eval(&m, p->indices.n, p->base_pos, t, pl_data_slot(ctx->data, p->slot));
+#ifdef PLIANT_HAVE_CUDA
+    hyper_stencil_device_begin_step(p->gpu); /* new targets go up at the next device project */
+#endif
     return PL_OK;
 }
 
@@ -146,6 +158,9 @@ static void pt_destroy(pl_component *c)
     position_target *p = (position_target *)c;
     pl_hyper_stencils_free(&p->s);
     free(p->base_pos);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_stencil_device_free(&p->gpu);
+#endif
 }
 
 /* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
@@ -164,6 +179,15 @@ static int pt_project(pl_component *c, pl_data *d, int offset, double h2, const 
                       pl_buffer *rhs, pl_error *err)
 {
     position_target *p = (position_target *)c;
+    if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
+#ifdef PLIANT_HAVE_CUDA
+        return hyper_stencil_project_device(c, &p->s, &p->gpu, d, pl_data_slot(d, p->slot), offset,
+                                            h2, q, rhs, err);
+#else
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "project: device buffers, but this build has no CUDA");
+#endif
+    }
     const double *x = hyper_term_block(c, q, offset, p->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, p->s.nverts, "right-hand side", err) : NULL;
     if (!r) return PL_EINTERNAL;
@@ -198,6 +222,18 @@ static int pt_add_hessian(const pl_component *c, const pl_data *d, int offset, c
     return pl_hyper_stencils_add_hessian(&p->s, offset, x, psd, H, err);
 }
 
+/* Host float64 always; device float64 in CUDA builds. */
+static int pt_accepts(const pl_component *c, pl_location where, pl_precision prec)
+{
+    (void)c;
+    if (prec != PL_F64) return 0;
+#ifdef PLIANT_HAVE_CUDA
+    return where == PL_HOST || where == PL_DEVICE;
+#else
+    return where == PL_HOST;
+#endif
+}
+
 static const pl_local_term_ops LOCAL_TERM = {
     .version = PL_LOCAL_TERM_OPS_VERSION,
     .state = pt_state,
@@ -207,6 +243,7 @@ static const pl_local_term_ops LOCAL_TERM = {
     .add_gradient = pt_add_gradient,
     .add_hessian = pt_add_hessian,
     .matrix_changed = NULL,
+    .accepts = pt_accepts,
 };
 
 const pl_type hyper_position_target_type = {

@@ -17,55 +17,26 @@
  * correction=multiplier (default) applies the force lambda itself (S = 1)
  * and takes the Newton step of that system; correction=jacobian is the
  * paper's J^T lambda (S = Omega) linearised at q^k.  DERIVATION.md
- * section 7 gives the reasons and the measurements. */
+ * section 7 gives the reasons and the measurements.
+ *
+ * When the animation loop hands iterate() device buffers (LocalGlobalSolver
+ * device="cuda", CUDA builds), the iterations run on the GPU:
+ * contact_device.c; begin stays on the CPU. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact.h"
+#include "contact_solver.h"
 #include "pliant/plugin.h"
-#include "pliant/timer.h"
-
-typedef struct ncp_contact_solver {
-    pl_component base;
-    /* fields */
-    int ncp;                  /* pl_ncp_function */
-    int cr_iterations;
-    double cr_tolerance;
-    int preconditioner;       /* 0 delassus, 1 mass */
-    int delassus;             /* 0 auto, 1 explicit, 2 matrix-free */
-    double max_explicit_mb;
-    int warm_start;
-    double damping;
-    double fb_eps;
-    int record;
-    int correction;           /* 0 jacobian (paper), 1 multiplier */
-    int project;
-    int line_search;
-    /* model: [A^-1]_ii of the factor, until the next reinit */
-    double *inv_diag;
-    int inv_diag_n, inv_diag_ok;
-    int slot;                 /* pl_data slot of the warm-start records */
-    /* the step */
-    int active;               /* begin ran for the step being taken */
-    int nall, nfree;
-    double h;
-    pl_ncpc_rows rows;
-    pl_ncpc_delassus D;
-    pl_ncp_work *work;
-    pl_ncpc_key *keys;
-    double *r, *diag_mass, *lambda, *dlambda, *scale, *delta, *delta_free, *force, *ls0, *ls1;
-    double *q_free, *corr;    /* nfree x 3 */
-    double *lambda_all;       /* nall: the multipliers handed back */
-    int t_global, t_schur, t_assembly, t_solve, t_corr, t_cglobal;
-} ncp_contact_solver;
 
 static const char *const NCP_CHOICES[] = {"fischer-burmeister", "minimum-map", NULL};
 static const char *const PRECOND_CHOICES[] = {"delassus", "mass", NULL};
 static const char *const CORRECTION_CHOICES[] = {"jacobian", "multiplier", NULL};
 static const char *const DELASSUS_CHOICES[] = {"auto", "explicit", "matrix-free", NULL};
-enum { W_AUTO = 0, W_EXPLICIT = 1, W_MATRIX_FREE = 2 };
+#ifdef PLIANT_HAVE_CUDA
+static const char *const DEVICE_CHOICES[] = {"cpu", "auto", NULL};
+#endif
 
 static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(ncp_contact_solver, ncp, "ncp", NCP_CHOICES, "fischer-burmeister",
@@ -86,7 +57,8 @@ static const pl_field FIELDS[] = {
                   "how W is applied: explicit (dense W = Y^T Y, Y = S P H^T, built once per step), "
                   "matrix-free (W x = H A^-1 H^T x, one global solve per product) or auto "
                   "(explicit while the dense W fits in maxExplicitMB and a dense product, m^2, costs "
-                  "no more than a matrix-free one, 6 nnz(S) as the global solver reports it)",
+                  "no more than a matrix-free one, 6 nnz(S) as the global solver reports it; with "
+                  "the global step on a GPU, also at most 1024 rows)",
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),
@@ -124,6 +96,13 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
+#ifdef PLIANT_HAVE_CUDA
+    PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",
+                  "where the iterations' constraint work runs: auto (where the animation loop "
+                  "runs it: on the GPU with LocalGlobalSolver device=\"cuda\") or cpu (a loop on "
+                  "the device is then refused)",
+                  0),
+#endif
 };
 
 static int check_fields(const ncp_contact_solver *s, char *msg, size_t size)
@@ -178,6 +157,10 @@ static void free_step(ncp_contact_solver *s)
 static void solver_destroy(pl_component *c)
 {
     ncp_contact_solver *s = (ncp_contact_solver *)c;
+#ifdef PLIANT_HAVE_CUDA
+    pl_ncpc_device_destroy(s->gpu);
+    s->gpu = NULL;
+#endif
     free_step(s);
     free(s->inv_diag);
     s->inv_diag = NULL;
@@ -206,54 +189,15 @@ static int alloc_step(ncp_contact_solver *s, int m, pl_error *err)
     return PL_OK;
 }
 
-/* delassus=auto: explicit when the dense W fits in maxExplicitMB and one
- * dense product (m^2 multiply-adds, memory-bound) costs no more than one
- * matrix-free product (S and S^T on 3 columns: about 6 nnz(S)).  nnz(S) is
- * the statistic the global solver records when it factors; without it the
- * memory rule decides alone.  Deterministic: no timing decides. */
-static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m)
-{
-    double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
-    if (mb > s->max_explicit_mb) return 0;
-    return pl_stat_get(timers, "nnz(S)", &nnz_s) != 0 || (double)m * (double)m <= 6.0 * nnz_s;
-}
-
-/* W explicit or matrix-free (see the delassus field). */
-static int build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err)
-{
-    const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
-    int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
-                                                   auto_explicit(s, ctx->timers, s->rows.m));
-    if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);
-    if (!s->inv_diag_ok && ops && ops->inverse_diagonal) {
-        free(s->inv_diag);
-        s->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
-        if (!s->inv_diag) return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
-        int st = ops->inverse_diagonal(sys->global_solver, s->inv_diag, err);
-        if (st != PL_OK) return st;
-        s->inv_diag_n = sys->nfree;
-        s->inv_diag_ok = 1;
-    }
-    const double *inv = s->inv_diag_ok && s->inv_diag_n == sys->nfree ? s->inv_diag : NULL;
-    return pl_ncpc_delassus_matrix_free(&s->D, sys, &s->rows, inv, err);
-}
-
-static void statistics(ncp_contact_solver *s, pl_timers *t)
-{
-    int contacts = 0;
-    for (int j = 0; j < s->rows.m; ++j) contacts += s->rows.kind[j] == PL_ROW_NORMAL;
-    pl_stat_max(t, "contacts max", contacts);
-    pl_stat_max(t, "constraint rows max", s->rows.m);
-    if (s->D.explicit_w)
-        pl_stat_max(t, "W memory [MB]", (double)s->rows.m * s->rows.m * sizeof(double) / (1024.0 * 1024.0));
-}
-
 static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
                         const pl_buffer *q_t, pl_error *err)
 {
     ncp_contact_solver *s = (ncp_contact_solver *)c;
     char msg[256];
     s->active = 0;
+#ifdef PLIANT_HAVE_CUDA
+    pl_ncpc_device_begin(s->gpu);
+#endif
     free_step(s);
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", msg);
     const double *qt = pl_buffer_f64(q_t);
@@ -277,7 +221,7 @@ static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, cons
     if (st == PL_OK && s->rows.m > 0) {
         pl_ncp_rows view = pl_ncpc_rows_view(&s->rows);
         st = pl_ncp_work_create(&view, &s->work, err);
-        if (st == PL_OK) st = build_delassus(s, ctx, sys, err);
+        if (st == PL_OK) st = pl_ncpc_build_delassus(s, ctx, sys, err);
         if (st == PL_OK && s->preconditioner == 1) st = pl_ncpc_mass_diagonal(&s->rows, sys, s->diag_mass, err);
         if (st == PL_OK)
             st = pl_ncp_scaling(s->work, s->preconditioner == 1 ? s->diag_mass : s->D.diag, sys->h, s->r, err);
@@ -296,7 +240,7 @@ static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, cons
         return st;
     }
     for (int j = 0; j < s->rows.m; ++j) s->lambda_all[s->rows.full[j]] = s->lambda[j];
-    statistics(s, t);
+    pl_ncpc_statistics(s, t);
     s->active = 1;
     return PL_OK;
 }
@@ -392,6 +336,8 @@ static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     const double *qk = pl_buffer_f64(q_k), *bb = pl_buffer_f64(b);
     double *qn = pl_buffer_f64(q_next);
     if (!s->active) return pl_component_fail(c, err, PL_EINTERNAL, "iterate called before begin");
+    if (q_k->location == PL_DEVICE || b->location == PL_DEVICE || q_next->location == PL_DEVICE)
+        return pl_ncpc_iterate_device(s, ctx, sys, q_k, b, q_next, err);
     if (!qk || !bb || !qn || q_k->rows != (size_t)sys->nverts || b->rows != (size_t)sys->nfree ||
         q_next->rows != (size_t)sys->nfree || q_k->cols != 3 || b->cols != 3 || q_next->cols != 3 ||
         sys->nfree != s->nfree)
@@ -442,6 +388,9 @@ static const double *solver_multipliers(const pl_component *c, int *count)
 {
     const ncp_contact_solver *s = (const ncp_contact_solver *)c;
     *count = s->active ? s->nall : 0;
+#ifdef PLIANT_HAVE_CUDA
+    if (s->active && pl_ncpc_device_ran(s->gpu)) return pl_ncpc_device_lambda_all(s->gpu);
+#endif
     return s->active ? s->lambda_all : NULL;
 }
 
@@ -451,6 +400,18 @@ static int solver_end_step(pl_component *c, pl_ctx *ctx, pl_error *err)
 {
     ncp_contact_solver *s = (ncp_contact_solver *)c;
     int m = s->active ? s->rows.m : 0;
+#ifdef PLIANT_HAVE_CUDA
+    if (m > 0 && pl_ncpc_device_ran(s->gpu)) {
+        /* the device's multipliers (the loop has waited for its stream) */
+        int rc = pl_ncpc_device_end_step(s->gpu, ctx->timers, s->record, err);
+        memcpy(s->lambda, pl_ncpc_device_lambda(s->gpu), sizeof(double) * (size_t)m);
+        pl_ncpc_device_begin(s->gpu);
+        if (rc) {
+            s->active = 0;
+            return rc;
+        }
+    }
+#endif
     s->active = 0;
     if (s->slot < 0) return PL_OK;
     if (pl_data_resize_slot(ctx->data, s->slot, sizeof(pl_ncpc_key) * (size_t)m) != 0)

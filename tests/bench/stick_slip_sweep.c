@@ -6,6 +6,11 @@
  *
  *   stick_slip_sweep [--scene scenes/stick_slip.xml] [--steps 100] [--tol 1e-4]
  *                    [--moved 1e-3] [--lo 0.05] [--hi 0.35] [--markdown]
+ *                    [--set component.field=value ...]
+ *
+ * --set passes overrides to every run (up to 8), e.g. with a scene that has
+ * a CudaDevice in its root: --set solver.device=cuda --set global.device=cuda
+ * (tests/bench/run_gpu.sh does that on the GPU machine).
  */
 #include <math.h>
 #include <pliant/pliant.h>
@@ -15,11 +20,15 @@
 
 static const double MU_STAR = 0.17632698070846498;
 
+enum { MAX_SETS = 8 };
+
 typedef struct sweep {
     const char *scene;
     int steps;
     double tol, moved, lo, hi;
     int markdown;
+    const char *sets[MAX_SETS];
+    int nsets;
 } sweep;
 
 /* Displacement of the box along the slope after the run [m], or NAN. */
@@ -28,8 +37,9 @@ static double run(const sweep *sw, const char *precond, double mu)
     char set_mu[64], set_pc[64];
     snprintf(set_mu, sizeof set_mu, "slope.mu=%.10g", mu);
     snprintf(set_pc, sizeof set_pc, "contact.preconditioner=%s", precond);
-    const char *sets[] = {set_mu, set_pc, "vtk.every=100000000"};
-    pl_sim_options opt = {NULL, "/tmp", 0, sets, 3};
+    const char *sets[3 + MAX_SETS] = {set_mu, set_pc, "vtk.every=100000000"};
+    for (int k = 0; k < sw->nsets; ++k) sets[3 + k] = sw->sets[k];
+    pl_sim_options opt = {NULL, "/tmp", 0, sets, 3 + sw->nsets};
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim *s = pl_sim_load_file(sw->scene, &opt, &diag);
@@ -93,7 +103,7 @@ static void bisect(const sweep *sw, const char *precond)
 
 int main(int argc, char **argv)
 {
-    sweep sw = {"scenes/stick_slip.xml", 100, 1e-4, 1e-3, 0.05, 0.35, 0};
+    sweep sw = {"scenes/stick_slip.xml", 100, 1e-4, 1e-3, 0.05, 0.35, 0, {NULL}, 0};
     for (int k = 1; k < argc; ++k) {
         const char *a = argv[k], *v = k + 1 < argc ? argv[k + 1] : NULL;
         if (!strcmp(a, "--markdown")) sw.markdown = 1;
@@ -104,6 +114,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--moved")) sw.moved = atof(v), k++;
         else if (!strcmp(a, "--lo")) sw.lo = atof(v), k++;
         else if (!strcmp(a, "--hi")) sw.hi = atof(v), k++;
+        else if (!strcmp(a, "--set") && sw.nsets < MAX_SETS) sw.sets[sw.nsets++] = v, k++;
         else { fprintf(stderr, "stick_slip_sweep: unknown option %s\n", a); return 2; }
     }
     pl_log_set_level(PL_LOG_WARN);

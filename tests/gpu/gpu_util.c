@@ -4,6 +4,7 @@
 #include <cuda_runtime_api.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int failures;
 
@@ -88,4 +89,39 @@ double gpu_median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+char *gpu_scene_with_device(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    const char *add = "<RequiredPlugin name=\"cuda\"/><CudaDevice name=\"gpu\" graph=\"1\"/>";
+    char *s = malloc((size_t)n + strlen(add) + 1), *out = malloc((size_t)n + strlen(add) + 1);
+    size_t got = s ? fread(s, 1, (size_t)n, f) : 0;
+    fclose(f);
+    if (!s || !out || got != (size_t)n) return free(s), free(out), NULL;
+    s[n] = '\0';
+    /* the root node: the first <Node that is not inside a comment */
+    char *node = s;
+    for (;;) {
+        char *cm = strstr(node, "<!--"), *nd = strstr(node, "<Node");
+        if (!nd || !cm || nd < cm) {
+            node = nd;
+            break;
+        }
+        char *end = strstr(cm, "-->");
+        if (!end) return free(s), free(out), NULL;
+        node = end + 3;
+    }
+    char *gt = node ? strchr(node, '>') : NULL;
+    if (!gt) return free(s), free(out), NULL;
+    size_t head = (size_t)(gt + 1 - s);
+    memcpy(out, s, head);
+    strcpy(out + head, add);
+    strcat(out, gt + 1);
+    free(s);
+    return out;
 }

@@ -24,4 +24,9 @@ int gpu_failures(void);
 
 double gpu_median(double *v, int n);
 
+/* The text of scene file `path` with <RequiredPlugin name="cuda"/> and
+ * <CudaDevice name="gpu" graph="1"/> first in its root node (malloc'ed), or
+ * NULL. */
+char *gpu_scene_with_device(const char *path);
+
 #endif

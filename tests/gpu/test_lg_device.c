@@ -5,8 +5,10 @@
  * (the device path runs the same operations in the same order: M sn, the
  * local step, the restriction to the unknowns minus A_fp q_p row by row,
  * the solve, the scatter), also with a tolerance and with per-phase
- * profiling; and every part that cannot run on the device is refused at
- * load with its name, or (auto) sends the loop back to the CPU. */
+ * profiling, and with a ConstantForceField (its device path goes through
+ * the device service alone); and every part that cannot run on the device
+ * is refused at load with its name, or (auto) sends the loop back to the
+ * CPU. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -179,7 +181,7 @@ START_TEST(auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise)
     pl_registry *r = registry();
     static result cpu, dev;
     setup s = plain("cpu");
-    s.extra = "<ConstantForceField name=\"push\" indices=\"5\" totalForce=\"0 0 1\"/>";
+    s.springs_ok = "0"; /* a term without a device local step */
     run(r, &s, 4, &cpu, NULL);
     s.device = "auto";
     pl_sim *sim;
@@ -193,6 +195,33 @@ START_TEST(auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise)
     pl_sim_free(sim);
     s.before = "";
     run(r, &s, 2, &dev, NULL); /* no device at all: the CPU */
+    pl_registry_free(r);
+}
+END_TEST
+
+/* ConstantForceField on device buffers: rhs -= R (h^2 f) through the
+ * service's sub_csr adds h^2 f with the CPU's rounding: bitwise equal. */
+START_TEST(constant_force_field_on_the_device_equals_the_cpu_bitwise)
+{
+    pl_registry *r = registry();
+    static result cpu, dev, plain_cpu;
+    setup s = plain("cpu");
+    run(r, &s, 6, &plain_cpu, NULL);
+    s.extra = "<ConstantForceField name=\"push\" indices=\"8 20 33\" forces=\"0 0 30  0 -20 0  "
+              "10 0 0\"/>";
+    run(r, &s, 6, &cpu, NULL);
+    s.device = "cuda";
+    pl_sim *sim;
+    run(r, &s, 6, &dev, &sim);
+    assert_same(&dev, &cpu);
+    /* the force did act: the loaded run differs from the plain one */
+    double d = 0;
+    for (size_t i = 0; i < cpu.m; ++i) d = fmax(d, fabs(cpu.x[i] - plain_cpu.x[i]));
+    ck_assert_msg(d > 1e-4, "the force moved nothing (%g m)", d);
+    /* 5 kernels per iteration: M sn, the force's sub_csr, gather, sub, scatter */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 6 * 6 * 5);
+    pl_sim_free(sim);
+    ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
 }
 END_TEST
@@ -215,11 +244,8 @@ START_TEST(cuda_refuses_what_cannot_run_on_the_device_by_name)
     s.after = "<HostDevice name=\"dev\"/>";
     assert_refused(r, &s, "dev must come before the solver", NULL);
     s = plain("cuda");
-    s.extra = "<ConstantForceField name=\"push\" indices=\"5\" totalForce=\"0 0 1\"/>";
-    assert_refused(r, &s, "root/bar/push (ConstantForceField)", "local terms without a device");
-    s = plain("cuda");
     s.springs_ok = "0";
-    assert_refused(r, &s, "root/bar/springs (TestSprings)", NULL);
+    assert_refused(r, &s, "root/bar/springs (TestSprings)", "local terms without a device");
     s = plain("cuda");
     s.solver_ok = "0";
     assert_refused(r, &s, "the global solver root/global (TestDenseSolver)", NULL);
@@ -235,6 +261,7 @@ int main(void)
     tcase_add_test(tc, device_path_equals_cpu_path_bitwise);
     tcase_add_test(tc, tolerance_energy_and_profiling_agree);
     tcase_add_test(tc, auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise);
+    tcase_add_test(tc, constant_force_field_on_the_device_equals_the_cpu_bitwise);
     tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);

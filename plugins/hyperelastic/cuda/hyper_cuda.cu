@@ -1,20 +1,22 @@
-/* hyper_cuda.cu - the tetrahedral local step on the GPU (see hyper_cuda.h):
- * one thread per element, then one thread per vertex for the gather. */
+/* hyper_cuda.cu - the FEM local step on the GPU (see hyper_cuda.h), for
+ * tetrahedra and membrane triangles: one thread per element, then one
+ * thread per vertex for the gather. */
 #include "hyper_cuda.h"
 
 #include <cuda_runtime.h>
 #include <limits.h>
 #include <stdlib.h>
 
-#include "hyper_cuda_math.cuh"
+#include "hyper_cuda_math2.cuh"
 
 struct pl_hyper_cuda {
     int n, nverts, material;
-    int4 *verts;            /* n: the 4 local vertices */
-    double *D;              /* n x 12 */
+    int k;                  /* corners: 4 (tetrahedra) or 3 (triangles) */
+    int *verts;             /* n x k local vertices */
+    double *D;              /* n x (k d): k x d shape matrices */
     double *mu, *lambda, *w;/* n */
     int *vptr, *vinc;       /* nverts + 1, 4n */
-    double *slots;          /* n x 12: corner 3-vectors (GATHER) */
+    double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
     int *stats;             /* max iterations, missed, first non-finite element */
     double bytes;
 };
@@ -40,53 +42,72 @@ __global__ void k_reset(int *stats)
     stats[0] = 0, stats[1] = 0, stats[2] = INT_MAX;
 }
 
-/* One element: F, the local solve, the dual update and the corner
- * contributions h2 w (p - u) D^T, to its slots or atomically to rhs. */
+/* Element i's K local vertices (K = 4: one 16-byte load). */
+template <int K> __device__ __forceinline__ void load_verts(const int *verts, int i, int *v);
+template <> __device__ __forceinline__ void load_verts<4>(const int *verts, int i, int *v)
+{
+    const int4 v4 = reinterpret_cast<const int4 *>(verts)[i];
+    v[0] = v4.x, v[1] = v4.y, v[2] = v4.z, v[3] = v4.w;
+}
+template <> __device__ __forceinline__ void load_verts<3>(const int *verts, int i, int *v)
+{
+    v[0] = verts[3 * (size_t)i], v[1] = verts[3 * (size_t)i + 1], v[2] = verts[3 * (size_t)i + 2];
+}
+
+/* One element (K corners, F 3 x Dd): F, the local solve, the dual update
+ * and the corner contributions h2 w (p - u) D^T, to its slots or
+ * atomically to rhs.  K = 4, Dd = 3: tetrahedra; K = 3, Dd = 2: membranes. */
+template <int K, int Dd>
 __global__ void __launch_bounds__(kThreads)
-    k_project(int n, int material, const int4 *__restrict__ verts, const double *__restrict__ D,
+    k_project(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
               const double *__restrict__ mu, const double *__restrict__ lambda,
               const double *__restrict__ w, int offset, double h2, const double *__restrict__ q,
               double *__restrict__ dual, double *__restrict__ slots, double *__restrict__ rhs,
               int atomic, int *__restrict__ stats)
 {
+    constexpr int ND = 3 * Dd, KD = K * Dd;
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     int iters = 0, missed = 0, bad = INT_MAX;
     if (i < n) {
-        const int4 v4 = verts[i];
-        const int v[4] = {v4.x, v4.y, v4.z, v4.w};
-        double Dl[12], F[9], z[9], p[9];
+        int v[K];
+        load_verts<K>(verts, i, v);
+        double Dl[KD], F[ND], z[ND], p[ND];
 #pragma unroll
-        for (int k = 0; k < 12; ++k) Dl[k] = D[12 * (size_t)i + k];
+        for (int k = 0; k < KD; ++k) Dl[k] = D[KD * (size_t)i + k];
 #pragma unroll
-        for (int k = 0; k < 9; ++k) F[k] = 0.0;
+        for (int k = 0; k < ND; ++k) F[k] = 0.0;
 #pragma unroll
-        for (int c = 0; c < 4; ++c) {
+        for (int c = 0; c < K; ++c) {
             const double *x = q + 3 * ((size_t)offset + v[c]);
             const double x0 = x[0], x1 = x[1], x2 = x[2];
 #pragma unroll
-            for (int b = 0; b < 3; ++b) {
-                F[b] += x0 * Dl[c * 3 + b];
-                F[3 + b] += x1 * Dl[c * 3 + b];
-                F[6 + b] += x2 * Dl[c * 3 + b];
+            for (int b = 0; b < Dd; ++b) {
+                F[b] += x0 * Dl[c * Dd + b];
+                F[Dd + b] += x1 * Dl[c * Dd + b];
+                F[2 * Dd + b] += x2 * Dl[c * Dd + b];
             }
         }
         const double m = mu[i], la = lambda[i];
         const double what = material == 0 ? 2.0 * m : 2.0 * m + la;
-        double *u = material != 0 ? dual + 9 * (size_t)i : NULL;
-        double ul[9];
+        double *u = material != 0 ? dual + ND * (size_t)i : NULL;
+        double ul[ND];
 #pragma unroll
-        for (int k = 0; k < 9; ++k) {
+        for (int k = 0; k < ND; ++k) {
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        int it = hcu::local_solve3(material, m, la, what, z, p);
+        int it;
+        if constexpr (Dd == 3)
+            it = hcu::local_solve3(material, m, la, what, z, p);
+        else
+            it = hcu::local_solve32(material, m, la, what, z, p);
         bool finite = true;
 #pragma unroll
-        for (int k = 0; k < 9; ++k) finite &= isfinite(p[k]) != 0;
+        for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
         if (!finite) {
             bad = i;
 #pragma unroll
-            for (int k = 0; k < 9; ++k) p[k] = 0.0;
+            for (int k = 0; k < ND; ++k) p[k] = 0.0;
         } else if (it < 0) {
             missed = 1;
         } else {
@@ -94,7 +115,7 @@ __global__ void __launch_bounds__(kThreads)
         }
         if (u && finite) {
 #pragma unroll
-            for (int k = 0; k < 9; ++k) {
+            for (int k = 0; k < ND; ++k) {
                 ul[k] += F[k] - p[k];
                 p[k] -= ul[k];
                 u[k] = ul[k];
@@ -102,15 +123,16 @@ __global__ void __launch_bounds__(kThreads)
         }
         const double scale = h2 * w[i];
 #pragma unroll
-        for (int c = 0; c < 4; ++c)
+        for (int c = 0; c < K; ++c)
 #pragma unroll
             for (int a = 0; a < 3; ++a) {
-                double s = p[a * 3] * Dl[c * 3] + p[a * 3 + 1] * Dl[c * 3 + 1] +
-                           p[a * 3 + 2] * Dl[c * 3 + 2];
+                double s = 0.0;
+#pragma unroll
+                for (int b = 0; b < Dd; ++b) s += p[a * Dd + b] * Dl[c * Dd + b];
                 if (atomic)
                     atomicAdd(rhs + 3 * ((size_t)offset + v[c]) + a, scale * s);
                 else
-                    slots[12 * (size_t)i + 3 * c + a] = scale * s;
+                    slots[3 * K * (size_t)i + 3 * c + a] = scale * s;
             }
     }
     /* statistics: one atomic per warp (every lane of the grid gets here) */
@@ -158,9 +180,9 @@ int upload(pl_hyper_cuda *g, T **dst, const T *src, size_t count, pl_error *err)
 
 extern "C" pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err)
 {
-    if (!e || e->k != 4 || e->d != 3) {
+    if (!e || !((e->k == 4 && e->d == 3) || (e->k == 3 && e->d == 2))) {
         pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
-                     "hyperelastic (cuda): the device local step takes tetrahedra only");
+                     "hyperelastic (cuda): the device local step takes tetrahedra or triangles");
         return NULL;
     }
     pl_hyper_cuda *g = static_cast<pl_hyper_cuda *>(calloc(1, sizeof *g));
@@ -168,27 +190,23 @@ extern "C" pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_er
         pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "hyperelastic (cuda): out of memory");
         return NULL;
     }
-    g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material;
-    size_t n = (size_t)e->n;
-    if (upload(g, &g->verts, static_cast<const int4 *>(NULL), n, err) ||
-        upload(g, &g->D, e->D, 12 * n, err) || upload(g, &g->mu, e->mu, n, err) ||
+    g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material, g->k = e->k;
+    size_t n = (size_t)e->n, k = (size_t)e->k;
+    if (upload(g, &g->verts, e->verts, k * n, err) ||
+        upload(g, &g->D, e->D, k * (size_t)e->d * n, err) || upload(g, &g->mu, e->mu, n, err) ||
         upload(g, &g->lambda, e->lambda, n, err) || upload(g, &g->w, e->w, n, err) ||
         upload(g, &g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
-        upload(g, &g->vinc, e->vinc, 4 * n, err) ||
-        upload(g, &g->slots, static_cast<const double *>(NULL), 12 * n, err) ||
+        upload(g, &g->vinc, e->vinc, k * n, err) ||
+        upload(g, &g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
         upload(g, &g->stats, static_cast<const int *>(NULL), 3, err)) {
         pl_hyper_cuda_destroy(g);
         return NULL;
     }
-    /* verts as int4 (one 16-byte load per element) */
-    if (n) {
-        cudaError_t ce = cudaMemcpy(g->verts, e->verts, n * 4 * sizeof(int), cudaMemcpyHostToDevice);
-        if (ce == cudaSuccess) ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
-        if (ce != cudaSuccess) {
-            cuda_fail(err, ce, "upload");
-            pl_hyper_cuda_destroy(g);
-            return NULL;
-        }
+    cudaError_t ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
+    if (ce != cudaSuccess) {
+        cuda_fail(err, ce, "upload");
+        pl_hyper_cuda_destroy(g);
+        return NULL;
     }
     return g;
 }
@@ -216,8 +234,14 @@ extern "C" int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, co
     if (g->n > 0) {
         unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
-        k_project<<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu, g->lambda, g->w,
-                                           offset, h2, q, dual, g->slots, rhs, atomic, g->stats);
+        if (g->k == 4)
+            k_project<4, 3><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
+                                                     g->lambda, g->w, offset, h2, q, dual,
+                                                     g->slots, rhs, atomic, g->stats);
+        else
+            k_project<3, 2><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
+                                                     g->lambda, g->w, offset, h2, q, dual,
+                                                     g->slots, rhs, atomic, g->stats);
         if (!atomic && g->nverts > 0)
             k_gather<<<(unsigned)((g->nverts + 255) / 256), 256, 0, st>>>(g->nverts, g->vptr, g->vinc,
                                                                          g->slots, offset, rhs);

@@ -1,20 +1,22 @@
-/* hyper_cuda.h - the local step of a tetrahedral element set on an NVIDIA
- * GPU: ARAP (closest rotation), corotational and Neo-Hookean (ADMM-PD prox
- * on the singular values, scaled duals updated on the device), float64.
+/* hyper_cuda.h - the local step of a FEM element set (tetrahedra, or
+ * membrane triangles with a 3x2 F) on an NVIDIA GPU: ARAP (closest
+ * rotation / closest orthonormal 3x2), corotational and Neo-Hookean
+ * (ADMM-PD prox on the singular values, scaled duals updated on the
+ * device), float64.
  *
  * The element data of a pl_hyper_elements (verts, D, mu, lambda, w, and the
  * vertex incidence vptr/vinc) is copied to the device once.  project() runs
  * the same algorithm as pl_hyper_elements_project: per element F = X D,
  * p = local solve of F (+ u), u += F - p, and h2 w (p - u) D^T added to the
  * right-hand side.  The right-hand side is assembled either
- *  - GATHER: each element writes its 4 corner 3-vectors to its own slots,
+ *  - GATHER: each element writes its k corner 3-vectors to its own slots,
  *    then one thread per vertex sums its slots in the CPU's order (no
  *    atomics, deterministic), or
  *  - ATOMIC: elements add into rhs with atomicAdd (one launch; the order of
  *    the sums varies from run to run).
  * Pointers are DEVICE pointers; work is queued on `stream` (NULL: the legacy
  * default stream) and never waited for, so it can be captured in a CUDA
- * graph.  Tetrahedra only (k = 4). */
+ * graph. */
 #ifndef PLIANT_HYPER_CUDA_H
 #define PLIANT_HYPER_CUDA_H
 
@@ -34,13 +36,14 @@ typedef enum pl_hyper_cuda_assembly {
 
 typedef struct pl_hyper_cuda pl_hyper_cuda;
 
-/* Copies the element set to the current device.  NULL with err set for
- * triangles, out of device memory or on a CUDA error. */
+/* Copies the element set (k = 4, d = 3 or k = 3, d = 2) to the current
+ * device.  NULL with err set for other shapes, out of device memory or on
+ * a CUDA error. */
 pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err);
 void pl_hyper_cuda_destroy(pl_hyper_cuda *g);
 
 /* The local step: q global positions (device, >= offset + nverts rows x 3);
- * dual (device, n x 9; NULL for ARAP) updated in place; rhs (device, global
+ * dual (device, n x 3d; NULL for ARAP) updated in place; rhs (device, global
  * n x 3) += h2 w (p - u) D^T. */
 int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q, double *dual,
                           double *rhs, pl_hyper_cuda_assembly mode, struct CUstream_st *stream,

@@ -1,0 +1,468 @@
+/* contact_device.c - NonSmoothNewtonContactSolver on device buffers (see
+ * contact_device.h): the step's data up once, then each iteration queued
+ * on the device's stream. */
+#include "contact_device.h"
+
+#include <cuda_runtime_api.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ncp_cuda.h"
+
+enum { SERIES_CAP = 1024 };
+
+struct pl_ncpc_device {
+    pl_component *owner;
+    pl_component *dev;
+    const pl_device_ops *ops;
+    struct CUstream_st *stream;
+    int stale, ran;
+    /* the step's inputs: one device arena, filled from one page-locked
+     * staging buffer */
+    void *in_dev, *in_host;
+    size_t in_cap, in_host_cap;
+    /* work vectors (20 x m doubles + m ints), W, nfree x 3 blocks */
+    void *work;
+    size_t work_cap;
+    double *W;
+    size_t W_cap;
+    double *X, *q_free, *corr;
+    size_t f_cap;
+    pl_ncp_cuda_scalars *sc;
+    double *series;
+    /* page-locked host copies of lambda (m), lambda_all (nall), scalars */
+    double *h_lambda, *h_lambda_all;
+    size_t h_cap, h_all_cap;
+    pl_ncp_cuda_scalars *h_sc;
+    pl_ncp_cuda_rows R;
+    pl_ncp_cuda_vecs V;
+    pl_ncp_cuda_params P;
+    int explicit_w, jacobian;
+    const int *free_vertex; /* device (jacobian correction), in the arena */
+};
+
+static int fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
+{
+    return pl_component_fail(g->owner, err, code ? code : PL_EINTERNAL, "device: %s", what);
+}
+
+static int cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *what)
+{
+    return pl_component_fail(g->owner, err, PL_EINTERNAL, "device: %s: %s", what,
+                             cudaGetErrorString((cudaError_t)e));
+}
+
+pl_ncpc_device *pl_ncpc_device_create(pl_component *c, pl_error *err)
+{
+    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
+    if (!ops || ops->version < 1 || !ops->stream) {
+        pl_component_fail(c, err, PL_EINPUT,
+                          "device buffers, but no device service (CudaDevice) in this node or "
+                          "above");
+        return NULL;
+    }
+    pl_ncpc_device *g = calloc(1, sizeof *g);
+    if (!g) {
+        pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+        return NULL;
+    }
+    g->owner = c, g->dev = dev, g->ops = ops;
+    g->stale = 1; /* made by the step's first device iterate: its data must go up */
+    g->stream = ops->stream(dev);
+    g->sc = ops->alloc(dev, sizeof *g->sc, err);
+    g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
+    g->h_sc = calloc(1, sizeof *g->h_sc);
+    if (!g->sc || !g->series || !g->h_sc ||
+        (ops->pin && ops->pin(dev, g->h_sc, sizeof *g->h_sc, err) != PL_OK)) {
+        if (!g->h_sc) pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+        free(g->h_sc);
+        g->h_sc = NULL;
+        pl_ncpc_device_destroy(g);
+        return NULL;
+    }
+    return g;
+}
+
+static void free_host(pl_ncpc_device *g, void **p)
+{
+    if (*p && g->ops->unpin) g->ops->unpin(g->dev, *p);
+    free(*p);
+    *p = NULL;
+}
+
+void pl_ncpc_device_destroy(pl_ncpc_device *g)
+{
+    if (!g) return;
+    pl_error err;
+    g->ops->sync(g->dev, &err); /* nothing may still use the buffers */
+    void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->sc, g->series};
+    for (size_t k = 0; k < sizeof d / sizeof d[0]; ++k) g->ops->free(g->dev, d[k]);
+    free_host(g, &g->in_host);
+    free_host(g, (void **)&g->h_lambda);
+    free_host(g, (void **)&g->h_lambda_all);
+    free_host(g, (void **)&g->h_sc);
+    free(g);
+}
+
+void pl_ncpc_device_begin(pl_ncpc_device *g)
+{
+    if (g) g->stale = 1, g->ran = 0;
+}
+
+int pl_ncpc_device_ran(const pl_ncpc_device *g)
+{
+    return g && g->ran;
+}
+
+const double *pl_ncpc_device_lambda(const pl_ncpc_device *g)
+{
+    return g->h_lambda;
+}
+
+const double *pl_ncpc_device_lambda_all(const pl_ncpc_device *g)
+{
+    return g->h_lambda_all;
+}
+
+/* Device memory of at least `bytes` in *p (capacity *cap, grown by half). */
+static int reserve(pl_ncpc_device *g, void **p, size_t *cap, size_t bytes, pl_error *err)
+{
+    if (bytes <= *cap && *p) return PL_OK;
+    int rc = g->ops->sync(g->dev, err); /* the old buffer may still be in use */
+    if (rc) return rc;
+    g->ops->free(g->dev, *p);
+    *cap = bytes + bytes / 2 + 256;
+    *p = g->ops->alloc(g->dev, *cap, err);
+    if (!*p) {
+        *cap = 0;
+        return err->code ? err->code : PL_EINTERNAL;
+    }
+    return PL_OK;
+}
+
+/* Page-locked host memory of at least `bytes`. */
+static int reserve_host(pl_ncpc_device *g, void **p, size_t *cap, size_t bytes, pl_error *err)
+{
+    if (bytes <= *cap && *p) return PL_OK;
+    int rc = g->ops->sync(g->dev, err);
+    if (rc) return rc;
+    free_host(g, p);
+    *cap = bytes + bytes / 2 + 256;
+    *p = malloc(*cap);
+    if (!*p) {
+        *cap = 0;
+        return fail(g, err, PL_EINTERNAL, "out of memory");
+    }
+    if (g->ops->pin && (rc = g->ops->pin(g->dev, *p, *cap, err)) != PL_OK) {
+        free(*p);
+        *p = NULL, *cap = 0;
+        return rc;
+    }
+    return PL_OK;
+}
+
+/* Packing of the step's inputs: each array at a 16-byte aligned offset. */
+typedef struct pack {
+    size_t at;
+    char *host; /* NULL: only measure */
+    char *dev;
+} pack;
+
+static void *put(pack *k, const void *src, size_t bytes)
+{
+    size_t at = k->at;
+    k->at = (at + bytes + 15) & ~(size_t)15;
+    if (k->host && src && bytes) memcpy(k->host + at, src, bytes);
+    return k->dev ? k->dev + at : NULL;
+}
+
+/* Lays out (and, when k->host is set, fills) the inputs; the transpose of
+ * the free entries is built in tr (tptr, tent, erow: nfree + 1, nfe, nfe). */
+static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
+                   const int *kind, const int *tr, pack *k)
+{
+    const pl_ncpc_rows *r = st->rows;
+    int m = r->m, nc = st->work->nc, nfe = r->fstart[m], npe = r->pstart[m], nf = sys->nfree;
+    pl_ncp_cuda_rows *R = &g->R;
+    R->m = m, R->nc = nc, R->nall = st->nall, R->nfree = nf;
+    R->kind = put(k, kind, sizeof(int) * (size_t)m);
+    R->contact = put(k, st->work->contact, sizeof(int) * 3 * (size_t)nc);
+    R->full = put(k, r->full, sizeof(int) * (size_t)m);
+    R->fstart = put(k, r->fstart, sizeof(int) * ((size_t)m + 1));
+    R->fcol = put(k, r->fcol, sizeof(int) * (size_t)nfe);
+    R->pstart = put(k, r->pstart, sizeof(int) * ((size_t)m + 1));
+    R->pvert = put(k, r->pvert, sizeof(int) * (size_t)npe);
+    R->tptr = put(k, tr, sizeof(int) * ((size_t)nf + 1));
+    R->tent = put(k, tr ? tr + nf + 1 : NULL, sizeof(int) * (size_t)nfe);
+    R->erow = put(k, tr ? tr + nf + 1 + nfe : NULL, sizeof(int) * (size_t)nfe);
+    g->free_vertex = g->jacobian ? put(k, sys->free_vertex, sizeof(int) * (size_t)nf) : NULL;
+    R->fcoef = put(k, r->fcoef, sizeof(double) * 3 * (size_t)nfe);
+    R->pcoef = put(k, r->pcoef, sizeof(double) * 3 * (size_t)npe);
+    size_t mb = sizeof(double) * (size_t)m;
+    R->offset = put(k, r->offset, mb);
+    R->mu = put(k, r->mu, mb);
+    R->compliance = put(k, r->compliance, mb);
+    R->lo = put(k, r->lo, mb);
+    R->hi = put(k, r->hi, mb);
+    R->r = put(k, st->r, mb);
+    g->V.lambda = put(k, st->lambda, mb);
+    g->V.lambda_all = put(k, st->lambda_all, sizeof(double) * (size_t)st->nall);
+}
+
+/* The transpose of the free entries: per unknown, its entries in
+ * increasing order, and each entry's row. */
+static int *transpose(const pl_ncpc_rows *r, int nfree)
+{
+    int m = r->m, nfe = r->fstart[m];
+    int *t = calloc((size_t)nfree + 1 + 2 * (size_t)nfe + 1, sizeof(int));
+    int *next = malloc(sizeof(int) * ((size_t)nfree + 1));
+    if (!t || !next) return free(t), free(next), NULL;
+    int *tptr = t, *tent = t + nfree + 1, *erow = tent + nfe;
+    for (int e = 0; e < nfe; ++e) tptr[r->fcol[e] + 1]++;
+    for (int f = 0; f < nfree; ++f) tptr[f + 1] += tptr[f];
+    memcpy(next, tptr, sizeof(int) * (size_t)nfree);
+    for (int j = 0; j < m; ++j)
+        for (int e = r->fstart[j]; e < r->fstart[j + 1]; ++e) {
+            tent[next[r->fcol[e]]++] = e;
+            erow[e] = j;
+        }
+    free(next);
+    return t;
+}
+
+static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
+                  pl_error *err)
+{
+    const pl_ncpc_rows *r = st->rows;
+    int m = r->m, nf = sys->nfree, rc;
+    for (int j = 0; j < m; ++j) /* pl_ncp_step's check, once for the step */
+        if (r->kind[j] != PL_ROW_BILATERAL && !(st->r[j] > 0.0 && st->r[j] < 1e308))
+            return pl_component_fail(g->owner, err, PL_EINPUT, "row %d: scaling r = %g must be > 0",
+                                     j, st->r[j]);
+    g->jacobian = !st->full_force;
+    g->explicit_w = st->D->explicit_w;
+    int *kind = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)), *tr = transpose(r, nf);
+    if (!kind || !tr) {
+        free(kind), free(tr);
+        return fail(g, err, PL_EINTERNAL, "out of memory");
+    }
+    for (int j = 0; j < m; ++j) kind[j] = (int)r->kind[j];
+    pack k = {0, NULL, NULL};
+    layout(g, st, sys, kind, tr, &k);
+    size_t bytes = k.at;
+    rc = reserve(g, &g->in_dev, &g->in_cap, bytes, err);
+    if (!rc) rc = reserve_host(g, &g->in_host, &g->in_host_cap, bytes, err);
+    if (!rc) {
+        pack fill = {0, g->in_host, g->in_dev};
+        layout(g, st, sys, kind, tr, &fill);
+        rc = g->ops->copy(g->dev, g->in_dev, PL_DEVICE, g->in_host, PL_HOST, bytes, err);
+    }
+    free(kind), free(tr);
+    /* work vectors */
+    size_t mm = (size_t)(m > 0 ? m : 1), f3 = 3 * sizeof(double) * (size_t)(nf > 0 ? nf : 1);
+    if (!rc) rc = reserve(g, &g->work, &g->work_cap, mm * (20 * sizeof(double) + sizeof(int)), err);
+    if (!rc && g->f_cap < f3) {
+        g->ops->free(g->dev, g->X), g->ops->free(g->dev, g->q_free), g->ops->free(g->dev, g->corr);
+        g->X = g->q_free = g->corr = NULL;
+        g->f_cap = 0;
+        if (!(g->X = g->ops->alloc(g->dev, f3, err)) || !(g->q_free = g->ops->alloc(g->dev, f3, err)) ||
+            !(g->corr = g->ops->alloc(g->dev, f3, err)))
+            rc = err->code ? err->code : PL_EINTERNAL;
+        else
+            g->f_cap = f3;
+    }
+    if (!rc && g->explicit_w) {
+        size_t wb = sizeof(double) * mm * mm;
+        rc = reserve(g, (void **)&g->W, &g->W_cap, wb, err);
+        if (!rc && m) rc = g->ops->copy(g->dev, g->W, PL_DEVICE, st->D->W, PL_HOST, wb, err);
+    }
+    if (!rc) rc = reserve_host(g, (void **)&g->h_lambda, &g->h_cap, sizeof(double) * mm, err);
+    if (!rc)
+        rc = reserve_host(g, (void **)&g->h_lambda_all, &g->h_all_cap,
+                          sizeof(double) * (size_t)(st->nall > 0 ? st->nall : 1), err);
+    if (rc) return rc;
+    double *w = g->work;
+    double **vecs[] = {&g->V.dlambda,  &g->V.delta, &g->V.delta_free, &g->V.omega, &g->V.e,
+                       &g->V.phi,      &g->V.rhs,   &g->V.tmp,        &g->V.tmp2,  &g->V.scale,
+                       &g->V.clamped,  &g->V.op_omega, &g->V.op_e,    &g->V.force, &g->V.ls0,
+                       &g->V.ls1,      &g->V.cr_r,  &g->V.cr_p,       &g->V.cr_Ar, &g->V.cr_Ap};
+    for (size_t v = 0; v < sizeof vecs / sizeof vecs[0]; ++v) *vecs[v] = w + v * mm;
+    g->V.is_clamped = (int *)(w + 20 * mm);
+    g->V.series = g->series, g->V.series_cap = SERIES_CAP, g->V.sc = g->sc;
+    pl_ncp_cuda_params *P = &g->P;
+    P->fn = st->fn, P->h = st->h, P->fb_eps = st->fb_eps, P->cr_rtol = st->cr_tolerance;
+    P->damping = st->damping, P->cr_max_iter = st->cr_iterations, P->full_force = st->full_force;
+    P->project = st->project, P->line_search = st->line_search;
+    int e = pl_ncp_cuda_reset(g->stream, g->sc);
+    if (e) return cuda_fail(g, err, e, "reset");
+    g->stale = 0;
+    return PL_OK;
+}
+
+/* y = W x: the dense product, or H A^-1 H^T x through the device solve. */
+static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, double *y,
+                   pl_error *err)
+{
+    int e;
+    if (g->explicit_w) {
+        e = pl_ncp_cuda_dense(g->stream, g->R.m, g->W, x, y);
+        return e ? cuda_fail(g, err, e, "W product") : PL_OK;
+    }
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
+    if ((e = pl_ncp_cuda_scatter(g->stream, &g->R, x, 1.0, g->X))) return cuda_fail(g, err, e, "H^T x");
+    int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
+    if (rc) return rc;
+    e = pl_ncp_cuda_gather(g->stream, &g->R, g->X, y);
+    return e ? cuda_fail(g, err, e, "H X") : PL_OK;
+}
+
+static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err)
+{
+    int e = pl_ncp_cuda_phase_run(g->stream, p, &g->R, &g->V, &g->P, last);
+    return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
+}
+
+/* With the device's profile flag: wait, so that timer `id` sees device time. */
+static int lap(pl_ncpc_device *g, pl_ctx *ctx, int profile, int id, int start, pl_error *err)
+{
+    if (!profile) return PL_OK;
+    if (start) {
+        pl_timer_start(ctx->timers, id);
+        return PL_OK;
+    }
+    int rc = g->ops->sync(g->dev, err);
+    pl_timer_stop(ctx->timers, id);
+    return rc;
+}
+
+/* The constraint update: dlambda (CR), step length, lambda, projection. */
+static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
+{
+    int rc = PL_OK, maxit = g->P.cr_max_iter;
+    pl_ncp_cuda_vecs *V = &g->V;
+    if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
+        rc = product(g, sys, V->lambda, V->tmp2, err);
+        if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_A, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_B, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_D, 0, err);
+    for (int t = 1; !rc && t < maxit; ++t) {
+        int last = t == maxit - 1;
+        rc = phase(g, PL_NCP_PHASE_E, last, err);
+        if (!rc && !last) rc = product(g, sys, V->tmp, V->tmp2, err);
+        if (!rc && !last) rc = phase(g, PL_NCP_PHASE_F, 0, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_G, 0, err);
+    if (!rc && g->P.line_search) {
+        if (g->jacobian) {
+            rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
+            if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
+            if (!rc) rc = phase(g, PL_NCP_PHASE_LS0, 0, err);
+        }
+        if (!rc) rc = phase(g, PL_NCP_PHASE_DLAMBDA, 0, err);
+        if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+    return rc;
+}
+
+int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
+                           const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
+                           pl_buffer *q_next, pl_error *err)
+{
+    const pl_buffer *bufs[3] = {q_k, b, q_next};
+    const size_t rows[3] = {(size_t)sys->nverts, (size_t)sys->nfree, (size_t)sys->nfree};
+    for (int k = 0; k < 3; ++k)
+        if (bufs[k]->location != PL_DEVICE || bufs[k]->precision != PL_F64 || bufs[k]->cols != 3 ||
+            bufs[k]->rows != rows[k])
+            return pl_component_fail(g->owner, err, PL_EINPUT,
+                                     "iterate: expected device float64 blocks %d x 3 and %d x 3",
+                                     sys->nverts, sys->nfree);
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    if (!(gs->version >= 2 && gs->accepts && gs->accepts(sys->global_solver, PL_DEVICE, PL_F64)))
+        return fail(g, err, PL_EINPUT, "the global solver does not take device buffers");
+    int rc = g->stale ? upload(g, st, sys, err) : PL_OK;
+    if (rc) return rc;
+    g->ran = g->R.m > 0; /* no active row: the solver's own (zero) multipliers stand */
+    int profile = g->ops->flags && (g->ops->flags(g->dev) & PL_DEVICE_PROFILE);
+    size_t f3 = 3 * sizeof(double) * (size_t)sys->nfree;
+    pl_buffer fb = {g->q_free, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
+    pl_buffer cb = {g->corr, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
+    lap(g, ctx, profile, st->t_cglobal, 1, err);
+    lap(g, ctx, profile, st->t_global, 1, err);
+    rc = gs->solve(sys->global_solver, b, &fb, err);
+    if (!rc) rc = lap(g, ctx, profile, st->t_global, 0, err);
+    if (rc || g->R.m == 0) {
+        if (!rc) rc = g->ops->copy(g->dev, q_next->data, PL_DEVICE, g->q_free, PL_DEVICE, f3, err);
+        lap(g, ctx, profile, st->t_cglobal, 0, err);
+        return rc;
+    }
+    int e = 0;
+    lap(g, ctx, profile, st->t_assembly, 1, err);
+    if (g->jacobian)
+        e = pl_ncp_cuda_delta(g->stream, &g->R, NULL, q_k->data, g->free_vertex, g->V.delta);
+    if (!e) e = pl_ncp_cuda_delta(g->stream, &g->R, g->q_free, q_k->data, NULL, g->V.delta_free);
+    if (e) return cuda_fail(g, err, e, "row values");
+    if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
+    lap(g, ctx, profile, st->t_solve, 1, err);
+    rc = constraint_update(g, sys, err);
+    if (!rc) rc = lap(g, ctx, profile, st->t_solve, 0, err);
+    if (rc) return rc;
+    /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
+    lap(g, ctx, profile, st->t_corr, 1, err);
+    rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
+    if (!rc && (e = pl_ncp_cuda_scatter(g->stream, &g->R, g->V.force, st->h * st->h, g->corr)))
+        rc = cuda_fail(g, err, e, "H^T lambda");
+    if (!rc) rc = gs->solve(sys->global_solver, &cb, &cb, err);
+    if (!rc && (e = pl_ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))
+        rc = cuda_fail(g, err, e, "correction");
+    if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
+    if (rc) return rc;
+    /* the multipliers follow asynchronously (page-locked: capturable) */
+    cudaStream_t s = (cudaStream_t)g->stream;
+    cudaError_t ce = cudaMemcpyAsync(g->h_lambda, g->V.lambda, sizeof(double) * (size_t)g->R.m,
+                                     cudaMemcpyDeviceToHost, s);
+    if (ce == cudaSuccess)
+        ce = cudaMemcpyAsync(g->h_lambda_all, g->V.lambda_all, sizeof(double) * (size_t)g->R.nall,
+                             cudaMemcpyDeviceToHost, s);
+    if (ce == cudaSuccess)
+        ce = cudaMemcpyAsync(g->h_sc, g->sc, sizeof *g->h_sc, cudaMemcpyDeviceToHost, s);
+    if (ce != cudaSuccess) return cuda_fail(g, err, (int)ce, "multipliers to the host");
+    return lap(g, ctx, profile, st->t_cglobal, 0, err);
+}
+
+int pl_ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
+{
+    if (!g || !g->ran) return PL_OK;
+    int rc = g->ops->sync(g->dev, err);
+    if (rc) return rc;
+    static const char *const what[] = {"", "the CR right-hand side is not finite",
+                                       "the CR residual is not finite",
+                                       "non-finite values in delta or lambda (line search)"};
+    int code = g->h_sc->error;
+    if (code > 0 && code < 4)
+        return pl_component_fail(g->owner, err, code == 3 ? PL_EINPUT : PL_EINTERNAL,
+                                 "device: %s", what[code]);
+    if (record && timers) {
+        int n = g->h_sc->iter < SERIES_CAP ? g->h_sc->iter : SERIES_CAP;
+        double *s = malloc(sizeof(double) * 4 * (size_t)(n > 0 ? n : 1));
+        if (!s) return fail(g, err, PL_EINTERNAL, "out of memory");
+        rc = g->ops->copy(g->dev, s, PL_HOST, g->series, PL_DEVICE, sizeof(double) * 4 * (size_t)n,
+                          err);
+        for (int k = 0; !rc && k < n; ++k) {
+            pl_series_push(timers, "ncp residual", s[4 * k]);
+            pl_series_push(timers, "cr iterations", s[4 * k + 1]);
+            pl_series_push(timers, "cr residual", s[4 * k + 2]);
+            pl_series_push(timers, "step length", s[4 * k + 3]);
+        }
+        free(s);
+    }
+    return rc;
+}

@@ -1,0 +1,63 @@
+/* contact_solver.h - the NonSmoothNewtonContactSolver component's struct,
+ * shared by contact_solver.c (fields, begin / iterate / multipliers) and
+ * contact_solver_step.c (the choice and build of W, statistics, the hand-off
+ * to the device path).  Internal to the plugin. */
+#ifndef PLIANT_NCP_CONTACT_SOLVER_H
+#define PLIANT_NCP_CONTACT_SOLVER_H
+
+#include "contact.h"
+#include "pliant/timer.h"
+#ifdef PLIANT_HAVE_CUDA
+#include "contact_device.h"
+#endif
+
+typedef struct ncp_contact_solver {
+    pl_component base;
+    /* fields */
+    int ncp;                  /* pl_ncp_function */
+    int cr_iterations;
+    double cr_tolerance;
+    int preconditioner;       /* 0 delassus, 1 mass */
+    int delassus;             /* 0 auto, 1 explicit, 2 matrix-free */
+    double max_explicit_mb;
+    int warm_start;
+    double damping;
+    double fb_eps;
+    int record;
+    int correction;           /* 0 jacobian (paper), 1 multiplier */
+    int project;
+    int line_search;
+    /* model: [A^-1]_ii of the factor, until the next reinit */
+    double *inv_diag;
+    int inv_diag_n, inv_diag_ok;
+    int slot;                 /* pl_data slot of the warm-start records */
+    /* the step */
+    int active;               /* begin ran for the step being taken */
+    int nall, nfree;
+    double h;
+    pl_ncpc_rows rows;
+    pl_ncpc_delassus D;
+    pl_ncp_work *work;
+    pl_ncpc_key *keys;
+    double *r, *diag_mass, *lambda, *dlambda, *scale, *delta, *delta_free, *force, *ls0, *ls1;
+    double *q_free, *corr;    /* nfree x 3 */
+    double *lambda_all;       /* nall: the multipliers handed back */
+    int t_global, t_schur, t_assembly, t_solve, t_corr, t_cglobal;
+#ifdef PLIANT_HAVE_CUDA
+    int device;               /* field: 0 cpu, 1 auto (follow the animation loop) */
+    pl_ncpc_device *gpu;      /* the device path, made on the first device iterate */
+#endif
+} ncp_contact_solver;
+
+enum { W_AUTO = 0, W_EXPLICIT = 1, W_MATRIX_FREE = 2 };
+
+/* W explicit or matrix-free for the step's rows (see the delassus field). */
+int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err);
+/* contacts max, constraint rows max, W memory into the timers' statistics. */
+void pl_ncpc_statistics(ncp_contact_solver *s, pl_timers *t);
+/* iterate() on device buffers: contact_device.c in CUDA builds, an error otherwise. */
+int pl_ncpc_iterate_device(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys,
+                           const pl_buffer *q_k, const pl_buffer *b, pl_buffer *q_next,
+                           pl_error *err);
+
+#endif

@@ -1,0 +1,98 @@
+/* contact_solver_step.c - NonSmoothNewtonContactSolver's per-step choices:
+ * W explicit or matrix-free (delassus="auto", also with the global step on
+ * a GPU), its build, the step's statistics, and iterate() on device
+ * buffers handed to contact_device.c. */
+#include <stdlib.h>
+
+#include "contact_solver.h"
+
+/* delassus=auto: explicit when the dense W fits in maxExplicitMB and one
+ * dense product (m^2 multiply-adds, memory-bound) costs no more than one
+ * matrix-free product (S and S^T on 3 columns: about 6 nnz(S)).  nnz(S) is
+ * the statistic the global solver records when it factors; without it the
+ * memory rule decides alone.  Deterministic: no timing decides. */
+static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m)
+{
+    double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
+    if (mb > s->max_explicit_mb) return 0;
+    return pl_stat_get(timers, "nnz(S)", &nnz_s) != 0 || (double)m * (double)m <= 6.0 * nnz_s;
+}
+
+/* W explicit or matrix-free (see the delassus field). */
+/* With the global step on a device (a device service above and a global
+ * solver that takes device buffers: the iterations run there), a dense
+ * product of W costs about as much as a matrix-free one once W has a few
+ * thousand rows, while W itself is built here on the CPU (Y = S P H^T and
+ * Y^T Y) every step: delassus=auto keeps it explicit only up to this many
+ * rows (measured on the GPU: squeezing_ball, 3.6k rows, 390 ms to build W). */
+enum { DEVICE_EXPLICIT_MAX_ROWS = 1024 };
+
+static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *ops, const pl_system *sys)
+{
+#ifdef PLIANT_HAVE_CUDA
+    return s->device != 0 && pl_node_find_role_up(s->base.node, PL_ROLE_DEVICE) && ops && ops->version >= 2 &&
+           ops->accepts && ops->accepts(sys->global_solver, PL_DEVICE, PL_F64);
+#else
+    (void)s, (void)ops, (void)sys;
+    return 0;
+#endif
+}
+
+int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err)
+{
+    const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
+                                                   auto_explicit(s, ctx->timers, s->rows.m) &&
+                                                   (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !on_device(s, ops, sys)));
+    if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);
+    if (!s->inv_diag_ok && ops && ops->inverse_diagonal) {
+        free(s->inv_diag);
+        s->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
+        if (!s->inv_diag) return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
+        int st = ops->inverse_diagonal(sys->global_solver, s->inv_diag, err);
+        if (st != PL_OK) return st;
+        s->inv_diag_n = sys->nfree;
+        s->inv_diag_ok = 1;
+    }
+    const double *inv = s->inv_diag_ok && s->inv_diag_n == sys->nfree ? s->inv_diag : NULL;
+    return pl_ncpc_delassus_matrix_free(&s->D, sys, &s->rows, inv, err);
+}
+
+void pl_ncpc_statistics(ncp_contact_solver *s, pl_timers *t)
+{
+    int contacts = 0;
+    for (int j = 0; j < s->rows.m; ++j) contacts += s->rows.kind[j] == PL_ROW_NORMAL;
+    pl_stat_max(t, "contacts max", contacts);
+    pl_stat_max(t, "constraint rows max", s->rows.m);
+    if (s->D.explicit_w)
+        pl_stat_max(t, "W memory [MB]", (double)s->rows.m * s->rows.m * sizeof(double) / (1024.0 * 1024.0));
+}
+
+/* iterate() on device buffers: contact_device.c (CUDA builds). */
+int pl_ncpc_iterate_device(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys,
+                           const pl_buffer *q_k, const pl_buffer *b, pl_buffer *q_next,
+                           pl_error *err)
+{
+#ifdef PLIANT_HAVE_CUDA
+    pl_component *c = &s->base;
+    if (s->device == 0)
+        return pl_component_fail(c, err, PL_EINPUT, "iterate: device buffers, but device=\"cpu\"");
+    if (sys->nfree != s->nfree)
+        return pl_component_fail(c, err, PL_EINPUT, "iterate: %d unknowns, begin saw %d", sys->nfree,
+                                 s->nfree);
+    if (!s->gpu && !(s->gpu = pl_ncpc_device_create(c, err))) return err->code ? err->code : PL_EINPUT;
+    pl_ncpc_device_step st = {
+        .rows = &s->rows, .D = &s->D, .work = s->work, .r = s->r, .lambda = s->lambda,
+        .lambda_all = s->lambda_all, .nall = s->nall, .h = s->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
+        .cr_iterations = s->cr_iterations, .full_force = s->correction == 1, .project = s->project,
+        .line_search = s->line_search, .record = s->record, .cr_tolerance = s->cr_tolerance,
+        .damping = s->damping, .fb_eps = s->fb_eps, .t_global = s->t_global, .t_assembly = s->t_assembly,
+        .t_solve = s->t_solve, .t_corr = s->t_corr, .t_cglobal = s->t_cglobal};
+    pl_ncp_work empty = {0};
+    if (!st.work) st.work = &empty; /* no active row */
+    return pl_ncpc_device_iterate(s->gpu, &st, ctx, sys, q_k, b, q_next, err);
+#else
+    (void)ctx, (void)sys, (void)q_k, (void)b, (void)q_next;
+    return pl_component_fail(&s->base, err, PL_EINPUT, "iterate: device buffers, but this build has no CUDA");
+#endif
+}

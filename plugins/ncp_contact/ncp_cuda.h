@@ -1,0 +1,109 @@
+/* ncp_cuda.h - the kernels of the contact solver's device path (CUDA
+ * builds): the rows' products (ncp_cuda_rows.cu) and the constraint update
+ * of Algorithm 4 split into phases around its W products (ncp_cuda_step.cu).
+ *
+ * Every function queues work on `stream` and returns the launch's
+ * cudaError_t as an int (0: queued); nothing waits, so a whole iteration
+ * can be captured in a CUDA graph.  Pointers are device pointers.  The
+ * phases are single-block kernels (rows and contacts of one step are few;
+ * their reductions are then deterministic): they replay ncp_step.c, cr.c,
+ * ncp_linesearch.c and ncp_project.c with the same formulas, the CPU files
+ * being the reference.  Host decisions of the CPU code that depend on
+ * values become device flags: CR's stop (done) freezes its updates, the
+ * clamped rows' product always runs (zero when no row is clamped), the line
+ * search evaluates its trials in one kernel and takes the first that
+ * decreases the residual. */
+#ifndef PLIANT_NCP_CUDA_H
+#define PLIANT_NCP_CUDA_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct CUstream_st;
+
+/* A step's active rows on the device (see pl_ncpc_rows), plus the
+ * contact table of pl_ncp_work and the transpose of the free entries. */
+typedef struct pl_ncp_cuda_rows {
+    int m, nc, nall, nfree;
+    const int *kind;        /* m (pl_row_kind) */
+    const int *contact;     /* nc x 3: normal row, friction rows (-1 if absent) */
+    const int *full;        /* m: index among all rows */
+    const int *fstart, *fcol; /* free entries (m + 1, per entry) */
+    const double *fcoef;    /* 3 per free entry */
+    const int *pstart, *pvert; /* entries on prescribed vertices */
+    const double *pcoef;
+    const int *tptr;        /* nfree + 1: unknown -> its free entries ... */
+    const int *tent;        /* ... in increasing entry order */
+    const int *erow;        /* per free entry: its row */
+    const double *offset, *mu, *compliance, *lo, *hi, *r; /* m */
+} pl_ncp_cuda_rows;
+
+/* Device scalars of one iteration (and error flags of the step). */
+typedef struct pl_ncp_cuda_scalars {
+    double bnorm, rnorm, rAr, phin;
+    int done, its, error, iter; /* error: 1 CR rhs, 2 CR residual, 3 line search residual not finite */
+} pl_ncp_cuda_scalars;
+
+/* The work vectors (m unless said). */
+typedef struct pl_ncp_cuda_vecs {
+    double *lambda, *dlambda, *delta, *delta_free, *omega, *e, *phi, *rhs, *tmp, *tmp2;
+    double *scale, *clamped, *op_omega, *op_e, *force, *ls0, *ls1;
+    double *cr_r, *cr_p, *cr_Ar, *cr_Ap;
+    int *is_clamped;
+    double *lambda_all;     /* nall */
+    double *series;         /* series_cap x 4: phi norm, CR products, CR residual, step length */
+    int series_cap;
+    pl_ncp_cuda_scalars *sc;
+} pl_ncp_cuda_vecs;
+
+typedef struct pl_ncp_cuda_params {
+    int fn;                 /* pl_ncp_function */
+    double h, fb_eps, cr_rtol, damping;
+    int cr_max_iter, full_force, project, line_search;
+} pl_ncp_cuda_params;
+
+/* ---- rows (ncp_cuda_rows.cu) ------------------------------------------- */
+/* delta_j = H_j [x; q_p] - offset_j (x: nfree x 3, q: all vertices); with
+ * free_vertex != NULL, x is ignored and the free part reads q too. */
+int pl_ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
+                      const double *q, const int *free_vertex, double *delta);
+/* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order). */
+int pl_ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
+                        double alpha, double *X);
+/* y_j = H_j,free X. */
+int pl_ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *X,
+                       double *y);
+/* y = W x, W dense m x m row-major (a warp per row). */
+int pl_ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x, double *y);
+/* out[i] = a[i] + b[i], i < n. */
+int pl_ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b, double *out);
+/* sc reset for a new step: error 0, iter 0. */
+int pl_ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc);
+
+/* ---- the constraint update (ncp_cuda_step.cu) -------------------------- */
+typedef enum pl_ncp_cuda_phase {
+    PL_NCP_PHASE_LIN = 0,   /* delta = ls0 = delta_free + h^2 tmp2 (tmp2 = W lambda) */
+    PL_NCP_PHASE_A,         /* phi, omega, e; S, clamped rows; tmp = S lambda; max |phi| */
+    PL_NCP_PHASE_B,         /* rhs (tmp2 = W S lambda); clamped dlambda; tmp = S clamped */
+    PL_NCP_PHASE_C,         /* rhs -= h^2 Omega W (S clamped); CR's operator and start; tmp = ox */
+    PL_NCP_PHASE_D,         /* CR: Ar from tmp2, p = r, Ap = Ar */
+    PL_NCP_PHASE_E,         /* CR: x, r update, stop test; tmp = ox */
+    PL_NCP_PHASE_F,         /* CR: Ar from tmp2, beta, p, Ap */
+    PL_NCP_PHASE_G,         /* dlambda += clamped; CR statistics */
+    PL_NCP_PHASE_LAMBDA,    /* force = S lambda */
+    PL_NCP_PHASE_LS0,       /* ls0 = delta_free + h^2 tmp2 (jacobian correction) */
+    PL_NCP_PHASE_DLAMBDA,   /* force = S dlambda */
+    PL_NCP_PHASE_UPDATE     /* line search (tmp2 = W S dlambda) or alpha 1, lambda update,
+                               projection, lambda_all, series */
+} pl_ncp_cuda_phase;
+
+/* Queues one phase (a single-block kernel). */
+int pl_ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
+                          const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
+                          const pl_ncp_cuda_params *P, int last);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,149 @@
+/* ncp_cuda_rows.cu - products with a step's rows on the GPU (ncp_cuda.h):
+ * H q (contact_rows.c, pl_ncpc_rows_delta / _delta_all), H^T x per unknown
+ * over the transposed entries (the CPU's scatter adds rows in increasing
+ * order; here each unknown sums its rows in that same order, so no atomics
+ * and the same sums), H X, and the dense W x of the explicit Delassus
+ * operator. */
+#include "ncp_cuda.h"
+
+#include <cuda_runtime.h>
+
+namespace {
+
+constexpr int kThreads = 256;
+
+unsigned blocks(long long n, int per = kThreads)
+{
+    return (unsigned)((n + per - 1) / per);
+}
+
+__device__ __forceinline__ double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+__global__ void k_delta(pl_ncp_cuda_rows R, const double *__restrict__ x,
+                        const double *__restrict__ q, const int *__restrict__ free_vertex,
+                        double *__restrict__ delta)
+{
+    const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (j >= R.m) return;
+    double s = 0.0;
+    for (int p = R.pstart[j]; p < R.pstart[j + 1]; ++p)
+        s += dot3(R.pcoef + 3 * (size_t)p, q + 3 * (size_t)R.pvert[p]);
+    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e) {
+        const int f = R.fcol[e];
+        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+        s += dot3(R.fcoef + 3 * (size_t)e, xe);
+    }
+    delta[j] = s - R.offset[j];
+}
+
+__global__ void k_scatter(pl_ncp_cuda_rows R, const double *__restrict__ x, double alpha,
+                          double *__restrict__ X)
+{
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (f >= R.nfree) return;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
+        const int e = R.tent[k];
+        const double l = alpha * x[R.erow[e]];
+        if (l == 0.0) continue; /* as the CPU, which skips such rows */
+        const double *c = R.fcoef + 3 * (size_t)e;
+        a0 += l * c[0];
+        a1 += l * c[1];
+        a2 += l * c[2];
+    }
+    X[3 * (size_t)f] = a0;
+    X[3 * (size_t)f + 1] = a1;
+    X[3 * (size_t)f + 2] = a2;
+}
+
+__global__ void k_gather(pl_ncp_cuda_rows R, const double *__restrict__ X, double *__restrict__ y)
+{
+    const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (j >= R.m) return;
+    double s = 0.0;
+    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e)
+        s += dot3(R.fcoef + 3 * (size_t)e, X + 3 * (size_t)R.fcol[e]);
+    y[j] = s;
+}
+
+/* A warp per row; lanes take columns lane, lane + 32, ... and a fixed
+ * shuffle tree sums them (deterministic). */
+__global__ void k_dense(int m, const double *__restrict__ W, const double *__restrict__ x,
+                        double *__restrict__ y)
+{
+    const long long warp = (blockIdx.x * (long long)blockDim.x + threadIdx.x) >> 5;
+    const int lane = threadIdx.x & 31;
+    if (warp >= m) return;
+    const double *row = W + (size_t)warp * (size_t)m;
+    double s = 0.0;
+    for (int j = lane; j < m; j += 32) s += row[j] * x[j];
+    for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
+    if (lane == 0) y[warp] = s;
+}
+
+__global__ void k_add(long n, const double *__restrict__ a, const double *__restrict__ b,
+                      double *__restrict__ out)
+{
+    const long i = (long)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (i < n) out[i] = a[i] + b[i];
+}
+
+__global__ void k_reset(pl_ncp_cuda_scalars *sc)
+{
+    sc->error = 0;
+    sc->iter = 0;
+    sc->done = 0;
+    sc->its = 0;
+}
+
+} // namespace
+
+extern "C" int pl_ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                 const double *x, const double *q, const int *free_vertex,
+                                 double *delta)
+{
+    if (R->m <= 0) return 0;
+    k_delta<<<blocks(R->m), kThreads, 0, st>>>(*R, x, q, free_vertex, delta);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                   const double *x, double alpha, double *X)
+{
+    if (R->nfree <= 0) return 0;
+    k_scatter<<<blocks(R->nfree), kThreads, 0, st>>>(*R, x, alpha, X);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                  const double *X, double *y)
+{
+    if (R->m <= 0) return 0;
+    k_gather<<<blocks(R->m), kThreads, 0, st>>>(*R, X, y);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x,
+                                 double *y)
+{
+    if (m <= 0) return 0;
+    k_dense<<<blocks(32LL * m), kThreads, 0, st>>>(m, W, x, y);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b,
+                               double *out)
+{
+    if (n <= 0) return 0;
+    k_add<<<blocks(n), kThreads, 0, st>>>(n, a, b, out);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int pl_ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc)
+{
+    k_reset<<<1, 1, 0, st>>>(sc);
+    return (int)cudaGetLastError();
+}

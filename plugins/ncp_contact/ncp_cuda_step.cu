@@ -1,0 +1,336 @@
+/* ncp_cuda_step.cu - the constraint update of Algorithm 4 on the GPU, in
+ * phases between its W products (see ncp_cuda.h for the sequence).  Each
+ * phase is one block: rows and contacts are strided over its threads, and
+ * sums and maxima go through a fixed shared-memory tree (deterministic).
+ * The formulas are those of ncp_step.c (evaluate_rows, the clamped rows,
+ * the full_force operator), cr.c, ncp_linesearch.c and ncp_project.c. */
+#include "ncp_cuda.h"
+
+#include <cuda_runtime.h>
+
+#include "ncp_cuda_math.cuh"
+
+namespace {
+
+constexpr int kThreads = 512;
+constexpr double kOmegaClamp = 1e-3; /* PL_NCP_OMEGA_CLAMP */
+
+/* Sum (max = 0) or maximum (max = 1) over the block; every thread gets it. */
+__device__ double block_reduce(double v, int max, double *sh)
+{
+    const int t = threadIdx.x;
+    sh[t] = v;
+    __syncthreads();
+    for (int s = kThreads / 2; s > 0; s >>= 1) {
+        if (t < s) sh[t] = max ? fmax(sh[t], sh[t + s]) : sh[t] + sh[t + s];
+        __syncthreads();
+    }
+    double r = sh[0];
+    __syncthreads();
+    return r;
+}
+
+__device__ double dot(int m, const double *a, const double *b, double *sh)
+{
+    double s = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) s += a[j] * b[j];
+    return block_reduce(s, 0, sh);
+}
+
+/* evaluate_rows (ncp_step.c): phi, omega, e of every row; friction per contact. */
+__device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                         const pl_ncp_cuda_params &P)
+{
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        const int k = R.kind[j];
+        const double d = V.delta[j], l = V.lambda[j];
+        if (k == ncu::BILATERAL) {
+            V.phi[j] = d + R.compliance[j] * l;
+            V.omega[j] = 1.0;
+            V.e[j] = R.compliance[j];
+        } else if (k == ncu::NORMAL) {
+            ncu::normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
+        } else if (k == ncu::BOUNDED) {
+            ncu::bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
+        }
+    }
+    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+        const int *ct = R.contact + 3 * c;
+        int nt = 0, t[2];
+        double y[2], lf[2], phi[2], om, e;
+        for (int i = 1; i <= 2; ++i)
+            if (ct[i] >= 0) {
+                t[nt] = ct[i];
+                y[nt] = V.delta[ct[i]];
+                lf[nt] = V.lambda[ct[i]];
+                ++nt;
+            }
+        if (nt == 0) continue;
+        ncu::friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
+        for (int i = 0; i < nt; ++i) {
+            V.phi[t[i]] = phi[i];
+            V.omega[t[i]] = om;
+            V.e[t[i]] = e;
+        }
+    }
+}
+
+/* The residual's 2-norm at (delta0 + a ddelta, lambda + a dlambda). */
+__device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, const double *d0,
+                        const double *dd, const double *l0, const double *dl, double a, double *sh)
+{
+    double ss = 0.0;
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        const int k = R.kind[j];
+        if (k == ncu::FRICTION) continue;
+        ss += ncu::row_residual2(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j], R.r[j],
+                                 R.lo[j], R.hi[j]);
+    }
+    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+        const int *ct = R.contact + 3 * c;
+        int nt = 0;
+        double y[2], lf[2];
+        for (int i = 1; i <= 2; ++i)
+            if (ct[i] >= 0) {
+                y[nt] = d0[ct[i]] + a * dd[ct[i]];
+                lf[nt] = l0[ct[i]] + a * dl[ct[i]];
+                ++nt;
+            }
+        if (nt == 0) continue;
+        const double rho = P.h * R.r[ct[1] >= 0 ? ct[1] : ct[2]];
+        ss += ncu::friction_residual2(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho);
+    }
+    return sqrt(block_reduce(ss, 0, sh));
+}
+
+/* lambda += damping alpha dlambda, then pl_ncp_project. */
+__device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                       const pl_ncp_cuda_params &P, double alpha)
+{
+    const double step = P.damping * alpha;
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        double l = V.lambda[j] + step * V.dlambda[j];
+        if (P.project) {
+            if (R.kind[j] == ncu::NORMAL && l < 0.0)
+                l = 0.0;
+            else if (R.kind[j] == ncu::BOUNDED) {
+                if (l < R.lo[j]) l = R.lo[j];
+                if (l > R.hi[j]) l = R.hi[j];
+            }
+        }
+        V.lambda[j] = l;
+    }
+    __syncthreads();
+    if (P.project)
+        for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+            const int *ct = R.contact + 3 * c;
+            double radius = R.mu[ct[0]] * V.lambda[ct[0]], n2 = 0.0;
+            for (int i = 1; i <= 2; ++i)
+                if (ct[i] >= 0) n2 += V.lambda[ct[i]] * V.lambda[ct[i]];
+            if (n2 <= radius * radius) continue;
+            double s = radius > 0.0 ? radius / sqrt(n2) : 0.0;
+            for (int i = 1; i <= 2; ++i)
+                if (ct[i] >= 0) V.lambda[ct[i]] *= s;
+        }
+    __syncthreads();
+    for (int j = threadIdx.x; j < R.m; j += kThreads) V.lambda_all[R.full[j]] = V.lambda[j];
+}
+
+__global__ void __launch_bounds__(kThreads)
+    k_phase(int phase, pl_ncp_cuda_rows R, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P, int last)
+{
+    __shared__ double sh[kThreads];
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m, t0 = threadIdx.x == 0;
+    const double h2 = P.h * P.h;
+    switch (phase) {
+    case PL_NCP_PHASE_LIN:
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.delta[j] = V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
+        break;
+    case PL_NCP_PHASE_A: {
+        evaluate(R, V, P);
+        __syncthreads();
+        double phin = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            int c;
+            double s;
+            if (P.full_force) {
+                s = 1.0;
+                c = !(V.omega[j] > kOmegaClamp);
+            } else {
+                s = R.kind[j] == ncu::BOUNDED ? 1.0 : V.omega[j];
+                c = s != V.omega[j];
+            }
+            V.scale[j] = s;
+            V.is_clamped[j] = c;
+            V.tmp[j] = s * V.lambda[j];
+            phin = fmax(phin, fabs(V.phi[j]));
+        }
+        phin = block_reduce(phin, 1, sh);
+        if (t0) sc->phin = phin;
+        break;
+    }
+    case PL_NCP_PHASE_B:
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            double p = V.delta[j] - V.delta_free[j] - h2 * V.tmp2[j];
+            double rhs = -V.phi[j] + V.omega[j] * p;
+            const int c = V.is_clamped[j];
+            V.dlambda[j] = 0.0;
+            V.clamped[j] = c ? rhs / V.e[j] : 0.0;
+            V.tmp[j] = c ? V.scale[j] * V.clamped[j] : 0.0;
+            V.rhs[j] = c ? 0.0 : rhs;
+        }
+        break;
+    case PL_NCP_PHASE_C: {
+        double ss = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            const int c = V.is_clamped[j];
+            double rhs = V.rhs[j];
+            if (!c) rhs -= h2 * V.omega[j] * V.tmp2[j];
+            if (P.full_force) {
+                V.op_omega[j] = c ? 0.0 : 1.0;
+                V.op_e[j] = c ? V.e[j] : V.e[j] / V.omega[j];
+                if (!c) rhs /= V.omega[j];
+            } else {
+                V.op_omega[j] = V.omega[j];
+                V.op_e[j] = V.e[j];
+            }
+            V.rhs[j] = rhs;
+            V.cr_r[j] = rhs; /* zero initial guess: r = b */
+            V.tmp[j] = V.op_omega[j] * rhs;
+            ss += rhs * rhs;
+        }
+        const double bnorm = sqrt(block_reduce(ss, 0, sh));
+        if (t0) {
+            sc->bnorm = sc->rnorm = bnorm;
+            sc->its = 0;
+            sc->done = !isfinite(bnorm) || bnorm == 0.0 || bnorm <= P.cr_rtol * bnorm;
+            if (!isfinite(bnorm)) sc->error = 1;
+        }
+        break;
+    }
+    case PL_NCP_PHASE_D: {
+        if (sc->done) break;
+        double s = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+            V.cr_Ar[j] = V.cr_Ap[j] = ar;
+            V.cr_p[j] = V.cr_r[j];
+            s += V.cr_r[j] * ar;
+        }
+        s = block_reduce(s, 0, sh);
+        if (t0) sc->rAr = s, sc->its = 1;
+        break;
+    }
+    case PL_NCP_PHASE_E: {
+        if (sc->done) break;
+        const double ApAp = dot(m, V.cr_Ap, V.cr_Ap, sh), rAr = sc->rAr;
+        if (!(ApAp > 0.0) || rAr == 0.0) {
+            if (t0) sc->done = 1;
+            break;
+        }
+        const double alpha = rAr / ApAp;
+        double ss = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            V.dlambda[j] += alpha * V.cr_p[j];
+            const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
+            V.cr_r[j] = r;
+            ss += r * r;
+        }
+        const double rnorm = sqrt(block_reduce(ss, 0, sh));
+        const int stop = !isfinite(rnorm) || rnorm <= P.cr_rtol * sc->bnorm;
+        if (!stop && !last)
+            for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
+        __syncthreads();
+        if (t0) {
+            sc->rnorm = rnorm;
+            if (!isfinite(rnorm)) sc->error = 2;
+            if (stop)
+                sc->done = 1;
+            else
+                sc->its += 1; /* the product that follows */
+        }
+        break;
+    }
+    case PL_NCP_PHASE_F: {
+        if (sc->done) break;
+        double s = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+            V.cr_Ar[j] = ar;
+            s += V.cr_r[j] * ar;
+        }
+        const double rAr_new = block_reduce(s, 0, sh);
+        const double beta = rAr_new / sc->rAr;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
+            V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
+        }
+        __syncthreads();
+        if (t0) sc->rAr = rAr_new;
+        break;
+    }
+    case PL_NCP_PHASE_G:
+        for (int j = threadIdx.x; j < m; j += kThreads) V.dlambda[j] += V.clamped[j];
+        break;
+    case PL_NCP_PHASE_LAMBDA:
+        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.lambda[j];
+        break;
+    case PL_NCP_PHASE_LS0:
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
+        break;
+    case PL_NCP_PHASE_DLAMBDA:
+        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.dlambda[j];
+        break;
+    case PL_NCP_PHASE_UPDATE: {
+        double alpha = 1.0;
+        if (P.line_search) {
+            /* pl_ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
+            for (int j = threadIdx.x; j < m; j += kThreads) V.ls1[j] = h2 * V.tmp2[j];
+            __syncthreads();
+            const double m0 = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, sh);
+            int bad = !isfinite(m0);
+            double a = 1.0;
+            for (int t = 0; t <= 3 && !bad; ++t, a *= 0.5) {
+                const double mt = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, a, sh);
+                if (!isfinite(mt)) {
+                    bad = 1;
+                    break;
+                }
+                if (mt <= (1.0 - 1e-4 * a) * m0) {
+                    alpha = a;
+                    break;
+                }
+            }
+            if (bad && t0) sc->error = 3;
+        }
+        update(R, V, P, alpha);
+        if (t0) {
+            const int k = sc->iter;
+            if (k < V.series_cap) {
+                double *s = V.series + 4 * (size_t)k;
+                s[0] = sc->phin;
+                s[1] = sc->its;
+                s[2] = sc->bnorm > 0.0 ? sc->rnorm / sc->bnorm : 0.0;
+                s[3] = alpha;
+            }
+            sc->iter = k + 1;
+        }
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+} // namespace
+
+extern "C" int pl_ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
+                                     const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
+                                     const pl_ncp_cuda_params *P, int last)
+{
+    k_phase<<<1, kThreads, 0, st>>>((int)phase, *R, *V, *P, last);
+    return (int)cudaGetLastError();
+}

@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# tests/bench/run_gpu.sh - the GPU tables of docs/benchmarks.md in one go on
+# the GPU machine (LocalGlobalSolver device="cuda": the whole local-global
+# loop, contact included, on the device); logs and tables go to $OUT
+# (default /tmp/gpu_out).
+#   bash tests/bench/run_gpu.sh [BUILD_DIR]          (from the repository root)
+#   PARTS="check table" FRAMES=30 bash tests/bench/run_gpu.sh .gpu3
+# BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep) and
+# plugins/ of a CUDA build; the bundled libraries (gpu-bundle) are taken from
+# $GPU_LIBS/lib (default BUILD_DIR/lib).  Parts:
+#   check     gpu_scenes: CPU vs GPU one frame from identical states, every scene
+#             with a device path (bars, cloth, cloth with bending/targets/forces,
+#             contact scenes), float64 within 1e-9, float32 S within 1e-4
+#   table     gpu_table: the paper's Table 3 columns for every scene that runs on
+#             the device, with the paper's RTX 4090 figures, and float32 vs float64
+#   sweep     stick_slip_sweep on the CPU and on the GPU (same thresholds?)
+#   memcheck  compute-sanitizer memcheck on the checks of resting_box and cloth_terms
+set -u
+B=${1:-build-gpu}
+OUT=${OUT:-/tmp/gpu_out}
+FRAMES=${FRAMES:-30}
+PARTS=${PARTS:-check table sweep memcheck}
+mkdir -p "$OUT"
+export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-$B}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
+export PLIANT_PLUGIN_PATH="$PWD/$B/plugins"
+export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
+CS=$(command -v compute-sanitizer || echo /usr/local/cuda/bin/compute-sanitizer)
+SWEEP=$B/bin/stick_slip_sweep
+[ -x "$SWEEP" ] || SWEEP=$B/bench/stick_slip_sweep
+status=0
+has() { case " $PARTS " in *" $1 "*) return 0 ;; esac; return 1; }
+t0=$(date +%s)
+
+echo "== device" | tee "$OUT/run_gpu.log"
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee -a "$OUT/run_gpu.log"
+
+if has check; then
+  echo "== gpu_scenes checks (CPU vs GPU from identical states)"
+  timeout ${T_CHECK:-220} "$B/bin/gpu_scenes" "$OUT/scenes_check.md" /dev/null 0 2>&1 | grep -v "^pliant: info" \
+    > "$OUT/gpu_scenes.log"
+  rc=${PIPESTATUS[0]}; [ "$rc" = 0 ] || status=1
+  grep -E "FAIL|failed" "$OUT/gpu_scenes.log" | tail -20
+  echo "gpu_scenes exit $rc ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has table; then
+  echo "== gpu_table ($FRAMES frames a scene)"
+  timeout ${T_TABLE:-260} "$B/bin/gpu_table" "$OUT/table.md" "$OUT/precision.md" "$FRAMES" \
+    > "$OUT/gpu_table.log" 2>&1
+  rc=$?; [ "$rc" = 0 ] || status=1
+  tail -3 "$OUT/gpu_table.log"
+  echo "gpu_table exit $rc ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has sweep; then
+  echo "== stick-slip threshold, CPU and GPU"
+  dev=/tmp/stick_slip_cuda.xml
+  sed '0,/<Node name="root"[^>]*>/s//&<RequiredPlugin name="cuda"\/><CudaDevice name="gpu"\/>/' \
+    scenes/stick_slip.xml > "$dev"
+  { echo "CPU:"; timeout ${T_SWEEP:-50} "$SWEEP" --markdown; echo; echo "GPU (solver.device=cuda):";
+    timeout ${T_SWEEP:-50} "$SWEEP" --markdown --scene "$dev" --set solver.device=cuda \
+      --set global.device=cuda; } > "$OUT/sweep.md" 2>&1 || status=1
+  cat "$OUT/sweep.md"
+  echo "sweep ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has memcheck; then
+  echo "== compute-sanitizer memcheck (resting_box, cloth_terms checks)"
+  for s in scenes/resting_box.xml tests/gpu/cloth_terms.xml; do
+    timeout 150 "$CS" --tool memcheck --leak-check no "$B/bin/gpu_scenes" /tmp/gpu_mc.md /dev/null 0 \
+      "$s" 2>&1 | grep -v "^pliant: info" | tail -4 >> "$OUT/memcheck.log"
+  done
+  cat "$OUT/memcheck.log"
+fi
+
+echo "== tables"
+for f in table.md precision.md; do [ -f "$OUT/$f" ] && cat "$OUT/$f"; done
+[ -f "$OUT/scenes_check.md" ] && grep -c FAIL "$OUT/scenes_check.md" | sed "s/^/failed checks: /"
+echo "run_gpu.sh: $(( $(date +%s) - t0 )) s, status $status"
+exit $status
