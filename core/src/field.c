@@ -76,33 +76,38 @@ static void token_at(const char *s, char *buf, size_t n)
     buf[k] = '\0';
 }
 
-static int parse_doubles(const char *text, double **out, int *n, pl_error *err, const char *name)
+/* Parses a blank- or comma-separated list with `read` (read_double or
+ * read_int) into a malloc'ed array of `elem` bytes per value. */
+typedef const char *(*read_fn)(const char *s, void *out);
+static const char *read_double_v(const char *s, void *out) { return read_double(s, out); }
+static const char *read_int_v(const char *s, void *out) { return read_int(s, out); }
+
+static int parse_list(const char *text, read_fn read, size_t elem, const char *what, void **out,
+                      int *n, pl_error *err, const char *name)
 {
     int cap = 16, count = 0;
-    double *v = malloc((size_t)cap * sizeof *v);
+    char *v = malloc((size_t)cap * elem);
     if (!v) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     const char *s = next_token(text);
     while (*s) {
-        double x;
-        const char *e = read_double(s, &x);
-        if (!e) {
-            char tok[64];
-            token_at(s, tok, sizeof tok);
-            free(v);
-            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
-                                "%s: expected a finite number, found '%s' (value %d)", name, tok,
-                                count + 1);
-        }
         if (count == cap) {
             cap *= 2;
-            double *nv = realloc(v, (size_t)cap * sizeof *nv);
+            char *nv = realloc(v, (size_t)cap * elem);
             if (!nv) {
                 free(v);
                 return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
             }
             v = nv;
         }
-        v[count++] = x;
+        const char *e = read(s, v + (size_t)count * elem);
+        if (!e) {
+            char tok[64];
+            token_at(s, tok, sizeof tok);
+            free(v);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "%s: expected %s, found '%s' (value %d)",
+                                name, what, tok, count + 1);
+        }
+        count++;
         s = next_token(e);
     }
     *out = v;
@@ -110,38 +115,15 @@ static int parse_doubles(const char *text, double **out, int *n, pl_error *err, 
     return PL_OK;
 }
 
+static int parse_doubles(const char *text, double **out, int *n, pl_error *err, const char *name)
+{
+    return parse_list(text, read_double_v, sizeof **out, "a finite number", (void **)out, n, err,
+                      name);
+}
+
 static int parse_ints(const char *text, int **out, int *n, pl_error *err, const char *name)
 {
-    int cap = 16, count = 0;
-    int *v = malloc((size_t)cap * sizeof *v);
-    if (!v) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    const char *s = next_token(text);
-    while (*s) {
-        int x;
-        const char *e = read_int(s, &x);
-        if (!e) {
-            char tok[64];
-            token_at(s, tok, sizeof tok);
-            free(v);
-            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
-                                "%s: expected an integer, found '%s' (value %d)", name, tok,
-                                count + 1);
-        }
-        if (count == cap) {
-            cap *= 2;
-            int *nv = realloc(v, (size_t)cap * sizeof *nv);
-            if (!nv) {
-                free(v);
-                return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-            }
-            v = nv;
-        }
-        v[count++] = x;
-        s = next_token(e);
-    }
-    *out = v;
-    *n = count;
-    return PL_OK;
+    return parse_list(text, read_int_v, sizeof **out, "an integer", (void **)out, n, err, name);
 }
 
 static int parse_bool(const char *s, int *out)

@@ -71,6 +71,13 @@ int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
     return 0;
 }
 
+int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes)
+{
+    if (pl_data_resize_slot(d, slot, bytes) != 0) return PL_EINTERNAL;
+    if (bytes) memcpy(d->slots[slot].ptr, src, bytes);
+    return PL_OK;
+}
+
 int pl_data_copy(pl_data *dst, const pl_data *src)
 {
     if (dst->nslots != src->nslots) return -1;

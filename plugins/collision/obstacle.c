@@ -221,10 +221,8 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
         rc = model_contacts(o, k, &g, &s, &m, t1, sys, rows, err);
         if (rc) return rc;
     }
-    size_t bytes = (size_t)o->nwork * sizeof *o->work;
-    if (pl_data_resize_slot(ctx->data, o->slot, bytes) != 0)
+    if (pl_data_store(ctx->data, o->slot, o->work, (size_t)o->nwork * sizeof *o->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    if (bytes) memcpy(pl_data_slot(ctx->data, o->slot), o->work, bytes);
     return PL_OK;
 }
 

@@ -177,10 +177,8 @@ static int cp_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;
     pl_stat_max(ctx->timers, "detection contacts max", p->nwork);
-    size_t bytes = (size_t)p->nwork * sizeof *p->work;
-    if (pl_data_resize_slot(ctx->data, p->slot, bytes) != 0)
+    if (pl_data_store(ctx->data, p->slot, p->work, (size_t)p->nwork * sizeof *p->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    if (bytes) memcpy(pl_data_slot(ctx->data, p->slot), p->work, bytes);
     return PL_OK;
 }
 

@@ -70,6 +70,10 @@ static inline size_t pl_data_slot_bytes(const pl_data *d, int slot)
 /* Grows or shrinks a slot (contacts change in number); new bytes are zero. */
 int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
 
+/* Resizes a slot to `bytes` and copies src into it (a per-step list such as
+ * the contacts of a step); PL_OK or PL_EINTERNAL. */
+int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
+
 /* Binary save/restore of a whole state (time, step, every slot by name).
  * Restoring checks that the file belongs to a model with the same slots. */
 int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
