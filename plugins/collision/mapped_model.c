@@ -169,19 +169,11 @@ static int mm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         memcpy(&m->x[3 * i], x, sizeof x);
         memcpy(&m->v[3 * i], v, sizeof v);
     }
-    memset(out, 0, sizeof *out);
-    out->nverts = m->surface.nverts;
-    out->x = m->x;
-    out->v = m->v;
-    out->map_vertex = m->vertex;
-    out->map_weight = m->weight;
-    out->ntris = m->surface.ntris;
-    out->tris = m->surface.tris;
-    out->nedges = m->nedges;
-    out->edges = m->edges;
-    out->is_obstacle = 0;
-    out->mu = m->mu;
-    out->group = m->group;
+    *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = m->x, .v = m->v,
+                                   .map_vertex = m->vertex, .map_weight = m->weight,
+                                   .ntris = m->surface.ntris, .tris = m->surface.tris,
+                                   .nedges = m->nedges, .edges = m->edges,
+                                   .is_obstacle = 0, .mu = m->mu, .group = m->group};
     return PL_OK;
 }
 

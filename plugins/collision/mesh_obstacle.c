@@ -171,19 +171,11 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
             x[k] = R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2] + tr[k];
         pl_motion_velocity(&m, t1, x, &o->v[3 * i]);
     }
-    memset(out, 0, sizeof *out);
-    out->nverts = o->mesh.nverts;
-    out->x = o->x;
-    out->v = o->v;
-    out->map_vertex = o->map_vertex;
-    out->map_weight = o->map_weight;
-    out->ntris = o->mesh.ntris;
-    out->tris = o->mesh.tris;
-    out->nedges = o->nedges;
-    out->edges = o->edges;
-    out->is_obstacle = 1;
-    out->mu = o->mu;
-    out->group = o->group;
+    *out = (pl_collision_geometry){.nverts = o->mesh.nverts, .x = o->x, .v = o->v,
+                                   .map_vertex = o->map_vertex, .map_weight = o->map_weight,
+                                   .ntris = o->mesh.ntris, .tris = o->mesh.tris,
+                                   .nedges = o->nedges, .edges = o->edges,
+                                   .is_obstacle = 1, .mu = o->mu, .group = o->group};
     return PL_OK;
 }
 

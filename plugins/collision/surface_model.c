@@ -240,19 +240,11 @@ static int sm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         m->vertex[4 * i] = g;
         m->vertex[4 * i + 1] = m->vertex[4 * i + 2] = m->vertex[4 * i + 3] = -1;
     }
-    memset(out, 0, sizeof *out);
-    out->nverts = m->npoints;
-    out->x = m->x;
-    out->v = m->v;
-    out->map_vertex = m->vertex;
-    out->map_weight = m->weight;
-    out->ntris = m->ntris;
-    out->tris = m->tris;
-    out->nedges = m->nedges;
-    out->edges = m->edges;
-    out->is_obstacle = 0;
-    out->mu = m->mu;
-    out->group = m->group;
+    *out = (pl_collision_geometry){.nverts = m->npoints, .x = m->x, .v = m->v,
+                                   .map_vertex = m->vertex, .map_weight = m->weight,
+                                   .ntris = m->ntris, .tris = m->tris,
+                                   .nedges = m->nedges, .edges = m->edges,
+                                   .is_obstacle = 0, .mu = m->mu, .group = m->group};
     return PL_OK;
 }
 
