@@ -203,6 +203,29 @@ static int border_out(const pl_coll_mesh *m, int e, double mo[3])
     return 1;
 }
 
+/* The side of the other edge q0 q1 at the border edge e of a thin rigid
+ * sheet (mo from border_out), as the sign of cr . n for n pointing from the
+ * sheet's edge to the other edge; 0 when cr does not decide it.  An edge
+ * that crosses the sheet's plane passes beyond the border (a cloth over a
+ * blade's apex edge): it belongs outside, along mo.  An edge on one side of
+ * the plane (a cloth hanging along the blade's face past its border) belongs
+ * on that side, along the face normal: the border rule would pull it through
+ * the sheet. */
+static double border_side(const pl_coll_mesh *m, int e, const double mo[3], const double q0[3],
+                          const double q1[3], const double cr[3], double len)
+{
+    const double *nf = &m->fnormal[3 * m->edge_tris[2 * e]], *p = &m->x0[3 * m->edges[2 * e]];
+    double s0 = 0.0, s1 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        s0 += (q0[k] - p[k]) * nf[k];
+        s1 += (q1[k] - p[k]) * nf[k];
+    }
+    if (s0 * s1 < 0.0) /* crosses the plane */
+        return fabs(dot3(mo, cr)) > 0.2 * len ? (dot3(mo, cr) > 0.0 ? 1.0 : -1.0) : 0.0;
+    double side = s0 + s1 > 0.0 ? 1.0 : -1.0, c = side * dot3(nf, cr);
+    return fabs(c) > 0.2 * len ? (c > 0.0 ? 1.0 : -1.0) : 0.0;
+}
+
 /* Whether both ends of segment p0 p1 are within dist of segment q0 q1. */
 static int ends_near(const double p0[3], const double p1[3], const double q0[3],
                      const double q1[3], double dist)
@@ -263,10 +286,12 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
      * whatever side the edge is on now, so that an edge pushed a little
      * through (an unconverged step) comes back out. */
     double sg = 0.0;
-    if (border_out(A, e, mo) && fabs(dot3(mo, cr)) > 0.2 * len)
-        sg = dot3(mo, cr) > 0.0 ? -1.0 : 1.0; /* n . mo < 0: B outside A */
-    else if (border_out(B, f, mo) && fabs(dot3(mo, cr)) > 0.2 * len)
-        sg = dot3(mo, cr) > 0.0 ? 1.0 : -1.0; /* n . mo > 0: A outside B */
+    if (border_out(A, e, mo))
+        sg = -border_side(A, e, mo, pb0, pb1, cr, len); /* n . mo < 0: B outside A */
+    if (sg == 0.0 && border_out(B, f, mo))
+        sg = border_side(B, f, mo, pa0, pa1, cr, len); /* n . mo > 0: A outside B */
+    if (sg != 0.0)
+        ;
     else if (!A->two_sided && outward(A, e, cr, len, mo))
         sg = dot3(mo, cr) > 0.0 ? -1.0 : 1.0;
     else if (!B->two_sided && outward(B, f, cr, len, mo))

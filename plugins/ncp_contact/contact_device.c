@@ -206,6 +206,7 @@ static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sy
     R->lo = put(k, r->lo, mb);
     R->hi = put(k, r->hi, mb);
     R->r = put(k, st->r, mb);
+    R->wdiag = put(k, st->D->diag, mb);
     g->V.lambda = put(k, st->lambda, mb);
     g->V.lambda_all = put(k, st->lambda_all, sizeof(double) * (size_t)st->nall);
 }
@@ -261,7 +262,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     free(kind), free(tr);
     /* work vectors */
     size_t mm = (size_t)(m > 0 ? m : 1), f3 = 3 * sizeof(double) * (size_t)(nf > 0 ? nf : 1);
-    if (!rc) rc = reserve(g, &g->work, &g->work_cap, mm * (20 * sizeof(double) + sizeof(int)), err);
+    if (!rc) rc = reserve(g, &g->work, &g->work_cap, mm * (21 * sizeof(double) + sizeof(int)), err);
     if (!rc && g->f_cap < f3) {
         g->ops->free(g->dev, g->X), g->ops->free(g->dev, g->q_free), g->ops->free(g->dev, g->corr);
         g->X = g->q_free = g->corr = NULL;
@@ -286,14 +287,15 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     double **vecs[] = {&g->V.dlambda,  &g->V.delta, &g->V.delta_free, &g->V.omega, &g->V.e,
                        &g->V.phi,      &g->V.rhs,   &g->V.tmp,        &g->V.tmp2,  &g->V.scale,
                        &g->V.clamped,  &g->V.op_omega, &g->V.op_e,    &g->V.force, &g->V.ls0,
-                       &g->V.ls1,      &g->V.cr_r,  &g->V.cr_p,       &g->V.cr_Ar, &g->V.cr_Ap};
+                       &g->V.ls1,      &g->V.cr_r,  &g->V.cr_p,       &g->V.cr_Ar, &g->V.cr_Ap,
+                       &g->V.cr_s};
     for (size_t v = 0; v < sizeof vecs / sizeof vecs[0]; ++v) *vecs[v] = w + v * mm;
-    g->V.is_clamped = (int *)(w + 20 * mm);
+    g->V.is_clamped = (int *)(w + 21 * mm);
     g->V.series = g->series, g->V.series_cap = SERIES_CAP, g->V.sc = g->sc;
     pl_ncp_cuda_params *P = &g->P;
     P->fn = st->fn, P->h = st->h, P->fb_eps = st->fb_eps, P->cr_rtol = st->cr_tolerance;
     P->damping = st->damping, P->cr_max_iter = st->cr_iterations, P->full_force = st->full_force;
-    P->project = st->project, P->line_search = st->line_search;
+    P->project = st->project, P->line_search = st->line_search, P->cr_jacobi = st->cr_jacobi;
     int e = pl_ncp_cuda_reset(g->stream, g->sc);
     if (e) return cuda_fail(g, err, e, "reset");
     g->stale = 0;

@@ -31,7 +31,7 @@ typedef struct pl_ncpc_device_step {
     const double *lambda_all;   /* nall */
     int nall;
     double h;
-    int fn, cr_iterations, full_force, project, line_search, record;
+    int fn, cr_iterations, full_force, project, line_search, record, cr_jacobi;
     double cr_tolerance, damping, fb_eps;
     /* timer ids (used with the device's profile flag) */
     int t_global, t_assembly, t_solve, t_corr, t_cglobal;

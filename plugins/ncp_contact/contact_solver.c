@@ -34,6 +34,7 @@ static const char *const NCP_CHOICES[] = {"fischer-burmeister", "minimum-map", N
 static const char *const PRECOND_CHOICES[] = {"delassus", "mass", NULL};
 static const char *const CORRECTION_CHOICES[] = {"jacobian", "multiplier", NULL};
 static const char *const DELASSUS_CHOICES[] = {"auto", "explicit", "matrix-free", NULL};
+static const char *const CR_SCALING_CHOICES[] = {"jacobi", "none", NULL};
 #ifdef PLIANT_HAVE_CUDA
 static const char *const DEVICE_CHOICES[] = {"cpu", "auto", NULL};
 #endif
@@ -49,6 +50,12 @@ static const pl_field FIELDS[] = {
     PL_FIELD(ncp_contact_solver, cr_tolerance, "crTolerance", PL_F_DOUBLE, "0",
              "relative residual at which CR stops early [1] (0: always run crIterations)",
              PL_FIELD_RUNTIME),
+    PL_FIELD_ENUM(ncp_contact_solver, cr_scaling, "crScaling", CR_SCALING_CHOICES, "jacobi",
+                  "scaling of the linear system CR solves: jacobi (symmetric diagonal scaling "
+                  "D^-1/2 A D^-1/2, D = diag A: the friction compliances of contacts that barely "
+                  "touch span many decades, which unscaled CR cannot reduce in 10 iterations) or "
+                  "none (the paper's plain CR)",
+                  PL_FIELD_RUNTIME),
     PL_FIELD_ENUM(ncp_contact_solver, preconditioner, "preconditioner", PRECOND_CHOICES, "delassus",
                   "complementarity scaling r: delassus (diagonal of W = H A^-1 H^T, the paper's "
                   "choice) or mass (diagonal of H M^-1 H^T, as Macklin et al. 2019)",
@@ -81,10 +88,14 @@ static const pl_field FIELDS[] = {
                   "lambda), J = Omega H, solved as h^2 Omega W Omega + E); the same solution, "
                   "see DERIVATION.md section 7",
                   PL_FIELD_RUNTIME),
-    PL_FIELD(ncp_contact_solver, project, "project", PL_F_BOOL, "1",
+    PL_FIELD(ncp_contact_solver, project, "project", PL_F_BOOL, "0",
              "after each update, project lambda onto the admissible set (lambda_n >= 0, "
              "|lambda_f| <= mu lambda_n, bounded rows in [lo, hi]): the solution is unchanged and "
-             "the force of an unfinished iteration stays admissible",
+             "the force of an unfinished iteration stays admissible.  Off by default (the paper "
+             "does not project): with nearly dependent rows (a vertex-face and an edge-edge "
+             "contact at one place) the Newton step has large opposite multipliers whose "
+             "difference is the force; clamping the negative one leaves the other unbalanced "
+             "(docs/contact.md, \"Projection\")",
              PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, line_search, "lineSearch", PL_F_BOOL, "1",
              "halve the multiplier update (at most 3 times) until the constraint residual decreases "
@@ -306,6 +317,7 @@ static int constraint_solve(ncp_contact_solver *s, pl_ncp_step_info *info, pl_nc
     par.cr_max_iter = s->cr_iterations;
     par.cr_rtol = s->cr_tolerance;
     par.full_force = s->correction == 1;
+    par.cr_jacobi = s->cr_scaling == 0;
     pl_ncp_operator op = pl_ncpc_delassus_operator(&s->D);
     s->D.status = PL_OK;
     if (s->correction == 1) {

@@ -17,6 +17,7 @@ typedef struct ncp_contact_solver {
     int ncp;                  /* pl_ncp_function */
     int cr_iterations;
     double cr_tolerance;
+    int cr_scaling;           /* 0 jacobi, 1 none */
     int preconditioner;       /* 0 delassus, 1 mass */
     int delassus;             /* 0 auto, 1 explicit, 2 matrix-free */
     double max_explicit_mb;

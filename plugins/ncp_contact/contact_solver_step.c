@@ -85,6 +85,7 @@ int pl_ncpc_iterate_device(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *
         .rows = &s->rows, .D = &s->D, .work = s->work, .r = s->r, .lambda = s->lambda,
         .lambda_all = s->lambda_all, .nall = s->nall, .h = s->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
         .cr_iterations = s->cr_iterations, .full_force = s->correction == 1, .project = s->project,
+        .cr_jacobi = s->cr_scaling == 0,
         .line_search = s->line_search, .record = s->record, .cr_tolerance = s->cr_tolerance,
         .damping = s->damping, .fb_eps = s->fb_eps, .t_global = s->t_global, .t_assembly = s->t_assembly,
         .t_solve = s->t_solve, .t_corr = s->t_corr, .t_cglobal = s->t_cglobal};

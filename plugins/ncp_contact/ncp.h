@@ -125,6 +125,12 @@ typedef struct pl_ncp_params {
                                    (1 on bounded rows); 1: H^T lambda on every row, S = 1, the
                                    Newton step of the unsymmetric system made symmetric by
                                    Omega^-1 (DERIVATION.md section 7) */
+    int cr_jacobi;              /* 1 (default): CR solves the symmetrically diagonal-scaled
+                                   system D^-1/2 A D^-1/2 (D = diag A, from W->diag); 0: A as
+                                   it is.  The friction compliance e spans many decades
+                                   (a contact that barely touches has e >> h^2 W_jj), and
+                                   unscaled CR then hardly reduces the residual in 10
+                                   iterations (docs/contact.md, "CR scaling") */
 } pl_ncp_params;
 
 void pl_ncp_params_default(pl_ncp_params *p);
@@ -140,7 +146,8 @@ typedef struct pl_ncp_work {
                                    correction (Omega_jj; 1 on bounded rows) */
     double *clamped;            /* m: dlambda of clamped rows (Omega 0, S 1) */
     int *is_clamped;            /* m: 1 on clamped rows of the last step */
-    double *op_omega, *op_e;    /* m: the diagonals CR's operator uses (full_force) */
+    double *op_omega, *op_e;    /* m: the diagonals CR's operator uses */
+    double *cr_scale;           /* m: CR's diagonal scaling D^-1/2 (1 without cr_jacobi) */
     double *e;                  /* m: Et_jj = h^2 E_jj of the last step [m/N] */
     double *phi;                /* m: position-level NCP values at (delta^k, lambda^k) [m] */
     double *rhs;                /* m: right-hand side of the last step [m] */
@@ -160,7 +167,7 @@ int pl_ncp_scaling(const pl_ncp_work *w, const double *diag, double h, double *r
 
 typedef struct pl_ncp_step_info {
     int cr_iters;               /* CR products */
-    double cr_relres;           /* CR final relative residual */
+    double cr_relres;           /* CR final relative residual (of the scaled system) */
     double phi_norm;            /* max_j |phi_j| at (delta^k, lambda^k) [m] */
 } pl_ncp_step_info;
 

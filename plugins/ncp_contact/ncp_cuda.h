@@ -37,6 +37,7 @@ typedef struct pl_ncp_cuda_rows {
     const int *tent;        /* ... in increasing entry order */
     const int *erow;        /* per free entry: its row */
     const double *offset, *mu, *compliance, *lo, *hi, *r; /* m */
+    const double *wdiag;    /* m: W_jj (CR's Jacobi scaling) */
 } pl_ncp_cuda_rows;
 
 /* Device scalars of one iteration (and error flags of the step). */
@@ -50,6 +51,7 @@ typedef struct pl_ncp_cuda_vecs {
     double *lambda, *dlambda, *delta, *delta_free, *omega, *e, *phi, *rhs, *tmp, *tmp2;
     double *scale, *clamped, *op_omega, *op_e, *force, *ls0, *ls1;
     double *cr_r, *cr_p, *cr_Ar, *cr_Ap;
+    double *cr_s;           /* CR's scaling D^-1/2 (1 without cr_jacobi) */
     int *is_clamped;
     double *lambda_all;     /* nall */
     double *series;         /* series_cap x 4: phi norm, CR products, CR residual, step length */
@@ -60,7 +62,7 @@ typedef struct pl_ncp_cuda_vecs {
 typedef struct pl_ncp_cuda_params {
     int fn;                 /* pl_ncp_function */
     double h, fb_eps, cr_rtol, damping;
-    int cr_max_iter, full_force, project, line_search;
+    int cr_max_iter, full_force, project, line_search, cr_jacobi;
 } pl_ncp_cuda_params;
 
 /* ---- rows (ncp_cuda_rows.cu) ------------------------------------------- */
@@ -86,11 +88,12 @@ typedef enum pl_ncp_cuda_phase {
     PL_NCP_PHASE_LIN = 0,   /* delta = ls0 = delta_free + h^2 tmp2 (tmp2 = W lambda) */
     PL_NCP_PHASE_A,         /* phi, omega, e; S, clamped rows; tmp = S lambda; max |phi| */
     PL_NCP_PHASE_B,         /* rhs (tmp2 = W S lambda); clamped dlambda; tmp = S clamped */
-    PL_NCP_PHASE_C,         /* rhs -= h^2 Omega W (S clamped); CR's operator and start; tmp = ox */
+    PL_NCP_PHASE_C,         /* rhs -= h^2 Omega W (S clamped); CR's operator, its Jacobi
+                               scaling and start; tmp = ox */
     PL_NCP_PHASE_D,         /* CR: Ar from tmp2, p = r, Ap = Ar */
     PL_NCP_PHASE_E,         /* CR: x, r update, stop test; tmp = ox */
     PL_NCP_PHASE_F,         /* CR: Ar from tmp2, beta, p, Ap */
-    PL_NCP_PHASE_G,         /* dlambda += clamped; CR statistics */
+    PL_NCP_PHASE_G,         /* dlambda = cr_s dlambda + clamped */
     PL_NCP_PHASE_LAMBDA,    /* force = S lambda */
     PL_NCP_PHASE_LS0,       /* ls0 = delta_free + h^2 tmp2 (jacobian correction) */
     PL_NCP_PHASE_DLAMBDA,   /* force = S dlambda */

@@ -196,6 +196,13 @@ __global__ void __launch_bounds__(kThreads)
                 V.op_omega[j] = V.omega[j];
                 V.op_e[j] = V.e[j];
             }
+            /* Jacobi scaling (pl_ncp_step): S A S, rhs S, dlambda = S y */
+            const double d = h2 * V.op_omega[j] * V.op_omega[j] * R.wdiag[j] + V.op_e[j];
+            const double sj = P.cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
+            V.cr_s[j] = sj;
+            V.op_omega[j] *= sj;
+            V.op_e[j] *= sj * sj;
+            rhs *= sj;
             V.rhs[j] = rhs;
             V.cr_r[j] = rhs; /* zero initial guess: r = b */
             V.tmp[j] = V.op_omega[j] * rhs;
@@ -272,7 +279,8 @@ __global__ void __launch_bounds__(kThreads)
         break;
     }
     case PL_NCP_PHASE_G:
-        for (int j = threadIdx.x; j < m; j += kThreads) V.dlambda[j] += V.clamped[j];
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j];
         break;
     case PL_NCP_PHASE_LAMBDA:
         for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.lambda[j];

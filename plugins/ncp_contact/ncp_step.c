@@ -26,6 +26,7 @@ void pl_ncp_params_default(pl_ncp_params *p)
     p->cr_max_iter = 0;
     p->cr_rtol = 1e-10;
     p->full_force = 0;
+    p->cr_jacobi = 1;
 }
 
 void pl_ncp_work_destroy(pl_ncp_work *w)
@@ -40,6 +41,7 @@ void pl_ncp_work_destroy(pl_ncp_work *w)
     free(w->is_clamped);
     free(w->op_omega);
     free(w->op_e);
+    free(w->cr_scale);
     free(w->e);
     free(w->phi);
     free(w->rhs);
@@ -125,6 +127,7 @@ int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err
     w->is_clamped = malloc(sizeof(int) * m1);
     w->op_omega = malloc(sizeof(double) * m1);
     w->op_e = malloc(sizeof(double) * m1);
+    w->cr_scale = malloc(sizeof(double) * m1);
     w->e = malloc(sizeof(double) * m1);
     w->phi = malloc(sizeof(double) * m1);
     w->rhs = malloc(sizeof(double) * m1);
@@ -132,7 +135,7 @@ int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err
     w->tmp2 = malloc(sizeof(double) * m1);
     w->cr = malloc(sizeof(double) * 4 * m1);
     if (!w->contact_of || !w->omega || !w->scale || !w->clamped || !w->is_clamped || !w->op_omega ||
-        !w->op_e || !w->e || !w->phi || !w->rhs || !w->tmp || !w->tmp2 || !w->cr) {
+        !w->op_e || !w->cr_scale || !w->e || !w->phi || !w->rhs || !w->tmp || !w->tmp2 || !w->cr) {
         pl_ncp_work_destroy(w);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp", "out of memory");
     }
@@ -260,6 +263,9 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
      * their force change to the other rows' right-hand side, and give CR a
      * zero right-hand side there (their rows and columns of h^2 Omega W
      * Omega + Et are diagonal, so CR keeps those entries at 0). */
+    if (nclamped == 0)
+        for (int j = 0; j < m; ++j)
+            w->clamped[j] = 0.0;
     if (nclamped > 0) {
         for (int j = 0; j < m; ++j) {
             int c = w->is_clamped[j];
@@ -274,30 +280,41 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
             if (!w->is_clamped[j]) /* (full_force clamps rows with a small Omega > 0) */
                 w->rhs[j] -= h2 * w->omega[j] * w->tmp2[j];
     }
-    step_op op = {W, w->omega, w->e, h2, w->tmp, w->tmp2};
-    if (par->full_force) {
-        /* Row j reads Omega_j h^2 (W dlambda)_j + e_j dlambda_j = rhs_j:
-         * divided by Omega_j it is h^2 W + diag(e / Omega), symmetric
-         * positive definite on the rows that are not clamped. */
-        for (int j = 0; j < m; ++j) {
-            int c = w->is_clamped[j];
+    /* CR's operator: h^2 Omega W Omega + Et (jacobian), or, with full_force,
+     * row j divided by Omega_j: h^2 W + diag(e / Omega), symmetric positive
+     * definite on the rows that are not clamped. */
+    for (int j = 0; j < m; ++j) {
+        int c = w->is_clamped[j];
+        if (par->full_force) {
             w->op_omega[j] = c ? 0.0 : 1.0;
             w->op_e[j] = c ? w->e[j] : w->e[j] / w->omega[j];
             if (!c)
                 w->rhs[j] /= w->omega[j];
+        } else {
+            w->op_omega[j] = w->omega[j];
+            w->op_e[j] = w->e[j];
         }
-        op.omega = w->op_omega;
-        op.e = w->op_e;
     }
+    /* Jacobi scaling: with s = D^-1/2, D = diag(h^2 op_omega^2 W_jj + op_e),
+     * CR solves (S A S) y = S rhs and dlambda = S y; S A S has the same form
+     * (op_omega s, op_e s^2), so the operator below serves both. */
+    for (int j = 0; j < m; ++j) {
+        double d = W->diag ? h2 * w->op_omega[j] * w->op_omega[j] * W->diag[j] + w->op_e[j] : 0.0;
+        double sj = par->cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
+        w->cr_scale[j] = sj;
+        w->op_omega[j] *= sj;
+        w->op_e[j] *= sj * sj;
+        w->rhs[j] *= sj;
+    }
+    step_op op = {W, w->op_omega, w->op_e, h2, w->tmp, w->tmp2};
     int maxit = par->cr_max_iter > 0 ? par->cr_max_iter : 2 * m + 10;
     int its = 0;
     double relres = 0.0;
     st = pl_ncp_cr(m, apply_system, &op, w->rhs, dlambda, maxit, par->cr_rtol, w->cr, &its, &relres, err);
     if (st != PL_OK)
         return st;
-    if (nclamped > 0)
-        for (int j = 0; j < m; ++j)
-            dlambda[j] += w->clamped[j];
+    for (int j = 0; j < m; ++j)
+        dlambda[j] = w->cr_scale[j] * dlambda[j] + w->clamped[j];
     if (force_scale)
         for (int j = 0; j < m; ++j)
             force_scale[j] = w->scale[j];

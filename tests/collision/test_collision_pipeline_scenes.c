@@ -290,12 +290,16 @@ START_TEST(test_pulled_body_comes_through_the_gap)
     run_open(&r, "pulling_through_gap_small.xml", "body/dofs", NULL, 0);
     double cd = get_double(r.sim, "pipeline.contactDistance");
     const double post_x = -0.35, post_z = 0.09, post_r = 0.04;
-    double depth = 0.0;
+    double depth = 0.0, vmax = 0.0;
     for (int step = 0; step < 150; ++step) {
         run_step(&r, "body/dofs");
-        for (int i = 0; i < r.n; ++i)
+        for (int i = 0; i < r.n; ++i) {
             for (int s = -1; s <= 1; s += 2)
                 depth = fmax(depth, post_r - hypot(r.x[3 * i] - post_x, r.x[3 * i + 2] - s * post_z));
+            double v2 = 0.0;
+            for (int k = 0; k < 3; ++k) v2 += pow((r.x[3 * i + k] - r.prev[3 * i + k]) / 0.01, 2);
+            vmax = fmax(vmax, sqrt(v2));
+        }
     }
     double xmax = -INFINITY, end_depth = 0.0;
     for (int i = 0; i < r.n; ++i) {
@@ -305,10 +309,14 @@ START_TEST(test_pulled_body_comes_through_the_gap)
     }
     ck_assert_msg(xmax < post_x - post_r - cd, "the body's front is at x = %g, not through", xmax);
     ck_assert_msg(end_depth <= 0.0, "a vertex ends %g m inside a post", end_depth);
-    ck_assert_msg(depth < post_r, "a vertex reached the axis of a post (depth %g)", depth);
+    ck_assert_msg(depth < 2 * cd, "a vertex went %g m into a post (2 cd = %g)", depth, 2 * cd);
+    /* pulled at 0.4 m/s and squeezed: no part is ever thrown (an unbalanced
+     * contact force on a body squeezed at a few kN once threw it at 7.5 m/s;
+     * the squeezed body springs back at about 2 m/s) */
+    ck_assert_msg(vmax < 4.0, "a vertex moved at %g m/s", vmax);
     printf("pulling_through_gap_small: deepest contact while squeezing %.2e m (2 cd = %.1e), "
-           "front at x = %.3f m\n",
-           depth, 2 * cd, xmax);
+           "front at x = %.3f m, fastest vertex %.2f m/s\n",
+           depth, 2 * cd, xmax, vmax);
     run_close(&r);
 }
 END_TEST
