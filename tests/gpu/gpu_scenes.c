@@ -10,15 +10,19 @@
  * twisting_bar; the small cloth_extension scenes, ARAP, corotational and
  * Neo-Hookean membranes; tests/gpu/cloth_terms.xml, a cloth with both
  * bending terms, PositionTargets and a ConstantForceField; the contact
- * scenes stick_slip, resting_box, ball_on_plane): the CPU steps 10 frames
- * and saves its state; from that state one more frame on the CPU and on the
+ * scenes stick_slip, resting_box, ball_on_plane, sliding_box,
+ * template_constraint and every _small contact, cable and gripper scene):
+ * the CPU steps 10 frames (more where contact starts later: RUN_UP) and
+ * saves its state; from that state one more frame on the CPU and on the
  * device (float64 with and without a CUDA graph, float32 S) must agree:
  * positions within 1e-9 relative (float64) and 1e-4 (float32), velocities
  * and ADMM duals within 1e-9 (float64; relative to an RMS of at least
  * 1 mm/s and 1e-3, for bodies at rest or undeformed); 10 frames from the
  * state are
  * reported; a device run restored twice from one state must repeat itself
- * bitwise (duals go up from the restored slot).
+ * bitwise (duals go up from the restored slot).  Long runs: squeezing_ball_small
+ * and pulling_through_gap_small from the start on both, the same end state
+ * (ball below the rollers, body through the gap).
  * Timings: the twisting bars 5.3k, 11.3k, 20.8k; medians of the wall time
  * of a frame (pl_sim_step of one frame) over `frames` frames after 5
  * warm-up frames, next to the paper's Table 3 Frame; Local / Assembly /
@@ -151,17 +155,33 @@ static double rel_floor(const double *a, const double *b, size_t n, double floor
 
 /* Frames the CPU runs before the state is saved: the ball must have
  * reached the floor (contact from about frame 25). */
+/* Steps run before the saved state, so that contacts (and cables) are active. */
+static const struct {
+    const char *scene;
+    int run_up;
+} RUN_UP[] = {{"ball_on_plane", 40},           {"cloth_on_knives_small", 30}, {"sharp_corner_small", 30},
+              {"squeezing_ball_small", 40},    {"pulling_through_gap_small", 90},
+              {"gingerbread_small", 60},       {"cable_finger_small", 20},
+              {"grabbing_raptor_small", 100}};
+
 static int run_up(const char *scene)
 {
-    return strstr(scene, "ball_on_plane") ? 40 : 10;
+    for (size_t k = 0; k < sizeof RUN_UP / sizeof RUN_UP[0]; ++k)
+        if (strstr(scene, RUN_UP[k].scene)) return RUN_UP[k].run_up;
+    return 10;
 }
 
-/* Scenes with contact: their velocities, duals and float32 runs are notes
- * (see the checks below). */
+/* Scenes with contact or cables: their velocities, duals and float32 runs are
+ * notes (see the checks below). */
 static int has_contact(const char *scene)
 {
-    return strstr(scene, "stick_slip") || strstr(scene, "resting_box") ||
-           strstr(scene, "ball_on_plane");
+    static const char *const with[] = {"stick_slip", "resting_box", "ball_on_plane", "sliding_box",
+                                       "cloth_on_knives", "sharp_corner", "squeezing_ball",
+                                       "pulling_through_gap", "gingerbread", "cable_finger",
+                                       "template_constraint", "grabbing_raptor"};
+    for (size_t k = 0; k < sizeof with / sizeof with[0]; ++k)
+        if (strstr(scene, with[k])) return 1;
+    return 0;
 }
 
 static void check_scene(const char *path)
@@ -320,6 +340,61 @@ static void time_bar(FILE *tab, const char *scene, const char *size, double pape
     }
 }
 
+/* Centroid of every state's positions after `steps` steps from the start. */
+static int long_run(const char *path, const config *c, int steps, double cen[3], double *xmax)
+{
+    pl_sim *sim = load(path, c);
+    pl_error err;
+    snap s = {0};
+    int rc = !sim || pl_sim_step(sim, steps, &err) != PL_OK || take(sim, &s) || s.nx == 0;
+    if (!rc) {
+        cen[0] = cen[1] = cen[2] = 0.0;
+        *xmax = -INFINITY;
+        for (size_t i = 0; i < s.nx / 3; ++i) {
+            for (int k = 0; k < 3; ++k) cen[k] += s.x[3 * i + k] / (double)(s.nx / 3);
+            *xmax = fmax(*xmax, s.x[3 * i]);
+        }
+    }
+    snap_free(&s);
+    pl_sim_free(sim);
+    return rc;
+}
+
+/* A long run of a scene on the CPU and on the GPU (float64, graph) ends in
+ * the same qualitative state: the ball below the rollers, the pulled body
+ * through the gap (the criteria of tests/collision). */
+static void long_runs(void)
+{
+    const config cpu = {"cpu", 0, 0, 0, 0}, gpu = {"cuda float64, graph", 1, 0, 1, 0};
+    struct {
+        const char *path, *what;
+        int steps;
+    } runs[] = {{"scenes/squeezing_ball_small.xml", "ball centre below the rollers (y < -0.1 m)", 150},
+                {"scenes/pulling_through_gap_small.xml", "body through the gap (front x < -0.392 m)", 150}};
+    for (int k = 0; k < 2; ++k) {
+        double c[2][3], xm[2];
+        int bad = long_run(runs[k].path, &cpu, runs[k].steps, c[0], &xm[0]) ||
+                  long_run(runs[k].path, &gpu, runs[k].steps, c[1], &xm[1]);
+        char what[256];
+        for (int d = 0; d < 2 && !bad; ++d) {
+            int ok = k == 0 ? c[d][1] < -0.1 : xm[d] < -0.392;
+            snprintf(what, sizeof what, "%s, %d steps, %s: %s (centre %.4f %.4f %.4f m, front %.4f m)",
+                     runs[k].path, runs[k].steps, d ? "cuda" : "cpu", runs[k].what, c[d][0], c[d][1],
+                     c[d][2], xm[d]);
+            gpu_check_line(md, what, ok ? 0.0 : 1.0, 0.5);
+        }
+        if (bad) {
+            snprintf(what, sizeof what, "%s: long runs", runs[k].path);
+            gpu_check_line(md, what, INFINITY, 0.0);
+        } else {
+            snprintf(what, sizeof what, "%s, %d steps: |centre cpu - centre cuda| [m]", runs[k].path,
+                     runs[k].steps);
+            gpu_note_line(md, what, sqrt(pow(c[0][0] - c[1][0], 2) + pow(c[0][1] - c[1][1], 2) +
+                                         pow(c[0][2] - c[1][2], 2)));
+        }
+    }
+}
+
 int main(int argc, char **argv)
 {
     md = argc > 1 ? fopen(argv[1], "w") : NULL;
@@ -340,12 +415,22 @@ int main(int argc, char **argv)
                             "scenes/resting_box.xml",
                             "scenes/stick_slip.xml",
                             "scenes/ball_on_plane.xml",
+                            "scenes/sliding_box.xml",
+                            "scenes/template_constraint.xml",
+                            "scenes/cable_finger_small.xml",
+                            "scenes/cloth_on_knives_small.xml",
+                            "scenes/sharp_corner_small.xml",
+                            "scenes/squeezing_ball_small.xml",
+                            "scenes/pulling_through_gap_small.xml",
+                            "scenes/gingerbread_small.xml",
+                            "scenes/grabbing_raptor_small.xml",
                             "scenes/twisting_bar.xml"};
     const int nscenes = (int)(sizeof scenes / sizeof scenes[0]);
     if (only)
         check_scene(only);
     for (int k = 0; !only && !timing_only && k < (small ? nscenes - 1 : nscenes); ++k)
         check_scene(scenes[k]);
+    if (!only && !timing_only && !small) long_runs();
     printf("gpu_scenes checks: %d failed\n", gpu_failures());
     fprintf(tab, "| bar | run | Frame ms | paper Frame ms | speed-up | Local ms | Assembly ms | "
                  "Global ms |\n|---|---|--:|--:|--:|--:|--:|--:|\n");
