@@ -119,6 +119,13 @@ typedef struct pl_obstacle_contact {
     int model;              /* index of its collision model (scene order) */
 } pl_obstacle_contact;
 
+/* ---- collision groups (groups.c) ----------------------------------------- */
+#define PL_COLLISION_MAX_GROUP 32
+/* The set of groups a model's `group` field lists, as a bit mask (bit k - 1
+ * for group k; 0 in the list means none); PL_EINPUT for a number outside
+ * 0..PL_COLLISION_MAX_GROUP. */
+int pl_collision_groups(const pl_ints *list, unsigned *mask, pl_error *err);
+
 /* Appends the three rows of contact k (see the top of this file): nv vertices
  * with weights w, the obstacle's closest point p, outward normal n, surface
  * velocity vs, friction mu and contactDistance.  Fills ct's tangents.

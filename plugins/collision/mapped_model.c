@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "collision.h"
 #include "models.h"
 
 typedef struct mapped_model {
@@ -16,7 +17,8 @@ typedef struct mapped_model {
     coll_mesh_source source;
     pl_link volume;
     double mu;
-    int group;
+    pl_ints group;
+    unsigned groups; /* group as a mask */
     /* model */
     pl_component *state;
     pl_mesh surface;
@@ -35,18 +37,20 @@ static const pl_field FIELDS[] = {
              0),
     PL_FIELD(mapped_model, mu, "mu", PL_F_DOUBLE, "-1",
              "Coulomb friction coefficient of this body's contacts (-1: unset)", PL_FIELD_RUNTIME),
-    PL_FIELD(mapped_model, group, "group", PL_F_INT, "0",
-             "collision group: models of the same non-zero group never collide", PL_FIELD_RUNTIME),
+    PL_FIELD(mapped_model, group, "group", PL_F_INTS, "0",
+             "collision groups it belongs to, a list (\"1 2\"; 0: none): models that share a "
+             "group never collide",
+             PL_FIELD_RUNTIME),
 };
 
-static int check_fields(const mapped_model *m, pl_component *c, pl_ctx *ctx)
+static int check_fields(mapped_model *m, pl_component *c, pl_ctx *ctx)
 {
     if (!isfinite(m->mu) || !(m->mu >= 0.0 || m->mu == -1.0))
         return pl_component_error(c, ctx, PL_EINPUT, "mu must be >= 0, or -1 (unset), got %g",
                                   m->mu);
-    if (m->group < 0)
-        return pl_component_error(c, ctx, PL_EINPUT, "group must be >= 0 (0 = none), got %d",
-                                  m->group);
+    pl_error e;
+    if (pl_collision_groups(&m->group, &m->groups, &e) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
 
@@ -169,11 +173,14 @@ static int mm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         memcpy(&m->x[3 * i], x, sizeof x);
         memcpy(&m->v[3 * i], v, sizeof v);
     }
+    pl_error ge;
+    if (pl_collision_groups(&m->group, &m->groups, &ge) != PL_OK)
+        return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = m->x, .v = m->v,
                                    .map_vertex = m->vertex, .map_weight = m->weight,
                                    .ntris = m->surface.ntris, .tris = m->surface.tris,
                                    .nedges = m->nedges, .edges = m->edges,
-                                   .is_obstacle = 0, .mu = m->mu, .group = m->group};
+                                   .is_obstacle = 0, .mu = m->mu, .groups = m->groups};
     return PL_OK;
 }
 

@@ -16,7 +16,8 @@ typedef struct mesh_obstacle {
     pl_component base;
     coll_mesh_source source;
     double mu;
-    int group;
+    pl_ints group;
+    unsigned groups; /* group as a mask */
     int sides;
     double velocity[3], rotation_axis[3], angular_velocity;
     pl_doubles rotation_center, times, translations;
@@ -37,8 +38,10 @@ static const pl_field FIELDS[] = {
              "Coulomb friction coefficient (-1: unset, the pipeline combines the models' values "
              "or uses its own mu)",
              PL_FIELD_RUNTIME),
-    PL_FIELD(mesh_obstacle, group, "group", PL_F_INT, "0",
-             "collision group: models of the same non-zero group never collide", PL_FIELD_RUNTIME),
+    PL_FIELD(mesh_obstacle, group, "group", PL_F_INTS, "0",
+             "collision groups it belongs to, a list (\"1 2\"; 0: none): models that share a "
+             "group never collide",
+             PL_FIELD_RUNTIME),
     PL_FIELD_ENUM(mesh_obstacle, sides, "sides", SIDES, "auto",
                   "which sides repel: one (a closed surface: its outside; points inside are pushed "
                   "out), two (a thin sheet such as a knife blade: both sides, each point kept on "
@@ -63,14 +66,12 @@ static const pl_field FIELDS[] = {
 };
 
 /* The motion from the fields as they are now (RUNTIME: checked every step). */
-static int motion_of(const mesh_obstacle *o, pl_motion *m, pl_error *err)
+static int motion_of(mesh_obstacle *o, pl_motion *m, pl_error *err)
 {
     if (!isfinite(o->mu) || !(o->mu >= 0.0 || o->mu == -1.0))
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "mu must be >= 0, or -1 (unset), got %g",
                             o->mu);
-    if (o->group < 0)
-        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "group must be >= 0 (0 = none), got %d",
-                            o->group);
+    if (pl_collision_groups(&o->group, &o->groups, err) != PL_OK) return err->code;
     if (o->rotation_center.n != 0 && o->rotation_center.n != 3)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "rotationCenter: expected 3 values (x y z), found %d",
@@ -175,7 +176,7 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
                                    .map_vertex = o->map_vertex, .map_weight = o->map_weight,
                                    .ntris = o->mesh.ntris, .tris = o->mesh.tris,
                                    .nedges = o->nedges, .edges = o->edges,
-                                   .is_obstacle = 1, .mu = o->mu, .group = o->group};
+                                   .is_obstacle = 1, .mu = o->mu, .groups = o->groups};
     return PL_OK;
 }
 

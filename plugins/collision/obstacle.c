@@ -208,6 +208,9 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     double t1 = ctx->data->time + sys->h, R[9], tr[3];
     pl_motion_pose(&m, t1, R, tr);
     pl_shape_transform(&s0, R, tr, &s);
+    unsigned groups;
+    if (pl_collision_groups(&o->group, &groups, &e) != PL_OK)
+        return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     o->nwork = 0;
     for (int k = 0; k < o->nmodels; ++k) {
         pl_component *mc = o->models[k];
@@ -217,7 +220,7 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
         int rc = ops->update(mc, ctx, q, &g, err);
         if (rc) return rc;
         /* geometry without DOFs cannot respond; groups opt out */
-        if (g.is_obstacle || (o->group != 0 && g.group == o->group)) continue;
+        if (g.is_obstacle || (groups & g.groups)) continue;
         rc = model_contacts(o, k, &g, &s, &m, t1, sys, rows, err);
         if (rc) return rc;
     }

@@ -21,7 +21,7 @@ struct coll_obstacle {
     double mu;                 /* Coulomb coefficient */
     double alarm_distance;     /* detection radius [m] */
     double contact_distance;   /* kept gap [m] */
-    int group;
+    pl_ints group;    /* collision groups (a list; 0: none) */
     double velocity[3];        /* [m/s] */
     double rotation_axis[3];
     double angular_velocity;   /* [rad/s] */
@@ -55,8 +55,9 @@ struct coll_obstacle {
              "gap [m] that contacts keep between body points and the surface (<= "               \
              "alarmDistance)",                                                                    \
              PL_FIELD_RUNTIME),                                                                   \
-    PL_FIELD(S, ob.group, "group", PL_F_INT, "0",                                                 \
-             "collision models of the same non-zero group do not touch this obstacle",            \
+    PL_FIELD(S, ob.group, "group", PL_F_INTS, "0",                                                \
+             "collision groups (a list: \"1 2\"; 0: none): models that share one do not touch " \
+             "this obstacle",                                                                     \
              PL_FIELD_RUNTIME),                                                                   \
     PL_FIELD(S, ob.velocity, "velocity", PL_F_VEC3, "0 0 0",                                      \
              "constant translation velocity [m/s]", PL_FIELD_RUNTIME),                            \

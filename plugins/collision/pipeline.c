@@ -7,7 +7,7 @@
  *      (x0 = q_t) and predicted (x1 = q_t + h v_t); obstacles posed at the
  *      end of the step (x1) and back along their surface velocity (x0);
  *   2. refits the BVHs of every model and detects, for every pair of models
- *      that may touch (not two obstacles, not the same non-zero group, a
+ *      that may touch (not two obstacles, not sharing a collision group, a
  *      model with itself only with selfCollision), vertex-triangle (both
  *      ways) and edge-edge proximities within alarmDistance (detect.c);
  *   3. emits one normal and two friction rows per proximity (pair_rows.c)

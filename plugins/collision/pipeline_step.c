@@ -126,7 +126,7 @@ int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err)
             if (a->g.ntris == 0 && b->g.ntris == 0) continue; /* points against points */
             if (a->g.is_obstacle && b->g.is_obstacle) continue;
             if (l == k && (!p->self || a->g.is_obstacle)) continue;
-            if (a->g.group != 0 && a->g.group == b->g.group) continue;
+            if (a->g.groups & b->g.groups) continue; /* they share a group */
             if (!ak && !any_active(b)) continue;
             if (pl_detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &p->prox))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");

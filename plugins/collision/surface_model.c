@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "base/component_util.h"
+#include "collision.h"
 #include "io/mesh_boundary.h"
 #include "pliant/pliant.h"
 
@@ -18,7 +19,8 @@ typedef struct surface_model {
     pl_component base;
     /* fields */
     double mu;
-    int group;
+    pl_ints group;
+    unsigned groups; /* group as a mask */
     pl_link src;
     /* model */
     int all_vertices;          /* PointCollisionModel */
@@ -36,8 +38,9 @@ static const pl_field SURFACE_FIELDS[] = {
     PL_FIELD(surface_model, mu, "mu", PL_F_DOUBLE, "-1",
              "Coulomb friction coefficient of this body's contacts (-1: the obstacle's)",
              PL_FIELD_RUNTIME),
-    PL_FIELD(surface_model, group, "group", PL_F_INT, "0",
-             "collision group: models and obstacles of the same non-zero group do not collide",
+    PL_FIELD(surface_model, group, "group", PL_F_INTS, "0",
+             "collision groups it belongs to, a list (\"1 2\"; 0: none): models that share a "
+             "group never collide",
              PL_FIELD_RUNTIME),
     PL_FIELD(surface_model, src, "src", PL_F_LINK, NULL,
              "the mesh (loader or generator; default: the first one in this node)", 0),
@@ -47,19 +50,20 @@ static const pl_field POINT_FIELDS[] = {
     PL_FIELD(surface_model, mu, "mu", PL_F_DOUBLE, "-1",
              "Coulomb friction coefficient of this body's contacts (-1: the obstacle's)",
              PL_FIELD_RUNTIME),
-    PL_FIELD(surface_model, group, "group", PL_F_INT, "0",
-             "collision group: models and obstacles of the same non-zero group do not collide",
+    PL_FIELD(surface_model, group, "group", PL_F_INTS, "0",
+             "collision groups it belongs to, a list (\"1 2\"; 0: none): models that share a "
+             "group never collide",
              PL_FIELD_RUNTIME),
 };
 
-static int check_fields(const surface_model *m, pl_component *c, pl_ctx *ctx)
+static int check_fields(surface_model *m, pl_component *c, pl_ctx *ctx)
 {
     if (!isfinite(m->mu) || !(m->mu >= 0.0 || m->mu == -1.0))
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "mu must be >= 0, or -1 to use the obstacle's, got %g", m->mu);
-    if (m->group < 0)
-        return pl_component_error(c, ctx, PL_EINPUT, "group must be >= 0 (0 = none), got %d",
-                                  m->group);
+    pl_error e;
+    if (pl_collision_groups(&m->group, &m->groups, &e) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
 
@@ -240,11 +244,14 @@ static int sm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         m->vertex[4 * i] = g;
         m->vertex[4 * i + 1] = m->vertex[4 * i + 2] = m->vertex[4 * i + 3] = -1;
     }
+    pl_error ge;
+    if (pl_collision_groups(&m->group, &m->groups, &ge) != PL_OK)
+        return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->npoints, .x = m->x, .v = m->v,
                                    .map_vertex = m->vertex, .map_weight = m->weight,
                                    .ntris = m->ntris, .tris = m->tris,
                                    .nedges = m->nedges, .edges = m->edges,
-                                   .is_obstacle = 0, .mu = m->mu, .group = m->group};
+                                   .is_obstacle = 0, .mu = m->mu, .groups = m->groups};
     return PL_OK;
 }
 

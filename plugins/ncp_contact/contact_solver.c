@@ -95,7 +95,7 @@ static const pl_field FIELDS[] = {
              "does not project): with nearly dependent rows (a vertex-face and an edge-edge "
              "contact at one place) the Newton step has large opposite multipliers whose "
              "difference is the force; clamping the negative one leaves the other unbalanced "
-             "(docs/contact.md, \"Projection\")",
+             "(docs/contact.md)",
              PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, line_search, "lineSearch", PL_F_BOOL, "1",
              "halve the multiplier update (at most 3 times) until the constraint residual decreases "

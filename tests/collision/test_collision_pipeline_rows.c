@@ -153,6 +153,16 @@ START_TEST(test_pair_friction_and_groups)
     const char *other[] = {"body/surface.group=2", "floor/quad.group=3"};
     first_mu(other, 2, &nr);
     ck_assert_int_eq(nr, 27);
+    /* groups are sets (SoftRobots): sharing any one group is enough */
+    const char *share[] = {"body/surface.group=1 2 5", "floor/quad.group=3 5"};
+    first_mu(share, 2, &nr);
+    ck_assert_int_eq(nr, 0);
+    const char *apart[] = {"body/surface.group=1 2 32", "floor/quad.group=3 4 31"};
+    first_mu(apart, 2, &nr);
+    ck_assert_int_eq(nr, 27);
+    const char *none[] = {"body/surface.group=0", "floor/quad.group=0"};
+    first_mu(none, 2, &nr);
+    ck_assert_int_eq(nr, 27);
 }
 END_TEST
 
@@ -215,6 +225,8 @@ START_TEST(test_broken_inputs_name_the_line)
                  "exceeds alarmDistance", 4);
     expect_error(PIPE, "<MeshObstacle position=\"0 0 0 1 0 0 0 1 0\" triangles=\"0 1 2\" mu=\"-3\"/>",
                  "mu must be", 5);
+    expect_error(PIPE, "<MeshObstacle position=\"0 0 0 1 0 0 0 1 0\" triangles=\"0 1 2\" group=\"1 33\"/>",
+                 "group 33: groups are numbered 1..32", 5);
 }
 END_TEST
 

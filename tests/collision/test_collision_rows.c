@@ -266,11 +266,11 @@ static int count_rows(pl_sim *sim, const char *path, const int *prescribed)
 START_TEST(test_prescribed_groups_and_model_mu)
 {
     const char *two = "<PlaneObstacle name=\"floor\" mu=\"0.3\" alarmDistance=\"0.02\"/>\n"
-                      "<PlaneObstacle name=\"grouped\" group=\"3\" alarmDistance=\"0.02\"/>";
-    pl_sim *sim = load_scene(two, "<SurfaceCollisionModel group=\"3\" mu=\"0.7\"/>");
+                      "<PlaneObstacle name=\"grouped\" group=\"3 4\" alarmDistance=\"0.02\"/>";
+    pl_sim *sim = load_scene(two, "<SurfaceCollisionModel group=\"1 3\" mu=\"0.7\"/>");
     /* the bottom layer: 15 contacts, mu of the model (0.7) over the floor's 0.3 */
     ck_assert_int_eq(count_rows(sim, "floor", NULL), 45);
-    ck_assert_int_eq(count_rows(sim, "grouped", NULL), 0);
+    ck_assert_int_eq(count_rows(sim, "grouped", NULL), 0); /* both in group 3 */
     /* vertices at x = 0 prescribed: their 3 contacts go */
     int n;
     double *q = ct_positions(sim, "body/dofs", &n);

@@ -178,7 +178,8 @@ typedef struct pl_collision_geometry {
     const int *edges;         /* nedges x 2 into x */
     int is_obstacle;          /* no DOFs: moves by prescription only */
     double mu;                /* friction coefficient */
-    int group;                /* models of one group never collide with each other (0 = none) */
+    unsigned groups;          /* collision groups, bit k - 1 for group k (1..32): two models
+                                 sharing a group never collide (0: none) */
 } pl_collision_geometry;
 
 #define PL_COLLISION_MODEL_OPS_VERSION 1
