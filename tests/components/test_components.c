@@ -148,6 +148,78 @@ START_TEST(prescribed_motion_rotates_about_its_axis)
 }
 END_TEST
 
+START_TEST(prescribed_motion_plays_keyframed_poses)
+{
+    /* a quarter turn about z through (0, 0, 0) and a move along x then y,
+     * keyed at 0, 1, 2 s, on top of a constant velocity along z */
+    pl_sim *s = load("<Node name=\"root\">\n"
+                     "  <RegularGridTetrahedra min=\"0 0 0\" max=\"1 1 1\" n=\"2 2 2\"/>\n"
+                     "  <MechanicalObject name=\"dofs\"/>\n"
+                     "  <PrescribedMotion name=\"base\" indices=\"1 7\" axis=\"0 0 1\" center=\"0 0 0\" "
+                     "velocity=\"0 0 0.25\" times=\"0 1 2\" translations=\"0 0 0  1 0 0  1 1 0\" "
+                     "angles=\"0 0 1.5707963267948966\"/>\n"
+                     "</Node>\n");
+    ck_assert_ptr_nonnull(s);
+    pl_component *p = pl_sim_component(s, "base");
+    const pl_prescribed_ops *ops = pl_component_role(p, PL_ROLE_PRESCRIBED);
+    const int *idx;
+    ck_assert_int_eq(ops->indices(p, &idx), 2);
+    pl_component *st = pl_sim_component(s, "dofs");
+    pl_buffer rb = ((const pl_state_ops *)pl_component_role(st, PL_ROLE_STATE))->rest_positions(st);
+    const double *r = rb.data;
+    const double ts[4] = {0.5, 1.5, 2.0, 3.0};
+    for (int k = 0; k < 4; ++k) {
+        double t = ts[k], x[6];
+        pl_error err;
+        ck_assert_int_eq(ops->positions_at(p, pl_sim_data(s), t, x, &err), PL_OK);
+        /* expected: translation and angle interpolated, held after 2 s */
+        double sx = t < 1 ? t : 1.0, sy = t < 1 ? 0.0 : (t < 2 ? t - 1 : 1.0);
+        double th = t < 1 ? 0.0 : (t < 2 ? (t - 1) : 1.0) * 1.5707963267948966;
+        for (int i = 0; i < 2; ++i) {
+            const double *x0 = &r[3 * idx[i]];
+            double ex = cos(th) * x0[0] - sin(th) * x0[1] + sx;
+            double ey = sin(th) * x0[0] + cos(th) * x0[1] + sy;
+            double ez = x0[2] + 0.25 * t;
+            ck_assert_double_eq_tol(x[3 * i], ex, 1e-12);
+            ck_assert_double_eq_tol(x[3 * i + 1], ey, 1e-12);
+            ck_assert_double_eq_tol(x[3 * i + 2], ez, 1e-12);
+        }
+    }
+    pl_sim_free(s);
+}
+END_TEST
+
+/* A keyframe mistake stops the scene naming line 3 and the component. */
+static void expect_motion_error(const char *attrs, const char *needle)
+{
+    char xml[512];
+    snprintf(xml, sizeof xml,
+             "<Node name=\"root\">\n  <RegularGridTetrahedra min=\"0 0 0\" max=\"1 1 1\" n=\"2 2 2\"/>"
+             "<MechanicalObject name=\"dofs\"/>\n  <PrescribedMotion name=\"base\" indices=\"1\" %s/>\n"
+             "</Node>\n",
+             attrs);
+    pl_diag_free(&diag);
+    pl_diag_init(&diag);
+    pl_sim *s = pl_sim_load_string(xml, "keys.xml", NULL, &diag);
+    ck_assert_ptr_null(s);
+    int found = 0;
+    for (int k = 0; k < diag.count; ++k)
+        found |= diag.items[k].line == 3 && strstr(diag.items[k].msg, needle) != NULL &&
+                 strstr(diag.items[k].where, "root/base") != NULL;
+    if (!found) pl_diag_print(&diag, stderr);
+    ck_assert_msg(found, "no error with '%s' at line 3", needle);
+}
+
+START_TEST(prescribed_motion_keyframe_errors_name_the_line)
+{
+    expect_motion_error("times=\"0 1\" translations=\"0 0 0 1 0\"", "3 values per time");
+    expect_motion_error("times=\"0 1\" angles=\"0\"", "one value per time");
+    expect_motion_error("times=\"0 0\" angles=\"0 1\"", "strictly increasing");
+    expect_motion_error("translations=\"1 2 3\"", "need times");
+    expect_motion_error("times=\"0 1\"", "without translations or angles");
+}
+END_TEST
+
 START_TEST(a_broken_mesh_file_stops_the_scene_naming_the_loader)
 {
     char path[] = "/tmp/pliant_broken_XXXXXX";
@@ -244,6 +316,8 @@ int main(void)
     tcase_add_test(tc, cloth_mass_uses_thickness);
     tcase_add_test(tc, fixed_constraint_selects_a_box_face);
     tcase_add_test(tc, prescribed_motion_rotates_about_its_axis);
+    tcase_add_test(tc, prescribed_motion_plays_keyframed_poses);
+    tcase_add_test(tc, prescribed_motion_keyframe_errors_name_the_line);
     tcase_add_test(tc, a_broken_mesh_file_stops_the_scene_naming_the_loader);
     tcase_add_test(tc, orphan_vertices_without_mass_are_an_error_unless_dropped);
     tcase_add_test(tc, vtk_exporter_writes_a_series_into_the_output_folder);
