@@ -263,17 +263,14 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
      * their force change to the other rows' right-hand side, and give CR a
      * zero right-hand side there (their rows and columns of h^2 Omega W
      * Omega + Et are diagonal, so CR keeps those entries at 0). */
-    if (nclamped == 0)
-        for (int j = 0; j < m; ++j)
-            w->clamped[j] = 0.0;
+    for (int j = 0; j < m; ++j) {
+        int c = w->is_clamped[j];
+        w->clamped[j] = c ? w->rhs[j] / w->e[j] : 0.0;
+        w->tmp[j] = c ? w->scale[j] * w->clamped[j] : 0.0;
+        if (c)
+            w->rhs[j] = 0.0;
+    }
     if (nclamped > 0) {
-        for (int j = 0; j < m; ++j) {
-            int c = w->is_clamped[j];
-            w->clamped[j] = c ? w->rhs[j] / w->e[j] : 0.0;
-            w->tmp[j] = c ? w->scale[j] * w->clamped[j] : 0.0;
-            if (c)
-                w->rhs[j] = 0.0;
-        }
         if ((st = pl_ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
             return pl_error_set(err, st, NULL, 0, "ncp_step", "W product failed");
         for (int j = 0; j < m; ++j)
