@@ -18,7 +18,6 @@ typedef struct mapped_model {
     pl_link volume;
     double mu;
     pl_ints group;
-    unsigned groups; /* group as a mask */
     /* model */
     pl_component *state;
     pl_mesh surface;
@@ -43,13 +42,14 @@ static const pl_field FIELDS[] = {
              PL_FIELD_RUNTIME),
 };
 
-static int check_fields(mapped_model *m, pl_component *c, pl_ctx *ctx)
+static int check_fields(const mapped_model *m, pl_component *c, pl_ctx *ctx)
 {
     if (!isfinite(m->mu) || !(m->mu >= 0.0 || m->mu == -1.0))
         return pl_component_error(c, ctx, PL_EINPUT, "mu must be >= 0, or -1 (unset), got %g",
                                   m->mu);
     pl_error e;
-    if (pl_collision_groups(&m->group, &m->groups, &e) != PL_OK)
+    unsigned groups;
+    if (pl_collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
@@ -174,13 +174,14 @@ static int mm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         memcpy(&m->v[3 * i], v, sizeof v);
     }
     pl_error ge;
-    if (pl_collision_groups(&m->group, &m->groups, &ge) != PL_OK)
+    unsigned groups;
+    if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = m->x, .v = m->v,
                                    .map_vertex = m->vertex, .map_weight = m->weight,
                                    .ntris = m->surface.ntris, .tris = m->surface.tris,
                                    .nedges = m->nedges, .edges = m->edges,
-                                   .is_obstacle = 0, .mu = m->mu, .groups = m->groups};
+                                   .is_obstacle = 0, .mu = m->mu, .groups = groups};
     return PL_OK;
 }
 

@@ -20,7 +20,6 @@ typedef struct surface_model {
     /* fields */
     double mu;
     pl_ints group;
-    unsigned groups; /* group as a mask */
     pl_link src;
     /* model */
     int all_vertices;          /* PointCollisionModel */
@@ -56,13 +55,14 @@ static const pl_field POINT_FIELDS[] = {
              PL_FIELD_RUNTIME),
 };
 
-static int check_fields(surface_model *m, pl_component *c, pl_ctx *ctx)
+static int check_fields(const surface_model *m, pl_component *c, pl_ctx *ctx)
 {
     if (!isfinite(m->mu) || !(m->mu >= 0.0 || m->mu == -1.0))
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "mu must be >= 0, or -1 to use the obstacle's, got %g", m->mu);
     pl_error e;
-    if (pl_collision_groups(&m->group, &m->groups, &e) != PL_OK)
+    unsigned groups;
+    if (pl_collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
@@ -245,13 +245,14 @@ static int sm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         m->vertex[4 * i + 1] = m->vertex[4 * i + 2] = m->vertex[4 * i + 3] = -1;
     }
     pl_error ge;
-    if (pl_collision_groups(&m->group, &m->groups, &ge) != PL_OK)
+    unsigned groups;
+    if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->npoints, .x = m->x, .v = m->v,
                                    .map_vertex = m->vertex, .map_weight = m->weight,
                                    .ntris = m->ntris, .tris = m->tris,
                                    .nedges = m->nedges, .edges = m->edges,
-                                   .is_obstacle = 0, .mu = m->mu, .groups = m->groups};
+                                   .is_obstacle = 0, .mu = m->mu, .groups = groups};
     return PL_OK;
 }
 
