@@ -49,10 +49,14 @@ __device__ inline double friction_compliance(int fn, double a, double L, double 
         e = a > b ? (a - b) / mln : 0.0;
     } else {
         double s = hypot(a, b);
-        if (b > 0.0)
-            e = a > 0.0 ? rho * a * a / (a * (s + b - a) + rho * L * (s + b)) : 0.0;
-        else
+        if (b > 0.0) {
+            /* s + b - a without cancellation (ncp_functions.c): CUDA's
+             * hypot may round an ulp below a */
+            const double sba = b * (s + a + b) / (s + a);
+            e = a > 0.0 ? rho * a * a / (a * sba + rho * L * (s + b)) : 0.0;
+        } else {
             e = (s - b) / mln;
+        }
     }
     double cap = kECap * rho;
     if (!(e <= cap)) e = cap;

@@ -62,10 +62,15 @@ static double friction_compliance(pl_ncp_function fn, double a, double L, double
         if (b > 0.0) {
             /* Inside the cone: Appendix B's rho (s - b) / (a + rho mu ln - s)
              * with s - b = a^2 / (s + b) and rho mu ln = b + rho L, i.e.
-             * rho a^2 / (a (s + b - a) + rho L (s + b)); the denominator is
-             * > 0 unless a = L = 0 (stick with lf = 0: the 0/0 case, whose
-             * limit from every direction is 0). */
-            e = a > 0.0 ? rho * a * a / (a * (s + b - a) + rho * L * (s + b)) : 0.0;
+             * rho a^2 / (a (s + b - a) + rho L (s + b)).  s - a is formed as
+             * b^2 / (s + a): when b << a, s rounds to a (or an ulp below it,
+             * as CUDA's hypot may), and s + b - a would cancel to 0 or go
+             * negative (a negative compliance makes CR's system indefinite).
+             * So s + b - a = b (s + a + b) / (s + a) > 0, and the
+             * denominator is > 0 unless a = L = 0 (stick with lf = 0: the
+             * 0/0 case, whose limit from every direction is 0). */
+            double sba = b * (s + a + b) / (s + a);
+            e = a > 0.0 ? rho * a * a / (a * sba + rho * L * (s + b)) : 0.0;
         } else {
             /* On or outside the cone Appendix B's denominator a + rho mu ln
              * - s can vanish or go negative (L > 2 mu ln), which would make

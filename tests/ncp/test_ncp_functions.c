@@ -140,6 +140,27 @@ START_TEST(test_friction_stick_zero_zero)
 }
 END_TEST
 
+/* A contact that barely touches (mu ln tiny, lf = 0) while its tangent
+ * moves: b = rho mu ln << a = |y|.  Appendix B's s + b - a cancels there
+ * (s = hypot(a, b) rounds to a, or an ulp below it on a GPU, which gave a
+ * negative compliance); the exact value is rho a (s + a) / (b (s + a + b))
+ * ~ rho a / b, positive and finite (below the cap while a / b < 1e20). */
+START_TEST(test_friction_barely_touching)
+{
+    const double mu = 0.5, rho = 0.004;
+    double lf[2] = {0, 0}, phi[2], om, e;
+    for (double a = 1e-2; a > 1e-7; a *= 0.1)
+        for (double ln = 1e-3; ln > 1e-19; ln *= 1e-2) {
+            double y[2] = {0.6 * a, -0.8 * a};
+            pl_ncp_friction(PL_NCP_FB, 2, y, lf, ln, mu, rho, phi, &om, &e);
+            long double b = (long double)rho * mu * ln, A = a, s = sqrtl(A * A + b * b);
+            long double ref = rho * A * (s + A) / (b * (s + A + b));
+            ck_assert_msg(e > 0.0 && isfinite(e), "a %g ln %g: e = %g", a, ln, e);
+            ck_assert_msg(fabsl(e - ref) <= 1e-12L * ref, "a %g ln %g: e = %.17g, exact %.17Lg", a, ln, e, ref);
+        }
+}
+END_TEST
+
 /* Coulomb solutions are roots of phi_f for both NCP functions; an inactive
  * contact resets lf (omega = 0, e = rho). */
 START_TEST(test_friction_roots)
@@ -338,6 +359,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_minmap_normal_branches);
     tcase_add_test(tc, test_fb_friction_compliance);
     tcase_add_test(tc, test_friction_stick_zero_zero);
+    tcase_add_test(tc, test_friction_barely_touching);
     tcase_add_test(tc, test_friction_roots);
     tcase_add_test(tc, test_minmap_friction_compliance);
     tcase_add_test(tc, test_bounded_and_bilateral);
