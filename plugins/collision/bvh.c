@@ -1,7 +1,7 @@
 /* bvh.c - a bounding-volume hierarchy of axis-aligned boxes: built once by
  * median splits of the primitive centres (deterministic quickselect with
  * ties broken by index), refitted bottom-up every step, queried with an
- * explicit stack.  Children are stored after their parent, two by two. */
+ * explicit stack (hits returned in increasing primitive order).  Children are stored after their parent, two by two. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -176,9 +176,33 @@ void pl_bvh_refit(pl_bvh *b, const pl_aabb *prims)
     }
 }
 
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* The hits in increasing primitive order: the tree is built from the
+ * positions of the first step it sees, so its leaf order depends on the
+ * history (a run restored from a saved state builds another tree), and the
+ * order of the contacts, which the hits become, must not. */
+static void sort_hits(int *v, int n)
+{
+    if (n > 32) {
+        qsort(v, (size_t)n, sizeof *v, cmp_int);
+        return;
+    }
+    for (int i = 1; i < n; ++i) {
+        int x = v[i], j = i - 1;
+        for (; j >= 0 && v[j] > x; --j) v[j + 1] = v[j];
+        v[j + 1] = x;
+    }
+}
+
 int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out)
 {
     if (b->nprims == 0) return PL_OK;
+    int first = out->n;
     int stack[128], top = 0; /* median splits: depth <= log2(n) + 1 */
     stack[top++] = 0;
     while (top > 0) {
@@ -194,5 +218,6 @@ int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ive
             stack[top++] = b->left[node];
         }
     }
+    sort_hits(out->v + first, out->n - first);
     return PL_OK;
 }

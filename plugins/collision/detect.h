@@ -75,7 +75,8 @@ typedef struct pl_ivec {
 void pl_ivec_free(pl_ivec *a);
 int pl_ivec_push(pl_ivec *a, int x);
 
-/* Appends to out the primitives whose boxes overlap q (leaf order).
+/* Appends to out the primitives whose boxes overlap q, in increasing order
+ * (the same whatever the tree's shape).
  * PL_OK or PL_EINTERNAL. */
 int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out);
 
