@@ -27,7 +27,10 @@
  * of a frame (pl_sim_step of one frame) over `frames` frames after 5
  * warm-up frames, next to the paper's Table 3 Frame; Local / Assembly /
  * Global: the phase timers' medians (with CudaDevice profile="1" on the
- * device, where every phase waits for the GPU). */
+ * device, where every phase waits for the GPU).
+ * Experiments: GPU_SCENES_SET="contact.crIterations=400;contact.lineSearch=0"
+ * sets fields on every loaded scene (CPU and device), GPU_SCENES_RUNUP=N
+ * saves the state after N frames instead of the scene's RUN_UP. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,6 +71,23 @@ static pl_sim *load(const char *path, const config *c)
         printf("set: %s\n", err.msg);
         pl_sim_free(sim);
         return NULL;
+    }
+    /* GPU_SCENES_SET="a.b=v;c.d=w": fields set on every loaded scene, CPU
+     * and device alike (experiments: delassus, crIterations, ...) */
+    const char *set = getenv("GPU_SCENES_SET");
+    if (sim && set && *set) {
+        char buf[1024];
+        snprintf(buf, sizeof buf, "%s", set);
+        for (char *save = NULL, *kv = strtok_r(buf, ";", &save); kv; kv = strtok_r(NULL, ";", &save)) {
+            char *eq = strchr(kv, '=');
+            if (!eq) continue;
+            *eq = '\0';
+            if (pl_sim_set(sim, kv, eq + 1, &err) != PL_OK) {
+                printf("GPU_SCENES_SET %s: %s\n", kv, err.msg);
+                pl_sim_free(sim);
+                return NULL;
+            }
+        }
     }
     return sim;
 }
@@ -166,6 +186,8 @@ static const struct {
 
 static int run_up(const char *scene)
 {
+    const char *env = getenv("GPU_SCENES_RUNUP"); /* experiments: a later state */
+    if (env && atoi(env) > 0) return atoi(env);
     for (size_t k = 0; k < sizeof RUN_UP / sizeof RUN_UP[0]; ++k)
         if (strstr(scene, RUN_UP[k].scene)) return RUN_UP[k].run_up;
     return 10;
