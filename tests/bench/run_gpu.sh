@@ -5,7 +5,7 @@
 # (default /tmp/gpu_out).
 #   bash tests/bench/run_gpu.sh [BUILD_DIR]          (from the repository root)
 #   PARTS="check table" FRAMES=30 bash tests/bench/run_gpu.sh .gpu3
-# BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep) and
+# BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep, test_gripper) and
 # plugins/ of a CUDA build; the bundled libraries (gpu-bundle) are taken from
 # $GPU_LIBS/lib (default BUILD_DIR/lib).  Parts:
 #   check     gpu_scenes: CPU vs GPU one frame from identical states, every scene
@@ -14,12 +14,14 @@
 #   table     gpu_table: the paper's Table 3 columns for every scene that runs on
 #             the device, with the paper's RTX 4090 figures, and float32 vs float64
 #   sweep     stick_slip_sweep on the CPU and on the GPU (same thresholds?)
+#   grasp     tests/gripper's grasp criteria on both raptor scenes (small and
+#             the paper-size full variant) with the loop on the device
 #   memcheck  compute-sanitizer memcheck on the checks of resting_box and cloth_terms
 set -u
 B=${1:-build-gpu}
 OUT=${OUT:-/tmp/gpu_out}
 FRAMES=${FRAMES:-30}
-PARTS=${PARTS:-check table sweep memcheck}
+PARTS=${PARTS:-check table sweep grasp memcheck}
 mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-$B}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH="$PWD/$B/plugins"
@@ -36,7 +38,7 @@ nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee 
 
 if has check; then
   echo "== gpu_scenes checks (CPU vs GPU from identical states)"
-  timeout ${T_CHECK:-220} "$B/bin/gpu_scenes" "$OUT/scenes_check.md" /dev/null 0 2>&1 | grep -v "^pliant: info" \
+  timeout ${T_CHECK:-400} "$B/bin/gpu_scenes" "$OUT/scenes_check.md" /dev/null 0 2>&1 | grep -v "^pliant: info" \
     > "$OUT/gpu_scenes.log"
   rc=${PIPESTATUS[0]}; [ "$rc" = 0 ] || status=1
   grep -E "FAIL|failed" "$OUT/gpu_scenes.log" | tail -20
@@ -62,6 +64,29 @@ if has sweep; then
       --set global.device=cuda; } > "$OUT/sweep.md" 2>&1 || status=1
   cat "$OUT/sweep.md"
   echo "sweep ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has grasp; then
+  echo "== grasp: the gripper scenes with the whole loop on the device (tests/gripper criteria)"
+  GRIP=$B/bin/test_gripper
+  [ -x "$GRIP" ] || GRIP=$B/tests/test_gripper
+  for v in grabbing_raptor_small grabbing_raptor; do
+    # next to the scene (its meshes are relative to it); exports renamed
+    sed -e '0,/<Node name="root"[^>]*>/s//&<RequiredPlugin name="cuda"\/><CudaDevice name="gpu"\/>/' \
+        -e 's/<LocalGlobalSolver name="solver"/& device="cuda"/' \
+        -e 's/<SparseInverseSolver name="global"/& device="cuda" precision="float64"/' \
+        -e 's/filename="grabbing_raptor/filename="gpu_grabbing_raptor/' \
+        "scenes/$v.xml" > "scenes/.gpu_$v.xml"
+    GRASP_SCENE="scenes/.gpu_$v.xml" CK_RUN_CASE=grasp CK_DEFAULT_TIMEOUT=0 \
+      timeout ${T_GRASP:-400} "$GRIP" > "$OUT/grasp_$v.log" 2>&1 &
+  done
+  wait
+  for v in grabbing_raptor_small grabbing_raptor; do
+    rm -f "scenes/.gpu_$v.xml"
+    echo "-- $v"; grep -E "^grasp: height|Checks|F:" "$OUT/grasp_$v.log" || status=1
+    grep -q "100%: Checks" "$OUT/grasp_$v.log" || status=1
+  done
+  echo "grasp ($(( $(date +%s) - t0 )) s)"
 fi
 
 if has memcheck; then
