@@ -213,8 +213,11 @@ int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx)
     if (why[0]) {
         if (s->device == 1)
             return pl_component_error(c, ctx, PL_EINPUT, "device=\"cuda\": %s", why);
-        pl_log_info("%s: device=\"auto\" runs on the CPU: %s",
-                    pl_component_path(c, path, sizeof path), why);
+        /* auto is the default: a scene without a device service runs on the
+         * CPU silently; one with a device says why it is not used */
+        if (dev)
+            pl_log_info("%s: device=\"auto\" runs on the CPU: %s",
+                        pl_component_path(c, path, sizeof path), why);
         return PL_OK;
     }
     lg_device *g = &s->gpu;

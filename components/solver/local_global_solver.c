@@ -40,11 +40,11 @@ static const pl_field FIELDS[] = {
              "the global solver (default: the first one in this node or below)", 0),
     PL_FIELD(local_global_solver, contact_link, "contactSolver", PL_F_LINK, NULL,
              "the constraint solver (default: the first one in this node or below, if any)", 0),
-    PL_FIELD_ENUM(local_global_solver, device, "device", device_choices, "cpu",
+    PL_FIELD_ENUM(local_global_solver, device, "device", device_choices, "auto",
                   "where the iterations run: cpu; cuda (needs <CudaDevice/> in this node or above, "
                   "a global solver and local terms that take device buffers and, with constraints, "
                   "a contact solver with a device path); auto (cuda when all of that holds, else "
-                  "cpu)",
+                  "cpu: a scene with a CudaDevice runs on the GPU)",
                   0),
 };
 

@@ -48,7 +48,7 @@ static const pl_field solver_fields[] = {
     PL_FIELD(sparse_inverse_solver, threads, "threads", PL_F_INT, "0",
              "OpenMP threads for the inverse and the products [count] (0 = OpenMP's default)", 0),
 #ifdef PLIANT_HAVE_CUDA
-    PL_FIELD_ENUM(sparse_inverse_solver, device, "device", device_choices, "cpu",
+    PL_FIELD_ENUM(sparse_inverse_solver, device, "device", device_choices, "auto",
                   "where the global step runs: cpu, cuda (S copied to the GPU; mode sparse; work "
                   "queued on the stream of a CudaDevice in this node or above, if any), or auto "
                   "(cuda when there is such a CudaDevice and mode is sparse)",
