@@ -50,9 +50,9 @@ CABLE_MM = [(-17.5, 12.5, 2.5), (-32.5, 12.5, 2.5), (-47.5, 12.5, 2.5), (-62.5, 
 
 # phase end times [s]
 FULL_T = {"settle": 0.2, "close": 0.7, "lift": 1.2, "turn": 1.7, "move": 2.2, "lower": 2.7,
-          "open": 3.0, "retreat": 3.3, "end": 3.8}
+          "open": 3.0, "retreat": 3.3, "end": 4.3}
 SMALL_T = {"settle": 0.1, "close": 0.45, "lift": 0.85, "turn": 1.25, "move": 1.65, "lower": 2.05,
-           "open": 2.25, "retreat": 2.45, "end": 2.85}
+           "open": 2.25, "retreat": 2.45, "end": 3.45}
 
 
 def finger_points():
@@ -204,7 +204,7 @@ def header(small, T, dt, iters, nsteps, prefix):
 
 def scene(small, T=None, dt=0.0025, iters=None):
     T = T or (SMALL_T if small else FULL_T)
-    iters = iters or (5 if small else 10)
+    iters = iters or 10
     prefix = "grabbing_raptor_small" if small else "grabbing_raptor"
     every = int(round(0.1 / dt)) if small else int(round(0.05 / dt))
     nsteps = int(round(T["end"] / dt))
