@@ -176,12 +176,14 @@ __device__ inline void svd3(const double *F, double *U, double *s, double *V)
     }
 }
 
-/* psi_hat(s), its gradient and Hessian for d = 3 (hyper_sv_eval); material
- * 0 ARAP, 1 corotational, 2 Neo-Hookean.  -1 outside the domain. */
-__device__ inline int sv_eval(int material, double mu, double la, const double *s, double *psi,
-                              double *g, double *H)
+/* psi_hat(s), its gradient and Hessian for d = D singular values
+ * (hyper_sv_eval): D = 3 for tetrahedra, 2 for membranes; material 0 ARAP,
+ * 1 corotational, 2 Neo-Hookean.  -1 outside the domain. */
+template <int D>
+__device__ inline int sv_eval_d(int material, double mu, double la, const double *s, double *psi,
+                                double *g, double *H)
 {
-    const int d = 3;
+    const int d = D;
     if (material == 2) {
         double lnJ = 0.0, I1 = 0.0;
 #pragma unroll
@@ -223,6 +225,12 @@ __device__ inline int sv_eval(int material, double mu, double la, const double *
 #pragma unroll
             for (int j = 0; j < d; ++j) H[i * d + j] = lc + (i == j ? 2.0 * mu : 0.0);
     return 0;
+}
+
+__device__ inline int sv_eval(int material, double mu, double la, const double *s, double *psi,
+                              double *g, double *H)
+{
+    return sv_eval_d<3>(material, mu, la, s, psi, g, H);
 }
 
 template <int p, int q>
@@ -350,23 +358,27 @@ __device__ inline void newton_direction3(const double *H, const double *r, doubl
     }
 }
 
-__device__ inline double objective3(int mat, double mu, double la, double what, const double *s,
-                                    const double *zh)
+/* The prox objective psi_hat(s) + what / 2 |s - zh|^2 and its residual's
+ * max norm (r = gradient, H = psi_hat's Hessian), for D singular values. */
+template <int D>
+__device__ inline double objective_d(int mat, double mu, double la, double what, const double *s,
+                                     const double *zh)
 {
     double psi, q = 0.0;
-    if (sv_eval(mat, mu, la, s, &psi, NULL, NULL) != 0) return INFINITY;
+    if (sv_eval_d<D>(mat, mu, la, s, &psi, NULL, NULL) != 0) return INFINITY;
 #pragma unroll
-    for (int i = 0; i < 3; ++i) q += (s[i] - zh[i]) * (s[i] - zh[i]);
+    for (int i = 0; i < D; ++i) q += (s[i] - zh[i]) * (s[i] - zh[i]);
     return psi + 0.5 * what * q;
 }
 
-__device__ inline double residual3(int mat, double mu, double la, double what, const double *s,
-                                   const double *zh, double *r, double *H)
+template <int D>
+__device__ inline double residual_d(int mat, double mu, double la, double what, const double *s,
+                                    const double *zh, double *r, double *H)
 {
-    double psi, g[3], rn = 0.0;
-    if (sv_eval(mat, mu, la, s, &psi, g, H) != 0) return INFINITY;
+    double psi, g[D], rn = 0.0;
+    if (sv_eval_d<D>(mat, mu, la, s, &psi, g, H) != 0) return INFINITY;
 #pragma unroll
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < D; ++i) {
         r[i] = g[i] + what * (s[i] - zh[i]);
         rn = fmax(rn, fabs(r[i]));
     }
@@ -387,10 +399,10 @@ __device__ inline int solve_singular_values3(int mat, double mu, double la, doub
     const double tol = 1e-13 * what * fmax(1.0, scale);
 #pragma unroll
     for (int i = 0; i < 3; ++i) s[i] = mat == 2 ? fmax(zh[i], 0.1 * fmax(1.0, scale)) : zh[i];
-    double f = objective3(mat, mu, la, what, s, zh);
+    double f = objective_d<3>(mat, mu, la, what, s, zh);
     for (int it = 0; it < max_iter; ++it) {
         double H[9], r[3], rt[3];
-        double rn = residual3(mat, mu, la, what, s, zh, r, H);
+        double rn = residual_d<3>(mat, mu, la, what, s, zh, r, H);
         if (rn <= tol) return it;
 #pragma unroll
         for (int i = 0; i < 3; ++i) H[i * 3 + i] += what;
@@ -406,12 +418,12 @@ __device__ inline int solve_singular_values3(int mat, double mu, double la, doub
         for (int ls = 0; ls < 60; ++ls) {
 #pragma unroll
             for (int i = 0; i < 3; ++i) trial[i] = s[i] + alpha * dx[i];
-            ft = objective3(mat, mu, la, what, trial, zh);
+            ft = objective_d<3>(mat, mu, la, what, trial, zh);
             if (ft <= f + 1e-4 * alpha * slope) {
                 accepted = true;
             } else if (ls == 0 && fabs(ft - f) <= 1e-11 * fabs(f)) {
                 double Ht[9];
-                accepted = residual3(mat, mu, la, what, trial, zh, rt, Ht) < rn;
+                accepted = residual_d<3>(mat, mu, la, what, trial, zh, rt, Ht) < rn;
             }
             if (accepted) break;
             alpha *= 0.5;

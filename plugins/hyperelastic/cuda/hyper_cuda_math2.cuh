@@ -1,8 +1,9 @@
 /* hyper_cuda_math2.cuh - device versions of the membrane (3x2) local-step
  * math of the hyperelastic core: the SVD of a 3x2 F by one-sided Jacobi
- * (svd.c, pl_hyper_svd32), the laws on two singular values (material_law.c
- * with d = 2), the 2x2 eigen-decomposition (sym_eigen.c) and the ADMM-PD
- * prox by Newton on the singular values (local_solve.c).  Same algorithms,
+ * (svd.c, pl_hyper_svd32), the 2x2 eigen-decomposition (sym_eigen.c) and
+ * the ADMM-PD prox by Newton on the singular values (local_solve.c); the
+ * laws on the singular values and the prox objective are the templates of
+ * hyper_cuda_math.cuh with D = 2.  Same algorithms,
  * constants and summation orders as the CPU files, which stay the
  * reference (tests/gpu/gpu_scenes compares whole cloth steps). */
 #ifndef PLIANT_HYPER_CUDA_MATH2_CUH
@@ -90,54 +91,6 @@ __device__ inline void svd32(const double *F, double *U, double *s, double *V)
     for (int r = 0; r < 3; ++r) U[r * 2] = u0[r], U[r * 2 + 1] = u1[r];
 }
 
-/* psi_hat(s), gradient and 2x2 Hessian for membranes (hyper_sv_eval, d = 2). */
-__device__ inline int sv_eval2(int material, double mu, double la, const double *s, double *psi,
-                               double *g, double *H)
-{
-    const int d = 2;
-    if (material == 2) {
-        double lnJ = 0.0, I1 = 0.0;
-#pragma unroll
-        for (int i = 0; i < d; ++i) {
-            if (!(s[i] > 0.0)) {
-                *psi = INFINITY;
-                return -1;
-            }
-            lnJ += log(s[i]);
-            I1 += s[i] * s[i];
-        }
-        *psi = 0.5 * mu * (I1 - d) - mu * lnJ + 0.5 * la * lnJ * lnJ;
-        if (g)
-#pragma unroll
-            for (int i = 0; i < d; ++i) g[i] = mu * s[i] + (la * lnJ - mu) / s[i];
-        if (H)
-#pragma unroll
-            for (int i = 0; i < d; ++i)
-#pragma unroll
-                for (int j = 0; j < d; ++j)
-                    H[i * d + j] = la / (s[i] * s[j]) +
-                                   (i == j ? mu + (mu - la * lnJ) / (s[i] * s[i]) : 0.0);
-        return 0;
-    }
-    double lc = material == 1 ? la : 0.0;
-    double tr = -d, sq = 0.0;
-#pragma unroll
-    for (int i = 0; i < d; ++i) {
-        tr += s[i];
-        sq += (s[i] - 1.0) * (s[i] - 1.0);
-    }
-    *psi = mu * sq + 0.5 * lc * tr * tr;
-    if (g)
-#pragma unroll
-        for (int i = 0; i < d; ++i) g[i] = 2.0 * mu * (s[i] - 1.0) + lc * tr;
-    if (H)
-#pragma unroll
-        for (int i = 0; i < d; ++i)
-#pragma unroll
-            for (int j = 0; j < d; ++j) H[i * d + j] = lc + (i == j ? 2.0 * mu : 0.0);
-    return 0;
-}
-
 /* Cyclic Jacobi for a symmetric 2x2 (pl_hyper_sym_eigen, n = 2), ascending. */
 __device__ inline void sym_eigen2(const double *A, double *lam, double *Q)
 {
@@ -219,29 +172,6 @@ __device__ inline void newton_direction2(const double *H, const double *r, doubl
     }
 }
 
-__device__ inline double objective2(int mat, double mu, double la, double what, const double *s,
-                                    const double *zh)
-{
-    double psi, q = 0.0;
-    if (sv_eval2(mat, mu, la, s, &psi, NULL, NULL) != 0) return INFINITY;
-    q += (s[0] - zh[0]) * (s[0] - zh[0]);
-    q += (s[1] - zh[1]) * (s[1] - zh[1]);
-    return psi + 0.5 * what * q;
-}
-
-__device__ inline double residual2(int mat, double mu, double la, double what, const double *s,
-                                   const double *zh, double *r, double *H)
-{
-    double psi, g[2], rn = 0.0;
-    if (sv_eval2(mat, mu, la, s, &psi, g, H) != 0) return INFINITY;
-#pragma unroll
-    for (int i = 0; i < 2; ++i) {
-        r[i] = g[i] + what * (s[i] - zh[i]);
-        rn = fmax(rn, fabs(r[i]));
-    }
-    return rn;
-}
-
 /* Newton with backtracking on the two singular values (solve_singular_values, d = 2). */
 __device__ inline int solve_singular_values2(int mat, double mu, double la, double what,
                                              const double *zh, double *s)
@@ -251,10 +181,10 @@ __device__ inline int solve_singular_values2(int mat, double mu, double la, doub
     const double tol = 1e-13 * what * fmax(1.0, scale);
 #pragma unroll
     for (int i = 0; i < 2; ++i) s[i] = mat == 2 ? fmax(zh[i], 0.1 * fmax(1.0, scale)) : zh[i];
-    double f = objective2(mat, mu, la, what, s, zh);
+    double f = objective_d<2>(mat, mu, la, what, s, zh);
     for (int it = 0; it < max_iter; ++it) {
         double H[4], r[2], rt[2];
-        double rn = residual2(mat, mu, la, what, s, zh, r, H);
+        double rn = residual_d<2>(mat, mu, la, what, s, zh, r, H);
         if (rn <= tol) return it;
         H[0] += what;
         H[3] += what;
@@ -273,12 +203,12 @@ __device__ inline int solve_singular_values2(int mat, double mu, double la, doub
         for (int ls = 0; ls < 60; ++ls) {
             trial[0] = s[0] + alpha * dx[0];
             trial[1] = s[1] + alpha * dx[1];
-            ft = objective2(mat, mu, la, what, trial, zh);
+            ft = objective_d<2>(mat, mu, la, what, trial, zh);
             if (ft <= f + 1e-4 * alpha * slope) {
                 accepted = true;
             } else if (ls == 0 && fabs(ft - f) <= 1e-11 * fabs(f)) {
                 double Ht[4];
-                accepted = residual2(mat, mu, la, what, trial, zh, rt, Ht) < rn;
+                accepted = residual_d<2>(mat, mu, la, what, trial, zh, rt, Ht) < rn;
             }
             if (accepted) break;
             alpha *= 0.5;
