@@ -21,6 +21,7 @@ void pl_coll_mesh_free(pl_coll_mesh *m)
     free(m->fnormal);
     free(m->edge_tris);
     free(m->sharp);
+    free(m->border);
     free(m->vbox);
     free(m->tbox);
     free(m->ebox);
@@ -29,6 +30,7 @@ void pl_coll_mesh_free(pl_coll_mesh *m)
     m->fnormal = NULL;
     m->edge_tris = NULL;
     m->sharp = NULL;
+    m->border = NULL;
     m->vbox = m->tbox = m->ebox = NULL;
     m->built = 0;
 }
@@ -127,8 +129,11 @@ static int first_prepare(pl_coll_mesh *m, pl_error *err)
     m->tbox = malloc(nt * sizeof *m->tbox);
     m->ebox = malloc(ne * sizeof *m->ebox);
     m->sharp = malloc(ne);
-    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->sharp)
+    m->border = calloc(nv, 1);
+    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->sharp || !m->border)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    for (int e = 0; e < m->nedges; ++e)
+        if (m->edge_tris[2 * e + 1] < 0) m->border[m->edges[2 * e]] = m->border[m->edges[2 * e + 1]] = 1;
     return PL_OK;
 }
 

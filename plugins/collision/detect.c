@@ -103,12 +103,21 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
         out->b[a] = tri[a];
         out->wb[a] = w[a];
     }
-    const double *hint = T->two_sided && over_face ? pl_side_hints_find(prm->hints, out) : NULL;
-    if (hint && dot3(hint, nf) != 0.0) {
+    /* a thin mesh: the side of its oriented face the vertex was on last step
+     * (this triangle, else a neighbour it touched) */
+    const pl_proximity *hint = T->two_sided ? pl_side_hints_find(prm->hints, out) : NULL;
+    if (!(hint && hint->side) && T->two_sided) hint = pl_side_hints_find_near(prm->hints, out);
+    int side = hint ? hint->side : 0;
+    /* beside the face, near none of the sheet's rim: a point on the wrong
+     * side of the face's plane went through near an inner edge (around the
+     * rim, a point passes from one side to the other legitimately) */
+    int inner = !over_face;
+    for (int a = 0; a < 3 && inner; ++a)
+        if (w[a] > 0.0 && T->border[tri[a]]) inner = 0;
+    if (side && (over_face || (inner && side * height < 0.0))) {
         /* in contact last step: keep that side, even if a little through */
-        double s = dot3(hint, nf) > 0.0 ? 1.0 : -1.0;
-        for (int k = 0; k < 3; ++k) n[k] = s * nf[k];
-        gap = s * height;
+        for (int k = 0; k < 3; ++k) n[k] = side * nf[k];
+        gap = side * height;
         if (gap < -prm->alarm) return 0; /* through by more than alarm: lost */
     } else if (!T->two_sided && height < 0.0) {
         /* behind an outward face: inside, pushed out by the face it is
@@ -134,6 +143,7 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     *face = over_face;
     memcpy(out->normal, n, sizeof n);
     out->gap = gap;
+    if (T->two_sided) out->side = dot3(n, nf) >= 0.0 ? 1 : -1;
     return 1;
 }
 
@@ -220,8 +230,25 @@ static double border_side(const pl_coll_mesh *m, int e, const double mo[3], cons
         s0 += (q0[k] - p[k]) * nf[k];
         s1 += (q1[k] - p[k]) * nf[k];
     }
-    if (s0 * s1 < 0.0) /* crosses the plane */
-        return fabs(dot3(mo, cr)) > 0.2 * len ? (dot3(mo, cr) > 0.0 ? 1.0 : -1.0) : 0.0;
+    if (s0 * s1 < 0.0) { /* crosses the plane */
+        /* where: through the sheet or beyond this border, it belongs
+         * outside along mo; beside the sheet past another border (a cloth
+         * edge wrapped around a blade's corner, near this edge's end) this
+         * border does not decide its side */
+        double X[3], f = s0 / (s0 - s1), w[3];
+        for (int k = 0; k < 3; ++k) X[k] = q0[k] + f * (q1[k] - q0[k]);
+        const int *tri = &m->tris[3 * m->edge_tris[2 * e]];
+        double d2 = pl_closest_point_triangle(X, &m->x0[3 * tri[0]], &m->x0[3 * tri[1]],
+                                              &m->x0[3 * tri[2]], w);
+        double beyond = (X[0] - p[0]) * mo[0] + (X[1] - p[1]) * mo[1] + (X[2] - p[2]) * mo[2];
+        int inside = d2 <= 1e-16; /* X is in the plane: inside up to round-off */
+        if (!inside && beyond <= 0.0) return 0.0;
+        /* through the sheet: it must come out beyond the border even when
+         * the edges are nearly perpendicular to it (a cloth edge almost in
+         * the blade's plane); only a sign lost in round-off is no answer */
+        double lim = inside ? 0.02 : 0.2;
+        return fabs(dot3(mo, cr)) > lim * len ? (dot3(mo, cr) > 0.0 ? 1.0 : -1.0) : 0.0;
+    }
     double side = s0 + s1 > 0.0 ? 1.0 : -1.0, c = side * dot3(nf, cr);
     return fabs(c) > 0.2 * len ? (c > 0.0 ? 1.0 : -1.0) : 0.0;
 }
@@ -296,9 +323,10 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
         sg = dot3(mo, cr) > 0.0 ? -1.0 : 1.0;
     else if (!B->two_sided && outward(B, f, cr, len, mo))
         sg = dot3(mo, cr) > 0.0 ? 1.0 : -1.0;
-    const double *hint = sg == 0.0 && A->two_sided && B->two_sided
-                             ? pl_side_hints_find(prm->hints, out)
-                             : NULL;
+    const pl_proximity *hp = sg == 0.0 && A->two_sided && B->two_sided
+                                 ? pl_side_hints_find(prm->hints, out)
+                                 : NULL;
+    const double *hint = hp ? hp->normal : NULL;
     if (hint && dot3(hint, cr) != 0.0) sg = dot3(hint, cr) > 0.0 ? 1.0 : -1.0;
     if (sg != 0.0) {
         for (int k = 0; k < 3; ++k) n[k] = sg * cr[k] / len;

@@ -106,6 +106,7 @@ typedef struct pl_coll_mesh {
     unsigned char *sharp;       /* per edge: a feature that can poke through a surface between
                                    its vertices (a boundary edge, a fold, a convex crease of a
                                    closed mesh sharper than PL_SHARP_COS) */
+    unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
     pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges */
     pl_bvh tbvh, ebvh;          /* over tbox and ebox */
     int built;
@@ -137,6 +138,8 @@ typedef struct pl_proximity {
     double wa[3], wb[3];     /* barycentric weights of the closest points */
     double normal[3];        /* unit, from B to A */
     double gap;              /* signed distance along normal at the start of the step [m] */
+    int side;                /* vertex-face against a two-sided mesh: the side of the triangle's
+                                oriented face normal the vertex keeps (+1 / -1; 0 otherwise) */
 } pl_proximity;
 
 typedef struct pl_proximities {
@@ -156,6 +159,8 @@ typedef struct pl_side_hints {
     unsigned long long *key;
     double *normal;      /* per slot: 3 doubles */
     pl_proximity *keyed; /* per slot: the proximity (for exact key comparison) */
+    pl_proximity *vf;    /* the vertex-face ones, sorted by models and vertex */
+    int nvf, capvf;
 } pl_side_hints;
 
 void pl_side_hints_init(pl_side_hints *h);
@@ -163,9 +168,16 @@ void pl_side_hints_free(pl_side_hints *h);
 /* Clears h and inserts the normals of the given proximities.  PL_OK or
  * PL_EINTERNAL. */
 int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
-/* The remembered normal of a proximity with the same kind, models and
- * vertices (NULL when none). */
-const double *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p);
+/* The remembered proximity with the same kind, models and vertices (NULL
+ * when none): its normal, and for vertex-face ones its side. */
+const pl_proximity *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p);
+/* For a vertex-face proximity without a remembered side: the same vertex's
+ * contact last step with a triangle that shares an edge (or else a vertex)
+ * with p's triangle, NULL when none.  A vertex sliding under a cloth (a
+ * blade's apex) meets new triangles; they take the side of the neighbour it
+ * touched (sides are relative to the oriented face normals, which neighbours
+ * share), not the side it has reached by now. */
+const pl_proximity *pl_side_hints_find_near(const pl_side_hints *h, const pl_proximity *p);
 
 typedef struct pl_detect_params {
     double alarm;        /* alarmDistance [m] */

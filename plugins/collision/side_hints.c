@@ -13,6 +13,7 @@ void pl_side_hints_free(pl_side_hints *h)
     free(h->key);
     free(h->normal);
     free(h->keyed);
+    free(h->vf);
     pl_side_hints_init(h);
 }
 
@@ -58,6 +59,70 @@ static int same(const pl_proximity *p, const pl_proximity *q)
     return memcmp(a, b, sizeof a) == 0;
 }
 
+/* Vertex-face proximities ordered by (model_a, model_b, vertex). */
+static int cmp_vertex(const pl_proximity *x, const pl_proximity *y)
+{
+    if (x->model_a != y->model_a) return x->model_a < y->model_a ? -1 : 1;
+    if (x->model_b != y->model_b) return x->model_b < y->model_b ? -1 : 1;
+    return (x->a[0] > y->a[0]) - (x->a[0] < y->a[0]);
+}
+
+static int cmp_vf(const void *x, const void *y)
+{
+    int c = cmp_vertex(x, y);
+    if (c) return c;
+    /* ties: a fixed order of the triangles (deterministic) */
+    const pl_proximity *p = x, *q = y;
+    for (int k = 0; k < 3; ++k)
+        if (p->b[k] != q->b[k]) return p->b[k] < q->b[k] ? -1 : 1;
+    return 0;
+}
+
+static int build_vf(pl_side_hints *h, const pl_proximity *items, int n)
+{
+    int m = 0;
+    for (int k = 0; k < n; ++k) m += items[k].kind == PL_PROX_VERTEX_FACE;
+    if (m > h->capvf) {
+        pl_proximity *vf = realloc(h->vf, (size_t)m * sizeof *vf);
+        if (!vf) return PL_EINTERNAL;
+        h->vf = vf;
+        h->capvf = m;
+    }
+    h->nvf = 0;
+    for (int k = 0; k < n; ++k)
+        if (items[k].kind == PL_PROX_VERTEX_FACE) h->vf[h->nvf++] = items[k];
+    if (h->nvf > 1) qsort(h->vf, (size_t)h->nvf, sizeof *h->vf, cmp_vf);
+    return PL_OK;
+}
+
+static int shared_vertices(const int a[3], const int b[3])
+{
+    int n = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) n += a[i] == b[j];
+    return n;
+}
+
+const pl_proximity *pl_side_hints_find_near(const pl_side_hints *h, const pl_proximity *p)
+{
+    if (!h || h->nvf == 0 || p->kind != PL_PROX_VERTEX_FACE) return NULL;
+    int lo = 0, hi = h->nvf; /* first record not below p's vertex */
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (cmp_vertex(&h->vf[mid], p) < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    const pl_proximity *best = NULL;
+    int shared = 0;
+    for (int k = lo; k < h->nvf && cmp_vertex(&h->vf[k], p) == 0; ++k) {
+        int s = shared_vertices(h->vf[k].b, p->b);
+        if (s > shared && s < 3 && h->vf[k].side != 0) best = &h->vf[k], shared = s;
+    }
+    return best;
+}
+
 int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
 {
     int cap = 64;
@@ -87,10 +152,10 @@ int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
         h->keyed[s] = items[k];
         memcpy(&h->normal[3 * s], items[k].normal, 3 * sizeof(double));
     }
-    return PL_OK;
+    return build_vf(h, items, n);
 }
 
-const double *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p)
+const pl_proximity *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p)
 {
     if (!h || h->n == 0) return NULL;
     int id[10];
@@ -98,7 +163,7 @@ const double *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p)
     unsigned long long x = hash(id);
     size_t s = (size_t)x & (size_t)(h->cap - 1);
     while (h->key[s] != 0) {
-        if (h->key[s] == x && same(&h->keyed[s], p)) return &h->normal[3 * s];
+        if (h->key[s] == x && same(&h->keyed[s], p)) return &h->keyed[s];
         s = (s + 1) & (size_t)(h->cap - 1);
     }
     return NULL;
