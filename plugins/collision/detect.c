@@ -55,6 +55,28 @@ static int oppose_motion(const double c[3], const double d[3], double n[3])
     return 1;
 }
 
+/* Whether vertex p is predicted (x1) to be over the inside of triangle tri
+ * at the end of the step, farther inside than now; w then holds the
+ * weights of its foot there. */
+static int slides_over(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, const int *tri, double *w)
+{
+    const double *a = &T->x1[3 * tri[0]], *b = &T->x1[3 * tri[1]], *c = &T->x1[3 * tri[2]];
+    double w1[3], e1[3], e2[3], nf[3], d[3];
+    double d1 = sqrt(pl_closest_point_triangle(&P->x1[3 * p], a, b, c, w1));
+    for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k];
+    nf[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nf[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nf[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(dot3(nf, nf)), h = 0.0;
+    if (!(len > 0.0)) return 0;
+    for (int k = 0; k < 3; ++k) d[k] = P->x1[3 * p + k] - (w1[0] * a[k] + w1[1] * b[k] + w1[2] * c[k]);
+    h = dot3(d, nf) / len;
+    double inside1 = fmin(w1[0], fmin(w1[1], w1[2])), inside0 = fmin(w[0], fmin(w[1], w[2]));
+    if (!(fabs(h) >= (1.0 - 1e-9) * d1) || !(inside1 > 0.0) || !(inside1 > inside0)) return 0;
+    memcpy(w, w1, sizeof w1);
+    return 1;
+}
+
 /* Vertex p of P against triangle j of T; fills out and returns 1 when kept.
  * A closest point at a triangle's vertex is a vertex-vertex proximity that
  * the other direction finds too: identical rows would make W singular, so
@@ -108,6 +130,25 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     const pl_proximity *hint = T->two_sided ? pl_side_hints_find(prm->hints, out) : NULL;
     if (!(hint && hint->side) && T->two_sided) hint = pl_side_hints_find_near(prm->hints, out);
     int side = hint ? hint->side : 0;
+    if (side && slides_over(P, p, T, tri, w)) {
+        /* the row holds the point of the face the vertex will be over at the
+         * predicted end of the step (a blade's apex under a cloth that slides
+         * over it: near the vertex it touches now the cloth moves away, and
+         * the apex meets the face's inside); the plane, and so the gap along
+         * the face normal, is the same */
+        over_face = 1;
+        for (int k = 0; k < 3; ++k) {
+            c[k] = 0.0;
+            motion[k] = P->x1[3 * p + k] - x[k];
+            for (int a = 0; a < 3; ++a) {
+                c[k] += w[a] * T->x0[3 * tri[a] + k];
+                motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
+            }
+            diff[k] = x[k] - c[k];
+        }
+        height = dot3(diff, nf);
+        for (int a = 0; a < 3; ++a) out->wb[a] = w[a];
+    }
     /* beside the face, near none of the sheet's rim: a point on the wrong
      * side of the face's plane went through near an inner edge (around the
      * rim, a point passes from one side to the other legitimately) */
@@ -277,7 +318,24 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
     const double *pb0 = &B->x0[3 * b0], *pb1 = &B->x0[3 * b1];
     double s, t;
     double d0 = sqrt(pl_closest_segments(pa0, pa1, pb0, pb1, &s, &t));
-    if (s < EDGE_END || s > 1.0 - EDGE_END || t < EDGE_END || t > 1.0 - EDGE_END) return 0;
+    if (s < EDGE_END || s > 1.0 - EDGE_END || t < EDGE_END || t > 1.0 - EDGE_END) {
+        /* closest at an end now (a cloth edge from a vertex that sits on a
+         * blade's apex): the ends' vertex contacts hold the distance, but
+         * not the edges' crossing when the edge turns about that vertex.
+         * Between thin meshes, where they will be closest at the predicted
+         * end of the step, if interior, is the pair of points to keep
+         * apart (a closed mesh's edges lie on faces whose vertex contacts
+         * hold them). */
+        if (!A->two_sided || !B->two_sided) return 0;
+        double s1, t1;
+        pl_closest_segments(&A->x1[3 * a0], &A->x1[3 * a1], &B->x1[3 * b0], &B->x1[3 * b1], &s1, &t1);
+        if (s1 < EDGE_END || s1 > 1.0 - EDGE_END || t1 < EDGE_END || t1 > 1.0 - EDGE_END) return 0;
+        s = s1, t = t1;
+        double q[3];
+        for (int k = 0; k < 3; ++k)
+            q[k] = (pa0[k] + s * (pa1[k] - pa0[k])) - (pb0[k] + t * (pb1[k] - pb0[k]));
+        d0 = sqrt(dot3(q, q));
+    }
     double ea[3], eb[3], cr[3], diff[3], motion[3];
     for (int k = 0; k < 3; ++k) {
         ea[k] = pa1[k] - pa0[k];

@@ -17,6 +17,9 @@
  *    (through it: pushed out beyond the border; beside a corner: left
  *    alone), and a vertex under a thin sheet keeps its side on a
  *    neighbouring triangle (the side memory's neighbour fallback);
+ *  - with the predicted end of the step: an edge turning about its end
+ *    gets an edge-edge row where the edges will cross, and a vertex under a
+ *    sliding sheet a row at the point it will be under;
  *  - the rows of a contact between two sides (pl_collision_emit_pair):
  *    +w n on A, -w n on B, merged vertices, d and d_f from fixed parts. */
 #include <check.h>
@@ -487,6 +490,95 @@ START_TEST(test_side_of_a_neighbouring_triangle)
 }
 END_TEST
 
+/* An edge that turns about its end vertex, which sits at a blade edge's
+ * end now: the closest points are at the ends (no edge-edge row from the
+ * start of the step), but at the predicted end of the step the edges cross
+ * in their insides, so the row is made there. */
+START_TEST(test_edge_turning_about_its_end_gets_a_row)
+{
+    /* a blade in the plane x = 0; its edge 0-1 runs up the y axis to the apex (0, 1, 0) */
+    double bx[9] = {0, 0, 0, 0, 1, 0, 0, 0, 1};
+    int btri[3] = {0, 1, 2}, be[6] = {0, 1, 0, 2, 1, 2};
+    unsigned char rigid[3] = {0, 0, 0};
+    /* the free edge from beside the apex down along -x now, predicted to
+     * sweep across the blade edge, closest to it at y = 0.9 */
+    double ex0[6] = {0.003, 1.003, 0.0, -0.3, 0.9, 0.0}, ex1[6] = {0.05, 1.0, 0.0, -0.05, 0.8, 0.001};
+    int ee[2] = {0, 1};
+    pl_coll_mesh B, E;
+    pl_coll_mesh_init(&B);
+    pl_coll_mesh_init(&E);
+    B.nverts = 3, B.ntris = 1, B.nedges = 3, B.x0 = B.x1 = bx, B.tris = btri, B.edges = be;
+    B.active = rigid, B.sides = PL_SIDES_TWO;
+    E.nverts = 2, E.nedges = 1, E.x0 = ex0, E.x1 = ex1, E.edges = ee, E.sides = PL_SIDES_TWO;
+    pl_error err;
+    ck_assert_int_eq(pl_coll_mesh_prepare(&B, 0.05, &err), PL_OK);
+    ck_assert_int_eq(pl_coll_mesh_prepare(&E, 0.05, &err), PL_OK);
+    pl_detect_params prm = pl_detect_defaults(0.05);
+    prm.vertex_face = 0;
+    pl_proximities p = {0};
+    ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
+    int found = 0;
+    for (int k = 0; k < p.n; ++k)
+        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1) {
+            /* inside both edges: not at the apex, not at the free edge's end */
+            ck_assert_double_eq_tol(p.items[k].wb[1], 0.9, 1e-3);
+            ck_assert(p.items[k].wa[1] > 0.01 && p.items[k].wa[1] < 0.99);
+            found = 1;
+        }
+    ck_assert_msg(found, "no edge-edge row with the blade edge (%d proximities)", p.n);
+    pl_proximities_free(&p);
+    pl_coll_mesh_free(&B);
+    pl_coll_mesh_free(&E);
+}
+END_TEST
+
+/* A blade's apex under a thin sheet, at a triangle's corner now, predicted
+ * to be under the triangle's inside at the end of the step (the sheet
+ * slides over it): the row holds the predicted point, on the remembered
+ * side. */
+START_TEST(test_vertex_under_a_sliding_sheet)
+{
+    double sx0[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, sx1[9];
+    for (int k = 0; k < 9; k += 3) sx1[k] = sx0[k] - 0.3, sx1[k + 1] = sx0[k + 1] - 0.3, sx1[k + 2] = 0.0;
+    int stri[3] = {0, 1, 2}, *sedges, sne;
+    ck_assert_int_eq(pl_triangle_edges(stri, 1, &sedges, &sne), PL_OK);
+    double px[3] = {0.01, 0.01, -0.003}; /* under the corner, 3 mm below */
+    unsigned char rigid[1] = {0};
+    pl_coll_mesh S, P;
+    pl_coll_mesh_init(&S);
+    pl_coll_mesh_init(&P);
+    S.nverts = 3, S.ntris = 1, S.nedges = sne, S.x0 = sx0, S.x1 = sx1, S.tris = stri, S.edges = sedges;
+    S.sides = PL_SIDES_TWO;
+    P.nverts = 1, P.x0 = P.x1 = px, P.active = rigid;
+    pl_error err;
+    ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
+    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    pl_proximity prev;
+    memset(&prev, 0, sizeof prev);
+    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
+    prev.b[0] = 0, prev.b[1] = 1, prev.b[2] = 2;
+    prev.normal[2] = -1.0, prev.side = -1;
+    pl_side_hints h;
+    pl_side_hints_init(&h);
+    ck_assert_int_eq(pl_side_hints_build(&h, &prev, 1), PL_OK);
+    pl_detect_params prm = pl_detect_defaults(0.01);
+    prm.hints = &h;
+    pl_proximities p = {0};
+    ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(p.n, 1);
+    /* at the end of the step the apex is under (0.31, 0.31) of the sheet */
+    ck_assert_double_eq_tol(p.items[0].wb[1], 0.31, 1e-12);
+    ck_assert_double_eq_tol(p.items[0].wb[2], 0.31, 1e-12);
+    ck_assert_double_eq_tol(p.items[0].normal[2], -1.0, 1e-12);
+    ck_assert_double_eq_tol(p.items[0].gap, 0.003, 1e-12);
+    pl_proximities_free(&p);
+    pl_side_hints_free(&h);
+    pl_coll_mesh_free(&S);
+    pl_coll_mesh_free(&P);
+    free(sedges);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_detect");
@@ -499,6 +591,8 @@ static Suite *suite(void)
     tcase_add_test(tc, test_pair_rows);
     tcase_add_test(tc, test_blade_border_rule_looks_where_an_edge_crosses);
     tcase_add_test(tc, test_side_of_a_neighbouring_triangle);
+    tcase_add_test(tc, test_edge_turning_about_its_end_gets_a_row);
+    tcase_add_test(tc, test_vertex_under_a_sliding_sheet);
     suite_add_tcase(s, tc);
     return s;
 }
