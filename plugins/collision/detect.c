@@ -55,6 +55,23 @@ static int oppose_motion(const double c[3], const double d[3], double n[3])
     return 1;
 }
 
+/* diff = x_p - (the point of triangle tri at weights w), at the start of the
+ * step; motion = their relative motion over the step (predicted, x1). */
+static void offset_and_motion(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, const int *tri,
+                              const double w[3], double diff[3], double motion[3])
+{
+    const double *x = &P->x0[3 * p];
+    for (int k = 0; k < 3; ++k) {
+        double c = 0.0;
+        motion[k] = P->x1[3 * p + k] - x[k];
+        for (int a = 0; a < 3; ++a) {
+            c += w[a] * T->x0[3 * tri[a] + k];
+            motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
+        }
+        diff[k] = x[k] - c;
+    }
+}
+
 /* Whether vertex p is predicted (x1) to be over the inside of triangle tri
  * at the end of the step, farther inside than now; w then holds the
  * weights of its foot there. */
@@ -98,16 +115,8 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
                                                &T->x0[3 * tri[2]], w));
     for (int a = 0; a < 3; ++a)
         if (w[a] > 1.0 - EDGE_END && (second || (self && p > tri[a]))) return 0;
-    double c[3], diff[3], motion[3];
-    for (int k = 0; k < 3; ++k) {
-        c[k] = 0.0;
-        motion[k] = P->x1[3 * p + k] - x[k];
-        for (int a = 0; a < 3; ++a) {
-            c[k] += w[a] * T->x0[3 * tri[a] + k];
-            motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
-        }
-        diff[k] = x[k] - c[k];
-    }
+    double diff[3], motion[3];
+    offset_and_motion(P, p, T, tri, w, diff, motion);
     const double *nf = &T->fnormal[3 * j];
     double n[3], gap, tiny = tiny_of(prm), height = dot3(diff, nf);
     /* the closest point is the foot of the perpendicular: x is over the face
@@ -137,15 +146,7 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
          * the apex meets the face's inside); the plane, and so the gap along
          * the face normal, is the same */
         over_face = 1;
-        for (int k = 0; k < 3; ++k) {
-            c[k] = 0.0;
-            motion[k] = P->x1[3 * p + k] - x[k];
-            for (int a = 0; a < 3; ++a) {
-                c[k] += w[a] * T->x0[3 * tri[a] + k];
-                motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
-            }
-            diff[k] = x[k] - c[k];
-        }
+        offset_and_motion(P, p, T, tri, w, diff, motion);
         height = dot3(diff, nf);
         for (int a = 0; a < 3; ++a) out->wb[a] = w[a];
     }

@@ -13,18 +13,12 @@
  *    on, also when the predicted motion crosses the triangle in one step;
  *    closed (one-sided) surfaces push shallow inside points out along the
  *    outward normal and ignore deep ones;
- *  - a blade's border rule looks where an edge crosses the blade's plane
- *    (through it: pushed out beyond the border; beside a corner: left
- *    alone), and a vertex under a thin sheet keeps its side on a
- *    neighbouring triangle (the side memory's neighbour fallback);
- *  - with the predicted end of the step: an edge turning about its end
- *    gets an edge-edge row where the edges will cross, and a vertex under a
- *    sliding sheet a row at the point it will be under;
+ *  (the sides kept at thin sheets' borders, from step to step and from the
+ *  predicted end of a step: test_collision_sides.c)
  *  - the rows of a contact between two sides (pl_collision_emit_pair):
  *    +w n on A, -w n on B, merged vertices, d and d_f from fixed parts. */
 #include <check.h>
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -390,195 +384,6 @@ START_TEST(test_pair_rows)
 }
 END_TEST
 
-/* A rigid blade in the plane x = 0 (corner (0,0,0), bottom edge along z at
- * y = 0, slanted edge y = z) and one free edge crossing the blade's plane.
- * Returns the gap of the edge-edge proximity with the bottom edge (NAN if
- * none). */
-static double blade_bottom_gap(const double q0[3], const double q1[3])
-{
-    double bx[9] = {0, 0, 0, 0, 0, 1, 0, 1, 1}, ex[6];
-    int btri[3] = {0, 1, 2}, bedges[6] = {0, 1, 0, 2, 1, 2}, eedge[2] = {0, 1};
-    unsigned char rigid[3] = {0, 0, 0};
-    memcpy(ex, q0, 3 * sizeof(double));
-    memcpy(ex + 3, q1, 3 * sizeof(double));
-    pl_coll_mesh B, E;
-    pl_coll_mesh_init(&B);
-    pl_coll_mesh_init(&E);
-    B.nverts = 3, B.ntris = 1, B.nedges = 3, B.x0 = B.x1 = bx, B.tris = btri, B.edges = bedges;
-    B.active = rigid, B.sides = PL_SIDES_TWO;
-    E.nverts = 2, E.nedges = 1, E.x0 = E.x1 = ex, E.edges = eedge, E.sides = PL_SIDES_TWO;
-    pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&B, 0.05, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&E, 0.05, &err), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.05);
-    prm.vertex_face = 0;
-    pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
-    double gap = NAN;
-    for (int k = 0; k < p.n; ++k)
-        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1)
-            gap = p.items[k].gap;
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&B);
-    pl_coll_mesh_free(&E);
-    return gap;
-}
-
-/* The border rule of a blade's edge: an edge through the blade near its
- * bottom edge belongs below it (pushed out: negative gap); an edge wrapped
- * around the blade's corner, crossing the plane beyond the slanted edge but
- * above the bottom edge, is in a legal place: the bottom edge must not
- * claim it (it used to be pulled down through the corner). */
-START_TEST(test_blade_border_rule_looks_where_an_edge_crosses)
-{
-    /* crossing at (0, 0.01, 0.5): inside the blade, 1 cm above its bottom edge */
-    double a0[3] = {-0.01, 0.02, 0.45}, a1[3] = {0.01, 0.0, 0.55};
-    double g = blade_bottom_gap(a0, a1);
-    ck_assert_msg(g < 0.0, "through the blade: gap %g", g);
-    /* crossing at (0, 0.02, 0.01): beside the corner, beyond the slanted
-     * edge, 2 cm from the bottom edge's line */
-    double b0[3] = {-0.01, 0.02, 0.005}, b1[3] = {0.01, 0.02, 0.015};
-    g = blade_bottom_gap(b0, b1);
-    ck_assert_msg(fabs(g - 0.02) < 1e-12, "beside the corner: gap %g", g);
-}
-END_TEST
-
-/* A vertex under a thin sheet (in contact with triangle t1 from below last
- * step) that has slid under the neighbouring triangle t2 and a little
- * through it keeps its side: t2 takes the side of its neighbour t1. */
-START_TEST(test_side_of_a_neighbouring_triangle)
-{
-    double sx[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
-    int stris[6] = {0, 1, 3, 0, 3, 2}, *sedges, sne;
-    ck_assert_int_eq(pl_triangle_edges(stris, 2, &sedges, &sne), PL_OK);
-    double px[3] = {0.3, 0.7, 0.002}; /* over t2 (y > x), 2 mm above: through */
-    pl_coll_mesh S, P;
-    pl_coll_mesh_init(&S);
-    pl_coll_mesh_init(&P);
-    S.nverts = 4, S.ntris = 2, S.nedges = sne, S.x0 = S.x1 = sx, S.tris = stris, S.edges = sedges;
-    S.sides = PL_SIDES_TWO;
-    P.nverts = 1, P.x0 = P.x1 = px;
-    pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-    pl_proximity prev;
-    memset(&prev, 0, sizeof prev);
-    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
-    prev.b[0] = 0, prev.b[1] = 1, prev.b[2] = 3; /* t1, from below */
-    prev.normal[2] = -1.0, prev.gap = 0.001, prev.side = -1;
-    pl_side_hints h;
-    pl_side_hints_init(&h);
-    ck_assert_int_eq(pl_side_hints_build(&h, &prev, 1), PL_OK);
-    for (int with = 0; with < 2; ++with) {
-        pl_detect_params prm = pl_detect_defaults(0.01);
-        prm.hints = with ? &h : NULL;
-        pl_proximities p = {0};
-        ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
-        ck_assert_int_ge(p.n, 1);
-        const pl_proximity *q = &p.items[0];
-        ck_assert_int_eq(q->b[0] + q->b[1] + q->b[2], 0 + 3 + 2); /* t2 */
-        /* without the memory: above, as it is now; with it: below, 2 mm through */
-        ck_assert_double_eq_tol(q->normal[2], with ? -1.0 : 1.0, 1e-12);
-        ck_assert_double_eq_tol(q->gap, with ? -0.002 : 0.002, 1e-12);
-        ck_assert_int_eq(q->side, with ? -1 : 1);
-        pl_proximities_free(&p);
-    }
-    pl_side_hints_free(&h);
-    pl_coll_mesh_free(&S);
-    pl_coll_mesh_free(&P);
-    free(sedges);
-}
-END_TEST
-
-/* An edge that turns about its end vertex, which sits at a blade edge's
- * end now: the closest points are at the ends (no edge-edge row from the
- * start of the step), but at the predicted end of the step the edges cross
- * in their insides, so the row is made there. */
-START_TEST(test_edge_turning_about_its_end_gets_a_row)
-{
-    /* a blade in the plane x = 0; its edge 0-1 runs up the y axis to the apex (0, 1, 0) */
-    double bx[9] = {0, 0, 0, 0, 1, 0, 0, 0, 1};
-    int btri[3] = {0, 1, 2}, be[6] = {0, 1, 0, 2, 1, 2};
-    unsigned char rigid[3] = {0, 0, 0};
-    /* the free edge from beside the apex down along -x now, predicted to
-     * sweep across the blade edge, closest to it at y = 0.9 */
-    double ex0[6] = {0.003, 1.003, 0.0, -0.3, 0.9, 0.0}, ex1[6] = {0.05, 1.0, 0.0, -0.05, 0.8, 0.001};
-    int ee[2] = {0, 1};
-    pl_coll_mesh B, E;
-    pl_coll_mesh_init(&B);
-    pl_coll_mesh_init(&E);
-    B.nverts = 3, B.ntris = 1, B.nedges = 3, B.x0 = B.x1 = bx, B.tris = btri, B.edges = be;
-    B.active = rigid, B.sides = PL_SIDES_TWO;
-    E.nverts = 2, E.nedges = 1, E.x0 = ex0, E.x1 = ex1, E.edges = ee, E.sides = PL_SIDES_TWO;
-    pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&B, 0.05, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&E, 0.05, &err), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.05);
-    prm.vertex_face = 0;
-    pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
-    int found = 0;
-    for (int k = 0; k < p.n; ++k)
-        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1) {
-            /* inside both edges: not at the apex, not at the free edge's end */
-            ck_assert_double_eq_tol(p.items[k].wb[1], 0.9, 1e-3);
-            ck_assert(p.items[k].wa[1] > 0.01 && p.items[k].wa[1] < 0.99);
-            found = 1;
-        }
-    ck_assert_msg(found, "no edge-edge row with the blade edge (%d proximities)", p.n);
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&B);
-    pl_coll_mesh_free(&E);
-}
-END_TEST
-
-/* A blade's apex under a thin sheet, at a triangle's corner now, predicted
- * to be under the triangle's inside at the end of the step (the sheet
- * slides over it): the row holds the predicted point, on the remembered
- * side. */
-START_TEST(test_vertex_under_a_sliding_sheet)
-{
-    double sx0[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, sx1[9];
-    for (int k = 0; k < 9; k += 3) sx1[k] = sx0[k] - 0.3, sx1[k + 1] = sx0[k + 1] - 0.3, sx1[k + 2] = 0.0;
-    int stri[3] = {0, 1, 2}, *sedges, sne;
-    ck_assert_int_eq(pl_triangle_edges(stri, 1, &sedges, &sne), PL_OK);
-    double px[3] = {0.01, 0.01, -0.003}; /* under the corner, 3 mm below */
-    unsigned char rigid[1] = {0};
-    pl_coll_mesh S, P;
-    pl_coll_mesh_init(&S);
-    pl_coll_mesh_init(&P);
-    S.nverts = 3, S.ntris = 1, S.nedges = sne, S.x0 = sx0, S.x1 = sx1, S.tris = stri, S.edges = sedges;
-    S.sides = PL_SIDES_TWO;
-    P.nverts = 1, P.x0 = P.x1 = px, P.active = rigid;
-    pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-    pl_proximity prev;
-    memset(&prev, 0, sizeof prev);
-    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
-    prev.b[0] = 0, prev.b[1] = 1, prev.b[2] = 2;
-    prev.normal[2] = -1.0, prev.side = -1;
-    pl_side_hints h;
-    pl_side_hints_init(&h);
-    ck_assert_int_eq(pl_side_hints_build(&h, &prev, 1), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.01);
-    prm.hints = &h;
-    pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
-    ck_assert_int_eq(p.n, 1);
-    /* at the end of the step the apex is under (0.31, 0.31) of the sheet */
-    ck_assert_double_eq_tol(p.items[0].wb[1], 0.31, 1e-12);
-    ck_assert_double_eq_tol(p.items[0].wb[2], 0.31, 1e-12);
-    ck_assert_double_eq_tol(p.items[0].normal[2], -1.0, 1e-12);
-    ck_assert_double_eq_tol(p.items[0].gap, 0.003, 1e-12);
-    pl_proximities_free(&p);
-    pl_side_hints_free(&h);
-    pl_coll_mesh_free(&S);
-    pl_coll_mesh_free(&P);
-    free(sedges);
-}
-END_TEST
-
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_detect");
@@ -589,10 +394,6 @@ static Suite *suite(void)
     tcase_add_test(tc, test_thin_triangle_keeps_each_side);
     tcase_add_test(tc, test_closed_surface_pushes_out);
     tcase_add_test(tc, test_pair_rows);
-    tcase_add_test(tc, test_blade_border_rule_looks_where_an_edge_crosses);
-    tcase_add_test(tc, test_side_of_a_neighbouring_triangle);
-    tcase_add_test(tc, test_edge_turning_about_its_end_gets_a_row);
-    tcase_add_test(tc, test_vertex_under_a_sliding_sheet);
     suite_add_tcase(s, tc);
     return s;
 }
