@@ -157,7 +157,6 @@ void pl_proximities_free(pl_proximities *p);
 typedef struct pl_side_hints {
     int n, cap;          /* entries, slots (a power of two) */
     unsigned long long *key;
-    double *normal;      /* per slot: 3 doubles */
     pl_proximity *keyed; /* per slot: the proximity (for exact key comparison) */
     pl_proximity *vf;    /* the vertex-face ones, sorted by models and vertex */
     int nvf, capvf;
@@ -165,8 +164,7 @@ typedef struct pl_side_hints {
 
 void pl_side_hints_init(pl_side_hints *h);
 void pl_side_hints_free(pl_side_hints *h);
-/* Clears h and inserts the normals of the given proximities.  PL_OK or
- * PL_EINTERNAL. */
+/* Clears h and inserts the given proximities.  PL_OK or PL_EINTERNAL. */
 int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
 /* The remembered proximity with the same kind, models and vertices (NULL
  * when none): its normal, and for vertex-face ones its side. */

@@ -1,4 +1,4 @@
-/* side_hints.c - the normals of the previous step's proximities, looked up
+/* side_hints.c - the previous step's proximities (normals, sides), looked up
  * by their models and vertices (open addressing, linear probing), so that
  * contacts with thin two-sided meshes keep their side while they last. */
 #include <stdlib.h>
@@ -11,7 +11,6 @@ void pl_side_hints_init(pl_side_hints *h) { memset(h, 0, sizeof *h); }
 void pl_side_hints_free(pl_side_hints *h)
 {
     free(h->key);
-    free(h->normal);
     free(h->keyed);
     free(h->vf);
     pl_side_hints_init(h);
@@ -130,9 +129,8 @@ int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
     if (cap != h->cap) {
         pl_side_hints_free(h);
         h->key = malloc((size_t)cap * sizeof *h->key);
-        h->normal = malloc((size_t)cap * 3 * sizeof *h->normal);
         h->keyed = malloc((size_t)cap * sizeof *h->keyed);
-        if (!h->key || !h->normal || !h->keyed) {
+        if (!h->key || !h->keyed) {
             pl_side_hints_free(h);
             return PL_EINTERNAL;
         }
@@ -150,7 +148,6 @@ int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
         if (h->key[s] == 0) h->n++;
         h->key[s] = x;
         h->keyed[s] = items[k];
-        memcpy(&h->normal[3 * s], items[k].normal, 3 * sizeof(double));
     }
     return build_vf(h, items, n);
 }
