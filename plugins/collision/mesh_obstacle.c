@@ -180,16 +180,22 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     return PL_OK;
 }
 
+/* Whether c is a MeshObstacle: by name, since the registry holds its own
+ * copy of each type (c->type is never &coll_mesh_obstacle_type). */
+static int is_mesh_obstacle(const pl_component *c)
+{
+    return c && !strcmp(c->type->name, coll_mesh_obstacle_type.name);
+}
+
 const pl_mesh *coll_mesh_obstacle_mesh(const pl_component *c)
 {
-    return c && c->type == &coll_mesh_obstacle_type ? &((const mesh_obstacle *)c)->mesh : NULL;
+    return is_mesh_obstacle(c) ? &((const mesh_obstacle *)c)->mesh : NULL;
 }
 
 pl_mesh_sides coll_model_sides(const pl_component *c)
 {
-    if (c && c->type == &coll_mesh_obstacle_type)
-        return (pl_mesh_sides)((const mesh_obstacle *)c)->sides;
-    return PL_SIDES_AUTO;
+    if (is_mesh_obstacle(c)) return (pl_mesh_sides)((const mesh_obstacle *)c)->sides;
+    return coll_surface_model_solid(c) ? PL_SIDES_ONE : PL_SIDES_AUTO;
 }
 
 static const pl_collision_model_ops MODEL_OPS = {

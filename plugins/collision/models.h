@@ -46,9 +46,13 @@ typedef struct coll_mesh_source {
  * by scale3d, rotation, translation.  Errors are recorded against c. */
 int coll_mesh_source_load(pl_component *c, pl_ctx *ctx, coll_mesh_source *s, pl_mesh *out);
 
-/* The sides setting of a collision model of this plugin (PL_SIDES_AUTO for
- * other types). */
+/* The sides setting of a collision model of this plugin: MeshObstacle's
+ * field; one for the boundary of a tetrahedral body (a solid, whatever
+ * non-manifold edges its boundary has where parts of it touch); auto for
+ * the others. */
 pl_mesh_sides coll_model_sides(const pl_component *c);
+/* Whether c is a SurfaceCollisionModel of a tetrahedral body. */
+int coll_surface_model_solid(const pl_component *c);
 
 extern const pl_type coll_mesh_obstacle_type;
 extern const pl_type coll_mapped_model_type;

@@ -28,6 +28,7 @@ typedef struct surface_model {
     int *local;                /* per point: its vertex in the state */
     int ntris, nedges;
     int *tris, *edges;         /* into the points */
+    int solid;                 /* the triangles bound tetrahedra: one-sided */
     /* per-step geometry (scratch) */
     double *x, *v, *weight;
     int *vertex;
@@ -163,6 +164,7 @@ static int surface_points(surface_model *m, pl_component *c, pl_ctx *ctx, int ns
                                   "its mesh has %d vertices but the state '%s' has %d: the "
                                   "surface must be the body's own mesh",
                                   mesh->nverts, m->state->name, nstate);
+    m->solid = mesh->ntets > 0;
     if (mesh->ntets > 0) {
         int *tris = NULL, ntris = 0;
         int rc = pl_mesh_boundary_triangles(mesh, &tris, &ntris);
@@ -265,6 +267,14 @@ static int point_bind(pl_component *c, pl_ctx *ctx)
 {
     ((surface_model *)c)->all_vertices = 1;
     return sm_bind(c, ctx);
+}
+
+extern const pl_type coll_surface_model_type;
+
+int coll_surface_model_solid(const pl_component *c)
+{
+    /* by name: the registry holds its own copy of each type */
+    return c && !strcmp(c->type->name, coll_surface_model_type.name) && ((const surface_model *)c)->solid;
 }
 
 const pl_type coll_surface_model_type = {

@@ -10,6 +10,8 @@
  *  - MappedSurfaceCollisionModel: a triangle inside the body follows it by
  *    barycentric weights: its rows spread over tetrahedron vertices with
  *    weights >= 0 summing to 1 and H q equals n . (mapped point);
+ *  - MeshObstacle's sides field: inside a closed obstacle a point is pushed
+ *    out (one, auto) or kept inside (two);
  *  - broken inputs name the scene line (two sources, an index out of range,
  *    contactDistance > alarmDistance). */
 #include <check.h>
@@ -112,6 +114,43 @@ START_TEST(test_moving_quad_rows)
     pl_rows_free(&rows);
     ct_system_free(&sys);
     pl_sim_free(sim);
+}
+END_TEST
+
+/* The y component of the first normal row against a closed MeshObstacle (a
+ * tetrahedron whose top face is 5 mm above the body's bottom vertices) with
+ * the given sides; NAN without rows. */
+static double inside_normal_y(const char *sides)
+{
+    char obstacle[512];
+    snprintf(obstacle, sizeof obstacle,
+             "<MeshObstacle name=\"tet\" position=\"-1 0.01 -1  1 0.01 -1  0 0.01 1.5  0 -1 0\" "
+             "triangles=\"0 1 2  0 3 1  1 3 2  2 3 0\" sides=\"%s\"/>",
+             sides);
+    pl_sim *sim = load(PIPE, obstacle, "<SurfaceCollisionModel name=\"surface\"/>", NULL, 0);
+    pl_rows rows;
+    double *q;
+    int n;
+    ct_system sys;
+    rows_of(sim, &rows, &q, &n, &sys);
+    double y = NAN;
+    for (int j = 0; j < rows.n && isnan(y); ++j)
+        if (rows.kind[j] == PL_ROW_NORMAL) y = rows.coef[3 * rows.start[j] + 1];
+    pl_rows_free(&rows);
+    ct_system_free(&sys);
+    pl_sim_free(sim);
+    return y;
+}
+
+/* MeshObstacle's sides field decides: a closed surface repels inside points
+ * outward (one, and auto), a thin one keeps them on their side (two).  (The
+ * field used to be ignored: the type was compared by address, and the
+ * registry holds a copy of each type.) */
+START_TEST(test_mesh_obstacle_sides_field)
+{
+    ck_assert_double_eq_tol(inside_normal_y("auto"), 1.0, 1e-12);
+    ck_assert_double_eq_tol(inside_normal_y("one"), 1.0, 1e-12);
+    ck_assert_double_eq_tol(inside_normal_y("two"), -1.0, 1e-12);
 }
 END_TEST
 
@@ -239,6 +278,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_pair_friction_and_groups);
     tcase_add_test(tc, test_mapped_surface_rows);
     tcase_add_test(tc, test_broken_inputs_name_the_line);
+    tcase_add_test(tc, test_mesh_obstacle_sides_field);
     suite_add_tcase(s, tc);
     return s;
 }
