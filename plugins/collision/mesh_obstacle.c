@@ -17,7 +17,6 @@ typedef struct mesh_obstacle {
     coll_mesh_source source;
     double mu;
     pl_ints group;
-    unsigned groups; /* group as a mask */
     int sides;
     double velocity[3], rotation_axis[3], angular_velocity;
     pl_doubles rotation_center, times, translations;
@@ -65,13 +64,16 @@ static const pl_field FIELDS[] = {
              PL_FIELD_RUNTIME),
 };
 
-/* The motion from the fields as they are now (RUNTIME: checked every step). */
-static int motion_of(mesh_obstacle *o, pl_motion *m, pl_error *err)
+/* The motion from the fields as they are now (RUNTIME: checked every step),
+ * and the group list as a mask (groups may be NULL). */
+static int motion_of(const mesh_obstacle *o, pl_motion *m, unsigned *groups, pl_error *err)
 {
+    unsigned mask;
     if (!isfinite(o->mu) || !(o->mu >= 0.0 || o->mu == -1.0))
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "mu must be >= 0, or -1 (unset), got %g",
                             o->mu);
-    if (pl_collision_groups(&o->group, &o->groups, err) != PL_OK) return err->code;
+    if (pl_collision_groups(&o->group, &mask, err) != PL_OK) return err->code;
+    if (groups) *groups = mask;
     if (o->rotation_center.n != 0 && o->rotation_center.n != 3)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "rotationCenter: expected 3 values (x y z), found %d",
@@ -108,7 +110,7 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
     pl_mesh_init(&o->mesh);
     pl_motion m;
     pl_error err;
-    if (motion_of(o, &m, &err) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
+    if (motion_of(o, &m, NULL, &err) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     return PL_OK;
 }
 
@@ -146,7 +148,7 @@ static int mo_reinit(pl_component *c, pl_ctx *ctx)
 {
     pl_motion m;
     pl_error err;
-    if (motion_of((mesh_obstacle *)c, &m, &err) != PL_OK)
+    if (motion_of((const mesh_obstacle *)c, &m, NULL, &err) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     return PL_OK;
 }
@@ -162,7 +164,8 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     mesh_obstacle *o = (mesh_obstacle *)c;
     pl_motion m;
     pl_error e;
-    if (motion_of(o, &m, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
+    unsigned groups;
+    if (motion_of(o, &m, &groups, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     double t1 = ctx->data->time + pl_node_dt(c->node), R[9], tr[3];
     pl_motion_pose(&m, t1, R, tr);
     for (int i = 0; i < o->mesh.nverts; ++i) {
@@ -176,7 +179,7 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
                                    .map_vertex = o->map_vertex, .map_weight = o->map_weight,
                                    .ntris = o->mesh.ntris, .tris = o->mesh.tris,
                                    .nedges = o->nedges, .edges = o->edges,
-                                   .is_obstacle = 1, .mu = o->mu, .groups = o->groups};
+                                   .is_obstacle = 1, .mu = o->mu, .groups = groups};
     return PL_OK;
 }
 

@@ -70,6 +70,19 @@ START_TEST(test_blade_border_rule_looks_where_an_edge_crosses)
 }
 END_TEST
 
+/* Side hints holding one vertex-face contact of vertex 0 (model 0) with
+ * triangle b of model 1, from below (normal -z, side -1). */
+static void hint_from_below(pl_side_hints *h, int b0, int b1, int b2)
+{
+    pl_proximity prev;
+    memset(&prev, 0, sizeof prev);
+    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
+    prev.b[0] = b0, prev.b[1] = b1, prev.b[2] = b2;
+    prev.normal[2] = -1.0, prev.gap = 0.001, prev.side = -1;
+    pl_side_hints_init(h);
+    ck_assert_int_eq(pl_side_hints_build(h, &prev, 1), PL_OK);
+}
+
 /* A vertex under a thin sheet (in contact with triangle t1 from below last
  * step) that has slid under the neighbouring triangle t2 and a little
  * through it keeps its side: t2 takes the side of its neighbour t1. */
@@ -88,14 +101,8 @@ START_TEST(test_side_of_a_neighbouring_triangle)
     pl_error err;
     ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
     ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-    pl_proximity prev;
-    memset(&prev, 0, sizeof prev);
-    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
-    prev.b[0] = 0, prev.b[1] = 1, prev.b[2] = 3; /* t1, from below */
-    prev.normal[2] = -1.0, prev.gap = 0.001, prev.side = -1;
     pl_side_hints h;
-    pl_side_hints_init(&h);
-    ck_assert_int_eq(pl_side_hints_build(&h, &prev, 1), PL_OK);
+    hint_from_below(&h, 0, 1, 3); /* t1 */
     for (int with = 0; with < 2; ++with) {
         pl_detect_params prm = pl_detect_defaults(0.01);
         prm.hints = with ? &h : NULL;
@@ -180,14 +187,8 @@ START_TEST(test_vertex_under_a_sliding_sheet)
     pl_error err;
     ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
     ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-    pl_proximity prev;
-    memset(&prev, 0, sizeof prev);
-    prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
-    prev.b[0] = 0, prev.b[1] = 1, prev.b[2] = 2;
-    prev.normal[2] = -1.0, prev.side = -1;
     pl_side_hints h;
-    pl_side_hints_init(&h);
-    ck_assert_int_eq(pl_side_hints_build(&h, &prev, 1), PL_OK);
+    hint_from_below(&h, 0, 1, 2);
     pl_detect_params prm = pl_detect_defaults(0.01);
     prm.hints = &h;
     pl_proximities p = {0};
