@@ -17,6 +17,7 @@ typedef struct run_args {
     const char **sets;
     int nsets;
     int quiet;
+    const char *device;
 } run_args;
 
 static int parse_int_arg(const char *s, int *out)
@@ -53,6 +54,12 @@ static int parse_args(int argc, char **argv, run_args *a)
             a->timings = argv[++k];
         } else if (!strcmp(s, "--set") && more) {
             a->sets[a->nsets++] = argv[++k];
+        } else if (!strcmp(s, "--device") && more) {
+            a->device = argv[++k];
+            if (strcmp(a->device, "cpu") && strcmp(a->device, "auto")) {
+                fprintf(stderr, "pliant run: --device expects cpu or auto, got '%s'\n", a->device);
+                return 2;
+            }
         } else if (!strcmp(s, "--quiet") || !strcmp(s, "-q")) {
             a->quiet = 1;
         } else if (s[0] == '-') {
@@ -103,7 +110,7 @@ int cli_run(int argc, char **argv)
         return rc;
     }
     if (a.quiet) pl_log_set_level(PL_LOG_WARN);
-    pl_sim_options opt = {NULL, a.out, a.export_every, a.sets, a.nsets};
+    pl_sim_options opt = {NULL, a.out, a.export_every, a.sets, a.nsets, a.device};
     pl_diag diag;
     pl_diag_init(&diag);
     double t0 = pl_now();

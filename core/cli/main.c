@@ -10,6 +10,8 @@ static void usage(FILE *f)
     fputs("usage:\n"
           "  pliant run SCENE.xml [-n STEPS] [--out DIR] [--export-every K]\n"
           "             [--timings FILE.json] [--set PATH=VALUE ...] [--quiet]\n"
+          "             [--device cpu|auto]  (auto: the GPU when the scene declares no\n"
+          "             device and one is usable; default PLIANT_DEVICE, else auto)\n"
           "  pliant list [TYPE]          components and plugins, with their fields\n"
           "  pliant doc [FILE.md]        regenerate the component reference\n"
           "  pliant regress LIST [--update] [--refs DIR]\n"

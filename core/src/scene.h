@@ -17,4 +17,20 @@ void pl_scene_free(pl_node *root);
 pl_component *pl_scene_new_component(pl_node *n, const pl_type *t, const char *name,
                                      const char *file, int line, pl_diag *diag);
 
+/* Takes c out of n and destroys it (a component that was never used). */
+void pl_scene_remove_component(pl_node *n, pl_component *c);
+/* Moves c to the front of n's components: initialised first, destroyed last. */
+void pl_scene_move_component_first(pl_node *n, pl_component *c);
+/* The implicit device (sim_device.c): a CudaDevice added first in the root
+ * of a scene that declares no device, when the policy (opt->device, else
+ * PLIANT_DEVICE; "auto" by default) allows it and the cuda plugin loads
+ * (NULL otherwise; a bad policy is an error in diag).  _try initialises it
+ * and takes it out again when no GPU answers. */
+struct pl_model;
+struct pl_sim_options;
+pl_component *pl_sim_implicit_device(pl_node *root, pl_registry *reg, struct pl_model *model,
+                                     const struct pl_sim_options *opt, pl_diag *diag);
+void pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg,
+                                struct pl_model *model);
+
 #endif

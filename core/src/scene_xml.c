@@ -88,6 +88,28 @@ void pl_scene_free(pl_node *n)
     free(n);
 }
 
+void pl_scene_remove_component(pl_node *n, pl_component *c)
+{
+    for (int k = 0; k < n->ncomponents; ++k)
+        if (n->components[k] == c) {
+            memmove(n->components + k, n->components + k + 1,
+                    sizeof *n->components * (size_t)(n->ncomponents - k - 1));
+            n->ncomponents--;
+            destroy_component(c);
+            return;
+        }
+}
+
+void pl_scene_move_component_first(pl_node *n, pl_component *c)
+{
+    for (int k = 0; k < n->ncomponents; ++k)
+        if (n->components[k] == c) {
+            memmove(n->components + 1, n->components, sizeof *n->components * (size_t)k);
+            n->components[0] = c;
+            return;
+        }
+}
+
 static int name_taken(const pl_node *n, const char *name)
 {
     for (int k = 0; k < n->ncomponents; ++k)

@@ -142,7 +142,10 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     s->export_every = opt ? opt->export_every : 0;
     s->model.root = pl_scene_build(xml, len, file, s->registry, diag);
     if (!s->model.root || diag->nerrors) goto fail;
+    pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
+    if (diag->nerrors) goto fail;
+    pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
     if (load_tree(s, diag) != PL_OK) goto fail;
     s->frame_timer = pl_timer_id(s->timers, "Frame");
     pl_error e;

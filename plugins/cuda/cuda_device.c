@@ -51,11 +51,13 @@ static int device_init(pl_component *c, pl_ctx *ctx)
     if (e == cudaSuccess) e = cudaGetDeviceProperties(&prop, d->index);
     /* a blocking stream: work on the legacy default stream (host copies of
      * components that do not know the device) still orders with it */
-    if (e == cudaSuccess && !d->stream) e = cudaStreamCreate(&d->stream);
+    int first = !d->stream; /* the loader may have tried an implicit device already */
+    if (e == cudaSuccess && first) e = cudaStreamCreate(&d->stream);
     if (e != cudaSuccess)
         return pl_component_error(c, ctx, PL_EINTERNAL, "CUDA device %d: %s", d->index,
                                   cudaGetErrorString(e));
-    pl_log_info("%s: CUDA device %d, %s, %d SMs, %.1f GiB, compute capability %d.%d%s%s", c->name,
+    if (first)
+        pl_log_info("%s: CUDA device %d, %s, %d SMs, %.1f GiB, compute capability %d.%d%s%s", c->name,
                 d->index, prop.name, prop.multiProcessorCount,
                 (double)prop.totalGlobalMem / (1024.0 * 1024.0 * 1024.0), prop.major, prop.minor,
                 d->graph && !d->profile ? ", CUDA graphs" : "", d->profile ? ", profiling" : "");

@@ -13,6 +13,7 @@
 #   BENCH_SKIP         "scenes" or "convergence": skip that part (and its tables in the doc)
 #   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
 #   JOBS               build jobs (default: nproc)
+#   PLIANT_DEVICE      cpu (default here) or auto (scenes run on a GPU when one is usable)
 set -eu
 
 BUILD=${1:-build}
@@ -35,6 +36,8 @@ NCPU=$(getconf _NPROCESSORS_ONLN 2>/dev/null || nproc 2>/dev/null || echo 2)
 JOBS=${JOBS:-$NCPU}
 OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 export OMP_NUM_THREADS
+# the CPU benchmark: no implicit CudaDevice where a GPU is present
+export PLIANT_DEVICE=${PLIANT_DEVICE:-cpu}
 OUT="$BUILD/bench_out"
 DOC="$ROOT/docs/benchmarks.md"
 PNG="$ROOT/docs/convergence.png"

@@ -26,6 +26,9 @@ mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-$B}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH="$PWD/$B/plugins"
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
+# scenes without a declared CudaDevice are the CPU side of every comparison
+# (the loader would otherwise add one: sim.h, device policy)
+export PLIANT_DEVICE=${PLIANT_DEVICE:-cpu}
 CS=$(command -v compute-sanitizer || echo /usr/local/cuda/bin/compute-sanitizer)
 SWEEP=$B/bin/stick_slip_sweep
 [ -x "$SWEEP" ] || SWEEP=$B/bench/stick_slip_sweep

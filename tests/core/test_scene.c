@@ -157,7 +157,7 @@ END_TEST
 START_TEST(overrides_apply_before_init_and_bad_ones_fail)
 {
     const char *sets[] = {"dofs.velocity=2 0 0", "root.dt=0.005"};
-    pl_sim_options opt = {NULL, NULL, 0, sets, 2};
+    pl_sim_options opt = {NULL, NULL, 0, sets, 2, NULL};
     pl_sim *s = pl_sim_load_string(GOOD, "scene.xml", &opt, &diag);
     ck_assert_ptr_nonnull(s);
     char buf[256];
@@ -175,6 +175,87 @@ START_TEST(overrides_apply_before_init_and_bad_ones_fail)
 }
 END_TEST
 
+/* The implicit device: loads GOOD (it has an animation loop) with the
+ * cuda plugin's stand-in first on the plugin path. */
+static pl_sim *load_with_device(const char *xml, const char *policy)
+{
+    setenv("PLIANT_PLUGIN_PATH", PL_FAKE_DEVICE_DIR ":" PL_TEST_PLUGIN_DIR, 1);
+    pl_sim_options opt = {NULL, NULL, 0, NULL, 0, policy};
+    return pl_sim_load_string(xml, "scene.xml", &opt, &diag);
+}
+
+START_TEST(a_scene_without_a_device_gets_one_when_a_gpu_answers)
+{
+    unsetenv("FAKE_GPU");
+    pl_sim *s = load_with_device(GOOD, "auto");
+    ck_assert_ptr_nonnull(s);
+    pl_component *dev = pl_sim_component(s, "cudaDevice");
+    ck_assert_ptr_nonnull(dev);
+    /* first in the root: it outlives the solvers that allocate through it */
+    ck_assert_ptr_eq(pl_sim_model(s)->root->components[0], dev);
+    pl_error err;
+    ck_assert_int_eq(pl_sim_step(s, 2, &err), PL_OK);
+    pl_sim_free(s);
+    /* overrides reach it (applied before its trial init) */
+    const char *sets[] = {"cudaDevice.device=1"};
+    pl_sim_options opt = {NULL, NULL, 0, sets, 1, "auto"};
+    s = pl_sim_load_string(GOOD, "scene.xml", &opt, &diag);
+    ck_assert_ptr_nonnull(s);
+    char buf[64];
+    ck_assert_int_eq(pl_sim_get(s, "cudaDevice.device", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "1");
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(no_implicit_device_without_a_gpu_with_cpu_or_a_declared_one)
+{
+    /* no GPU: the scene loads and runs on the CPU, without an error */
+    setenv("FAKE_GPU", "0", 1);
+    pl_sim *s = load_with_device(GOOD, "auto");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_int_eq(diag.nerrors, 0);
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    pl_sim_free(s);
+    unsetenv("FAKE_GPU");
+    /* policy cpu, from the options or from PLIANT_DEVICE */
+    s = load_with_device(GOOD, "cpu");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    pl_sim_free(s);
+    setenv("PLIANT_DEVICE", "cpu", 1);
+    s = load_with_device(GOOD, NULL);
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    pl_sim_free(s);
+    unsetenv("PLIANT_DEVICE");
+    /* a scene with its own device keeps it alone */
+    const char *own = "<Node name=\"root\">\n"
+                      "  <RequiredPlugin name=\"pl_test_plugin cuda\"/>\n"
+                      "  <CudaDevice name=\"mine\"/>\n"
+                      "  <TestMover/>\n"
+                      "</Node>\n";
+    s = load_with_device(own, "auto");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_nonnull(pl_sim_component(s, "mine"));
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(a_bad_device_policy_is_an_error)
+{
+    ck_assert_ptr_null(load_with_device(GOOD, "gpu"));
+    ck_assert(has("'gpu' is not a device policy (cpu or auto)", NULL, 0));
+    pl_diag_free(&diag); /* the loader stops at errors already in diag */
+    pl_diag_init(&diag);
+    setenv("PLIANT_DEVICE", "cuda", 1);
+    ck_assert_ptr_null(load_with_device(GOOD, NULL));
+    unsetenv("PLIANT_DEVICE");
+    ck_assert(has("PLIANT_DEVICE: 'cuda' is not a device policy", NULL, 0));
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("scene");
@@ -189,6 +270,9 @@ int main(void)
     tcase_add_test(tc, empty_wrong_root_and_missing_files);
     tcase_add_test(tc, missing_plugin_wrong_link_and_required_field);
     tcase_add_test(tc, overrides_apply_before_init_and_bad_ones_fail);
+    tcase_add_test(tc, a_scene_without_a_device_gets_one_when_a_gpu_answers);
+    tcase_add_test(tc, no_implicit_device_without_a_gpu_with_cpu_or_a_declared_one);
+    tcase_add_test(tc, a_bad_device_policy_is_an_error);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

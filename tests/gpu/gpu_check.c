@@ -224,6 +224,7 @@ static int run_scene(const char *path, const char *const *ov, int nov, int nstep
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
     opt.out_dir = "/tmp";
+    opt.device = "cpu"; /* a scene without a CudaDevice is the CPU run */
     opt.overrides = ov;
     opt.noverrides = nov;
     pl_sim *sim = pl_sim_load_file(path, &opt, &diag);

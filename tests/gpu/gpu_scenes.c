@@ -92,6 +92,7 @@ static pl_sim *load(const char *path, const config *c)
     opt.export_every = 1000000; /* the first frame only */
     opt.overrides = c->cuda ? ov : NULL;
     opt.noverrides = c->cuda ? 3 : 0;
+    opt.device = c->cuda ? NULL : "cpu"; /* no implicit device on the CPU side */
     pl_sim *sim = c->cuda ? (xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL)
                           : pl_sim_load_file(path, &opt, &diag);
     if (!sim) pl_diag_print(&diag, stdout);
@@ -478,6 +479,36 @@ static void long_runs(void)
     }
 }
 
+/* A scene that declares no device runs on the GPU by default (the loader's
+ * implicit CudaDevice): the same frames as with a declared one, bitwise. */
+static void implicit_device_check(void)
+{
+    const char *path = "scenes/twisting_bar_small.xml";
+    const config declared = {"cuda float64, graph", 1, 0, 1, 0}, cpu = {"cpu", 0, 0, 0, 0};
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.export_every = 1000000;
+    opt.device = "auto";
+    pl_sim *sim = pl_sim_load_file(path, &opt, &diag), *ref = load(path, &declared),
+           *host = load(path, &cpu);
+    if (!sim) pl_diag_print(&diag, stdout);
+    pl_diag_free(&diag);
+    pl_error err;
+    snap a = {0}, b = {0}, c = {0};
+    int ok = sim && ref && host && pl_sim_step(sim, 5, &err) == PL_OK &&
+             pl_sim_step(ref, 5, &err) == PL_OK && pl_sim_step(host, 5, &err) == PL_OK &&
+             !take(sim, &a) && !take(ref, &b) && !take(host, &c);
+    gpu_check_line(md, "implicit device: twisting_bar_small without a CudaDevice gets one",
+                   ok && pl_sim_component(sim, "cudaDevice") ? 0.0 : 1.0, 0.0);
+    gpu_check_line(md, "implicit device: 5 frames against a declared CudaDevice (bitwise)",
+                   ok ? rel(a.x, b.x, b.nx) : INFINITY, 0.0);
+    gpu_note_line(md, "implicit device: 5 frames against the CPU", ok ? rel(a.x, c.x, c.nx) : INFINITY);
+    snap_free(&a), snap_free(&b), snap_free(&c);
+    pl_sim_free(sim), pl_sim_free(ref), pl_sim_free(host);
+}
+
 int main(int argc, char **argv)
 {
     md = argc > 1 ? fopen(argv[1], "w") : NULL;
@@ -509,6 +540,7 @@ int main(int argc, char **argv)
                             "scenes/grabbing_raptor_small.xml",
                             "scenes/twisting_bar.xml"};
     const int nscenes = (int)(sizeof scenes / sizeof scenes[0]);
+    if (!only && !timing_only) implicit_device_check();
     if (only)
         check_scene(only);
     for (int k = 0; !only && !timing_only && k < (small ? nscenes - 1 : nscenes); ++k)

@@ -20,6 +20,8 @@ mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-.gpu}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH="$PWD/$B/plugins"
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
+# scenes without a declared CudaDevice are the CPU side of the comparisons
+export PLIANT_DEVICE=${PLIANT_DEVICE:-cpu}
 CS=$(command -v compute-sanitizer || echo /usr/local/cuda/bin/compute-sanitizer)
 status=0
 has() { case " $PARTS " in *" $1 "*) return 0 ;; esac; return 1; }

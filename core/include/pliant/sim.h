@@ -35,6 +35,10 @@ typedef struct pl_sim_options {
     int export_every;         /* 0 = each exporter's own setting */
     const char *const *overrides; /* "path.field=value" applied before init */
     int noverrides;
+    /* NULL: PLIANT_DEVICE, else "auto".  "auto": a scene that declares no
+     * device service gets a CudaDevice when the cuda plugin loads and a GPU
+     * answers (components with device="auto" then run on it); "cpu": never. */
+    const char *device;
 } pl_sim_options;
 
 /* Loads and initialises a scene.  On any error returns NULL with every
