@@ -69,6 +69,7 @@ typedef struct pl_ncpc_delassus {
     int m, nfree;
     int explicit_w;           /* 1: dense W (m x m) below; 0: matrix-free */
     double *W;                /* m x m row-major, or NULL */
+    const double *W_dev;      /* explicit W built on the device instead (not owned), or NULL */
     double *diag;             /* m: W_jj */
     /* matrix-free product: one solve on an nfree x 3 block */
     pl_component *solver;
@@ -86,6 +87,11 @@ void pl_ncpc_delassus_free(pl_ncpc_delassus *D);
  * rows of W, deterministic).  Also fills diag. */
 int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
                               pl_error *err);
+/* Builds W explicitly on the global solver's device (its delassus_device
+ * op, cuBLAS) into the device array W_dev (m x m); diag comes back to the
+ * host.  D->W stays NULL: only the device path can use this W. */
+int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
+                                     const pl_ncpc_rows *r, double *W_dev, pl_error *err);
 /* Prepares the matrix-free W and its exact diagonal: rows with one free
  * vertex a get |c|^2 [A^-1]_aa from inv_diag (the global solver's inverse
  * diagonal; NULL if it has none); rows with several vertices get the

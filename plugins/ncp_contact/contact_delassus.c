@@ -144,6 +144,22 @@ int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const p
     return st;
 }
 
+int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
+                                     const pl_ncpc_rows *r, double *W_dev, pl_error *err)
+{
+    int st = prepare(D, sys, r, err);
+    if (st != PL_OK) return st;
+    if (D->ops->version < 3 || !D->ops->delassus_device)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
+                            "the global solver cannot build W on its device");
+    pl_csr H;
+    if ((st = pl_ncpc_rows_scalar_csr(r, D->nfree, NULL, r->m, &H, err)) != PL_OK) return st;
+    st = D->ops->delassus_device(D->solver, &H, r->m, W_dev, D->diag, err);
+    pl_csr_free(&H);
+    if (st == PL_OK) D->explicit_w = 1, D->W_dev = W_dev;
+    return st;
+}
+
 int pl_ncpc_delassus_apply(void *user, const double *x, double *y)
 {
     pl_ncpc_delassus *D = user;

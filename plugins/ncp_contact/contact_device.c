@@ -232,6 +232,12 @@ static int *transpose(const pl_ncpc_rows *r, int nfree)
     return t;
 }
 
+double *pl_ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
+{
+    size_t mm = (size_t)(m > 0 ? m : 1);
+    return reserve(g, (void **)&g->W, &g->W_cap, sizeof(double) * mm * mm, err) == PL_OK ? g->W : NULL;
+}
+
 static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
                   pl_error *err)
 {
@@ -273,7 +279,9 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
         else
             g->f_cap = f3;
     }
-    if (!rc && g->explicit_w) {
+    if (!rc && g->explicit_w && st->D->W_dev && st->D->W_dev != g->W)
+        rc = fail(g, err, PL_EINTERNAL, "W was built into another device array");
+    if (!rc && g->explicit_w && !st->D->W_dev) {
         size_t wb = sizeof(double) * mm * mm;
         rc = reserve(g, (void **)&g->W, &g->W_cap, wb, err);
         if (!rc && m) rc = g->ops->copy(g->dev, g->W, PL_DEVICE, st->D->W, PL_HOST, wb, err);

@@ -41,6 +41,9 @@ typedef struct pl_ncpc_device_step {
  * node or above; NULL with err set when there is none. */
 pl_ncpc_device *pl_ncpc_device_create(pl_component *c, pl_error *err);
 void pl_ncpc_device_destroy(pl_ncpc_device *g);
+/* The device array for an explicit W of m rows (grown as needed), for
+ * the global solver to build W into; NULL with err set on failure. */
+double *pl_ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err);
 /* A new step began (its data goes up at the next iterate). */
 void pl_ncpc_device_begin(pl_ncpc_device *g);
 /* One iteration on device buffers (q_k: n x 3; b, q_next: nfree x 3). */

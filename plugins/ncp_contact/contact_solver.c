@@ -61,11 +61,13 @@ static const pl_field FIELDS[] = {
                   "choice) or mass (diagonal of H M^-1 H^T, as Macklin et al. 2019)",
                   PL_FIELD_RUNTIME),
     PL_FIELD_ENUM(ncp_contact_solver, delassus, "delassus", DELASSUS_CHOICES, "auto",
-                  "how W is applied: explicit (dense W = Y^T Y, Y = S P H^T, built once per step), "
+                  "how W is applied: explicit (dense W = Y^T Y, Y = S P H^T, built once per step; on "
+                  "the GPU by cuBLAS from the columns of S the rows touch), "
                   "matrix-free (W x = H A^-1 H^T x, one global solve per product) or auto "
                   "(explicit while the dense W fits in maxExplicitMB and a dense product, m^2, costs "
                   "no more than a matrix-free one, 6 nnz(S) as the global solver reports it; with "
-                  "the global step on a GPU, also at most 1024 rows)",
+                  "the global step on a GPU, W is built there when the global solver can, else "
+                  "auto keeps it explicit only up to 1024 rows)",
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),
@@ -358,6 +360,11 @@ static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_timers *t = ctx->timers;
     int m = s->rows.m, st;
+    /* W was built on the device for a device loop that did not come (the
+     * loop chose the CPU after all): build it here once for the step */
+    if (m > 0 && s->D.explicit_w && !s->D.W &&
+        (st = pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err)) != PL_OK)
+        return st;
     pl_timer_start(t, s->t_cglobal);
     /* q_free = A^-1 b^k */
     pl_timer_start(t, s->t_global);

@@ -20,11 +20,12 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m)
 
 /* W explicit or matrix-free (see the delassus field). */
 /* With the global step on a device (a device service above and a global
- * solver that takes device buffers: the iterations run there), a dense
- * product of W costs about as much as a matrix-free one once W has a few
- * thousand rows, while W itself is built here on the CPU (Y = S P H^T and
- * Y^T Y) every step: delassus=auto keeps it explicit only up to this many
- * rows (measured on the GPU: squeezing_ball, 3.6k rows, 390 ms to build W). */
+ * solver that takes device buffers: the iterations run there), W is built
+ * on that device when the global solver can (delassus_device: cuBLAS);
+ * otherwise it would be built here on the CPU (Y = S P H^T and Y^T Y) every
+ * step, and delassus=auto keeps it explicit only up to this many rows
+ * (measured on the GPU: squeezing_ball, 3.6k rows, 390 ms to build W on the
+ * CPU). */
 enum { DEVICE_EXPLICIT_MAX_ROWS = 1024 };
 
 static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *ops, const pl_system *sys)
@@ -38,12 +39,28 @@ static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *op
 #endif
 }
 
+/* W explicit on the device: the global solver builds it there. */
+static int device_w(ncp_contact_solver *s, const pl_system *sys, pl_error *err)
+{
+#ifdef PLIANT_HAVE_CUDA
+    if (!s->gpu && !(s->gpu = pl_ncpc_device_create(&s->base, err))) return err->code ? err->code : PL_EINPUT;
+    double *W = pl_ncpc_device_w(s->gpu, s->rows.m, err);
+    if (!W) return err->code ? err->code : PL_EINTERNAL;
+    return pl_ncpc_delassus_explicit_device(&s->D, sys, &s->rows, W, err);
+#else
+    (void)s, (void)sys;
+    return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "no CUDA in this build");
+#endif
+}
+
 int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err)
 {
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    int dev = on_device(s, ops, sys), dev_w = dev && ops->version >= 3 && ops->delassus_device;
     int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
                                                    auto_explicit(s, ctx->timers, s->rows.m) &&
-                                                   (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !on_device(s, ops, sys)));
+                                                   (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
+    if (explicit_w && dev_w) return device_w(s, sys, err);
     if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);
     if (!s->inv_diag_ok && ops && ops->inverse_diagonal) {
         free(s->inv_diag);

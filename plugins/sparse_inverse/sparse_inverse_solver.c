@@ -195,6 +195,24 @@ static int solver_accepts(const pl_component *c, pl_location where, pl_precision
 #endif
 }
 
+#ifdef PLIANT_HAVE_CUDA
+static int solver_delassus_device(pl_component *c, const pl_csr *H, int m, double *W, double *diag,
+                                  pl_error *err)
+{
+    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    if (!s->gpu) return pl_component_fail(c, err, PL_EINPUT, "delassus_device: S is not on a device");
+    pl_spinv_cuda_rows R;
+    int st = pl_spinv_cuda_rows_build(H, m, pl_sparse_inverse_perm(s->solver),
+                                      pl_sparse_inverse_size(s->solver), &R, err);
+    if (st == PL_OK) st = pl_spinv_cuda_delassus(s->gpu, &R, W, diag, s->stream, err);
+    pl_spinv_cuda_rows_free(&R);
+    if (st == PL_OK) return PL_OK;
+    char msg[sizeof err->msg];
+    snprintf(msg, sizeof msg, "%s", err->msg);
+    return pl_component_fail(c, err, st, "%s", msg);
+}
+#endif
+
 static const pl_global_solver_ops solver_ops = {
     .version = PL_GLOBAL_SOLVER_OPS_VERSION,
     .factor = solver_factor,
@@ -203,6 +221,9 @@ static const pl_global_solver_ops solver_ops = {
     .inverse_diagonal = solver_inverse_diagonal,
     .size = solver_size,
     .accepts = solver_accepts,
+#ifdef PLIANT_HAVE_CUDA
+    .delassus_device = solver_delassus_device,
+#endif
 };
 
 const pl_type pl_sparse_inverse_solver_type = {

@@ -16,6 +16,13 @@
 #   sweep     stick_slip_sweep on the CPU and on the GPU (same thresholds?)
 #   grasp     tests/gripper's grasp criteria on both raptor scenes (small and
 #             the paper-size full variant) with the loop on the device
+#   delassus  gpu_table of the contact scenes with W explicit (built on the
+#             device) and matrix-free, forced (DELASSUS_SCENES to choose)
+#   cpubench  the CPU benchmark of the collision scenes on this host's cores
+#             (bench_contact-like frame tables through `pliant run --timings`)
+#   medium    tests/collision's scene checks on medium sizes, in parallel
+#             (MEDIUM_SCENES="scene:case ...", CPU; needs the source tree at the
+#             path the test was built with)
 #   memcheck  compute-sanitizer memcheck on the checks of resting_box and cloth_terms
 set -u
 B=${1:-build-gpu}
@@ -55,6 +62,45 @@ if has table; then
   rc=$?; [ "$rc" = 0 ] || status=1
   tail -3 "$OUT/gpu_table.log"
   echo "gpu_table exit $rc ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has delassus; then
+  echo "== delassus: W explicit on the device against matrix-free ($FRAMES frames a scene)"
+  DS=${DELASSUS_SCENES:-scenes/cloth_on_knives_small.xml scenes/squeezing_ball_small.xml scenes/cloth_on_knives.xml scenes/squeezing_ball.xml scenes/gingerbread.xml scenes/sharp_corner.xml}
+  for mode in explicit matrix-free; do
+    GPU_TABLE_SET="contact.delassus=$mode" timeout ${T_DELASSUS:-150} "$B/bin/gpu_table" \
+      "$OUT/delassus_$mode.md" /dev/null "$FRAMES" $DS > "$OUT/delassus_$mode.log" 2>&1 || status=1
+    echo "-- delassus=$mode"; cat "$OUT/delassus_$mode.md"
+  done
+  echo "delassus ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has cpubench; then
+  echo "== cpubench: bench_contact on ${CPU_THREADS:-$(nproc)} CPU cores (PLIANT_DEVICE=cpu)"
+  BC=$B/bin/bench_contact
+  [ -x "$BC" ] || BC=$B/bench/bench_contact
+  export OMP_NUM_THREADS=${CPU_THREADS:-$(nproc)}
+  { timeout ${T_CPUBENCH:-200} "$BC" --steps 60 scenes/cloth_on_knives_small.xml scenes/cloth_on_knives.xml \
+      scenes/sharp_corner_small.xml scenes/sharp_corner.xml scenes/squeezing_ball_small.xml \
+      scenes/squeezing_ball.xml scenes/gingerbread_small.xml scenes/gingerbread.xml
+    timeout ${T_CPUBENCH:-200} "$BC" --steps 120 scenes/pulling_through_gap_small.xml scenes/pulling_through_gap.xml
+  } > "$OUT/cpubench.md" 2> "$OUT/cpubench.log" || status=1
+  cat "$OUT/cpubench.md"
+  echo "cpubench ($(( $(date +%s) - t0 )) s)"
+fi
+
+if has medium; then
+  echo "== medium: tests/collision's scene checks on the medium sizes (CPU, $(nproc) cores)"
+  TC=$B/bin/test_collision_pipeline_scenes
+  for sc in ${MEDIUM_SCENES:-squeezing_ball:ball sharp_corner:corner cloth_on_knives:knives}; do
+    OMP_NUM_THREADS=$(( $(nproc) / 3 )) COLLISION_SCENE="${sc%%:*}.xml" CK_RUN_CASE="${sc##*:}" CK_DEFAULT_TIMEOUT=0 \
+      timeout ${T_MEDIUM:-300} "$TC" > "$OUT/medium_${sc%%:*}.log" 2>&1 &
+  done
+  wait
+  for sc in ${MEDIUM_SCENES:-squeezing_ball:ball sharp_corner:corner cloth_on_knives:knives}; do
+    echo "-- ${sc%%:*}"; grep -v "^pliant: info" "$OUT/medium_${sc%%:*}.log" | tail -6
+  done
+  echo "medium ($(( $(date +%s) - t0 )) s)"
 fi
 
 if has sweep; then

@@ -326,6 +326,21 @@ static void check_scene(const char *path)
         snap_free(&s), snap_free(&s2);
         pl_sim_free(sim);
     }
+    /* W explicit (built on the device by the global solver: cuBLAS) and
+     * matrix-free (products through device solves), each against the CPU */
+    static const char *const MODES[2] = {"explicit", "matrix-free"};
+    for (int w = 0; contact && w < 2; ++w) {
+        pl_sim *sim = load(path, &gpus[1]);
+        snprintf(what, sizeof what, "%s, 1 frame from a saved state, cuda float64, graph, "
+                 "delassus=%s: positions", scene, MODES[w]);
+        if (!sim || pl_sim_set(sim, "contact.delassus", MODES[w], &err) != PL_OK ||
+            step_from_state(sim, 1, &s) != 0)
+            gpu_check_line(md, what, INFINITY, 0.0);
+        else
+            gpu_check_line(md, what, rel(s.x, one.x, one.nx), 1e-9);
+        snap_free(&s);
+        pl_sim_free(sim);
+    }
     converge = 0;
     if (contact) {
         /* a note: one frame at the scene's own contact settings */

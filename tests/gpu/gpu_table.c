@@ -18,7 +18,8 @@
  * paper's RTX 4090 figure and
  * paper / ours, where the scene has the paper's size (vertices within
  * 10%).  PRECISION.md: S in float32 against float64, frame medians and the
- * relative difference of the positions after the same frames. */
+ * relative difference of the positions after the same frames.
+ * GPU_TABLE_SET="path.field=value;..." adds overrides to every scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,15 +72,23 @@ static const char *const PHASES[8] = {"Schur", "Local", "Global", "Assembly",
 static pl_sim *load(const char *path, int f32)
 {
     char *xml = gpu_scene_with_device(path);
-    const char *ov[3] = {"solver.device=cuda", "global.device=cuda",
+    const char *ov[8] = {"solver.device=cuda", "global.device=cuda",
                          f32 ? "global.precision=float32" : "global.precision=float64"};
+    int nov = 3;
+    /* GPU_TABLE_SET="a.b=v;c.d=w": more overrides (at most 5), e.g.
+     * contact.delassus=explicit to compare the ways of applying W */
+    static char set[1024];
+    const char *env = getenv("GPU_TABLE_SET");
+    snprintf(set, sizeof set, "%s", env ? env : "");
+    for (char *save = NULL, *kv = strtok_r(set, ";", &save); kv && nov < 8; kv = strtok_r(NULL, ";", &save))
+        ov[nov++] = kv;
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
     opt.out_dir = "/tmp/gpu_table_out";
     opt.export_every = 1000000;
     opt.overrides = ov;
-    opt.noverrides = 3;
+    opt.noverrides = nov;
     pl_sim *sim = xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL;
     if (!sim) pl_diag_print(&diag, stdout);
     pl_diag_free(&diag);

@@ -112,7 +112,7 @@ typedef struct pl_system {
 } pl_system;
 
 /* ---- pl_global_solver: A^-1 for the constant system ---------------------- */
-#define PL_GLOBAL_SOLVER_OPS_VERSION 2 /* 2: accepts */
+#define PL_GLOBAL_SOLVER_OPS_VERSION 3 /* 2: accepts; 3: delassus_device */
 typedef struct pl_global_solver_ops {
     int version;
     /* factors the scalar SPD matrix A (n x n over the unknowns, both triangles
@@ -131,6 +131,14 @@ typedef struct pl_global_solver_ops {
     /* version 2, optional: non-zero when solve() takes n x 3 blocks in `where`
      * with element type `prec` (NULL: host float64 only) */
     int (*accepts)(const pl_component *c, pl_location where, pl_precision prec);
+    /* version 3, optional (NULL: not on this solver's device): W = H A^-1 H^T
+     * (m x m, float64, dense, symmetric) built on the device into the device
+     * array W (queued on the solver's stream), for scalar rows H as in
+     * apply_inverse_to_rows with 3m rows (coordinate k of row j is row
+     * k m + j); its diagonal into the host array diag (returns when it is
+     * written).  PL_EINPUT when the solver is not on a device. */
+    int (*delassus_device)(pl_component *c, const pl_csr *H, int m, double *W, double *diag,
+                           pl_error *err);
 } pl_global_solver_ops;
 
 /* ---- pl_constraint: emits rows of H once per step ------------------------ */

@@ -147,6 +147,7 @@ extern "C" void pl_spinv_cuda_destroy(pl_spinv_cuda *g)
 {
     if (!g) return;
     if (g->sp) spinv_cusparse_destroy(g->sp);
+    spinv_delassus_destroy(g->dl);
     void *ptrs[] = {g->perm, g->val, g->meta, g->items_S, g->items_ST, g->short_rows, g->rowlist,
                     g->a, g->y4, g->part_S, g->part_ST, g->cnt_S, g->cnt_ST, g->hb, g->hx};
     for (void *p : ptrs)

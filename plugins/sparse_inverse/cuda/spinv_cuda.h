@@ -29,6 +29,7 @@
 
 #include "pliant/buffer.h"
 #include "pliant/error.h"
+#include "pliant/sparse.h"
 #include "sparse_inverse.h"
 
 #ifdef __cplusplus
@@ -73,6 +74,34 @@ double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g);
 /* "own" or the cuSPARSE algorithm used ("CSR_ALG3", or "DEFAULT" when
  * CSR_ALG3 was refused). */
 const char *pl_spinv_cuda_path_name(const pl_spinv_cuda *g);
+
+/* ---- the Delassus operator ------------------------------------------- */
+
+/* Scalar rows of a constraint step for pl_spinv_cuda_delassus: rows of
+ * coordinate k of constraint row j are k m + j (as in the global solver's
+ * apply_inverse_to_rows); their unknowns renumbered 0 .. nu-1. */
+typedef struct pl_spinv_cuda_rows {
+    int m;       /* constraint rows (W is m x m) */
+    int nu;      /* distinct unknowns the rows touch */
+    int *pos;    /* nu: each one's permuted index (its column of S) */
+    int *rp;     /* 3m + 1: row r's entries rp[r] .. rp[r+1]-1 */
+    int *ru;     /* each entry's unknown, 0 .. nu-1 */
+    double *rx;  /* each entry's coefficient */
+} pl_spinv_cuda_rows;
+
+/* From H (3m x n CSR over the unknowns, original numbering) and perm
+ * (perm[k] = original index of permuted k).  PL_EINPUT when H is not
+ * 3m x n. */
+int pl_spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
+                             pl_spinv_cuda_rows *R, pl_error *err);
+void pl_spinv_cuda_rows_free(pl_spinv_cuda_rows *R);
+
+/* W = H A^-1 H^T (m x m, float64, symmetric, row-major = column-major) into
+ * the DEVICE array W, and its diagonal into the HOST array diag_host; queued
+ * on stream, returns when diag_host is written.  Device memory: n x nu + nu^2
+ * doubles (kept for the next call). */
+int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
+                           double *diag_host, struct CUstream_st *stream, pl_error *err);
 
 /* ---- building blocks (tests and benchmarks) -------------------------- */
 

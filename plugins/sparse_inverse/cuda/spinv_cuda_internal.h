@@ -17,6 +17,8 @@ int spinv_cuda_fail(pl_error *err, cudaError_t e, const char *what);
     } while (0)
 
 struct spinv_cusparse; /* spinv_cuda_cusparse.cu */
+struct spinv_delassus; /* spinv_cuda_delassus.cu: cuBLAS handle and buffers, made on first use */
+extern "C" void spinv_delassus_destroy(struct spinv_delassus *d);
 
 struct pl_spinv_cuda {
     int n, npad;
@@ -39,6 +41,7 @@ struct pl_spinv_cuda {
     int *cnt_S, *cnt_ST;             /* arrival counters (reset by the last warp) */
     double *hb, *hx;                 /* n x 3 float64 staging for solve_host */
     struct spinv_cusparse *sp;       /* PL_SPINV_CUDA_CUSPARSE only */
+    struct spinv_delassus *dl;       /* pl_spinv_cuda_delassus's state */
     /* the last solve's buffers, for run_stage */
     const void *last_b;
     void *last_x;

@@ -1,0 +1,179 @@
+/* spinv_cuda_delassus.cu - the Delassus operator W = H A^-1 H^T built on
+ * the device (see pl_spinv_cuda_delassus in spinv_cuda.h).
+ *
+ * A^-1 = P^T S^T S P, so between two unknowns a and b, [A^-1]_ab is the dot
+ * product of the columns P a and P b of S.  The rows of one step touch few
+ * unknowns (nu, at most 4 per row): their columns of S go into a dense
+ * n x nu block Y (the profile layout gives S(i, c) without a search), one
+ * cuBLAS SYRK forms G = Y^T Y = A^-1 on those unknowns (the product that
+ * costs: n nu^2 multiply-adds, on the tensor cores), and a last kernel sums
+ * W_ij = sum_k sum_{a in row i} sum_{b in row j} h_ka h_kb G_ab with one
+ * thread per entry of the lower triangle, which writes W_ij and W_ji from
+ * one sum (bitwise symmetric, deterministic).  Buffers are kept between
+ * steps and grow by half. */
+#include "spinv_cuda_internal.h"
+
+#include <cublas_v2.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct spinv_delassus {
+    cublasHandle_t blas;
+    double *Y, *G, *diag;
+    size_t Y_cap, G_cap, diag_cap;
+    char *in;   /* pos, rp, ru, rx packed */
+    size_t in_cap;
+    char *h_in; /* page-locked staging of the same */
+    size_t h_in_cap;
+};
+
+namespace {
+
+int blas_fail(pl_error *err, cublasStatus_t s, const char *what)
+{
+    return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse (cuda): %s: cuBLAS status %d",
+                        what, (int)s);
+}
+
+/* Device memory of at least `bytes` in *p (capacity *cap). */
+int grow(void **p, size_t *cap, size_t bytes, pl_error *err)
+{
+    if (*p && bytes <= *cap) return PL_OK;
+    if (*p) SPINV_CK(cudaFree(*p), "cudaFree");
+    *p = NULL;
+    *cap = bytes + bytes / 2 + 256;
+    SPINV_CK(cudaMalloc(p, *cap), "cudaMalloc (Delassus)");
+    return PL_OK;
+}
+
+int grow_host(void **p, size_t *cap, size_t bytes, pl_error *err)
+{
+    if (*p && bytes <= *cap) return PL_OK;
+    if (*p) SPINV_CK(cudaFreeHost(*p), "cudaFreeHost");
+    *p = NULL;
+    *cap = bytes + bytes / 2 + 256;
+    SPINV_CK(cudaMallocHost(p, *cap), "cudaMallocHost (Delassus)");
+    return PL_OK;
+}
+
+/* Y(i, u) = S(i, pos[u]) (column-major, n x nu, float64). */
+template <typename T>
+__global__ void gather_columns(int n, int nu, const pl_spinv_cuda_rowmeta *meta, const T *val,
+                               const int *pos, double *Y)
+{
+    size_t total = (size_t)n * (size_t)nu;
+    for (size_t t = blockIdx.x * (size_t)blockDim.x + threadIdx.x; t < total;
+         t += (size_t)gridDim.x * blockDim.x) {
+        int i = (int)(t % (size_t)n), u = (int)(t / (size_t)n), c = pos[u];
+        pl_spinv_cuda_rowmeta r = meta[i];
+        /* columns f0 .. e are stored (zero past the diagonal) */
+        Y[t] = c >= r.f0 && c <= r.e ? (double)val[r.vbase + c] : 0.0;
+    }
+}
+
+/* W_ij = W_ji for j <= i from G (lower triangle, column-major nu x nu). */
+__global__ void assemble_w(int m, int nu, const int *rp, const int *ru, const double *rx,
+                           const double *G, double *W, double *diag)
+{
+    size_t total = (size_t)m * (size_t)m;
+    for (size_t t = blockIdx.x * (size_t)blockDim.x + threadIdx.x; t < total;
+         t += (size_t)gridDim.x * blockDim.x) {
+        int i = (int)(t / (size_t)m), j = (int)(t % (size_t)m);
+        if (j > i) continue;
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            int ri = k * m + i, rj = k * m + j;
+            for (int p = rp[ri]; p < rp[ri + 1]; ++p)
+                for (int q = rp[rj]; q < rp[rj + 1]; ++q) {
+                    int a = ru[p], b = ru[q];
+                    int hi = a > b ? a : b, lo = a > b ? b : a;
+                    s += rx[p] * rx[q] * G[(size_t)lo * nu + hi];
+                }
+        }
+        W[(size_t)i * m + j] = s;
+        W[(size_t)j * m + i] = s;
+        if (i == j) diag[i] = s;
+    }
+}
+
+int blocks_for(size_t total)
+{
+    size_t b = (total + 255) / 256;
+    return (int)(b < 4096 ? (b > 0 ? b : 1) : 4096);
+}
+
+size_t align16(size_t b)
+{
+    return (b + 15) & ~(size_t)15;
+}
+
+} // namespace
+
+extern "C" void spinv_delassus_destroy(struct spinv_delassus *d)
+{
+    if (!d) return;
+    if (d->blas) cublasDestroy(d->blas);
+    void *p[] = {d->Y, d->G, d->diag, d->in};
+    for (void *q : p)
+        if (q) cudaFree(q);
+    if (d->h_in) cudaFreeHost(d->h_in);
+    free(d);
+}
+
+extern "C" int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
+                                      double *diag_host, struct CUstream_st *stream, pl_error *err)
+{
+    int n = g->n, m = R->m, nu = R->nu;
+    if (m <= 0) return PL_OK;
+    if (!g->dl) {
+        g->dl = (struct spinv_delassus *)calloc(1, sizeof *g->dl);
+        if (!g->dl) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+        cublasStatus_t s = cublasCreate(&g->dl->blas);
+        if (s != CUBLAS_STATUS_SUCCESS) {
+            g->dl->blas = NULL;
+            return blas_fail(err, s, "cublasCreate");
+        }
+    }
+    struct spinv_delassus *d = g->dl;
+    cudaStream_t st = stream;
+    size_t nent = (size_t)R->rp[3 * m];
+    size_t b_pos = align16(sizeof(int) * (size_t)nu), b_rp = align16(sizeof(int) * (3 * (size_t)m + 1)),
+           b_ru = align16(sizeof(int) * nent), b_rx = sizeof(double) * nent;
+    size_t bytes = b_pos + b_rp + b_ru + b_rx;
+    int rc = grow((void **)&d->in, &d->in_cap, bytes, err);
+    if (!rc) rc = grow_host((void **)&d->h_in, &d->h_in_cap, bytes, err);
+    if (!rc) rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * (size_t)(nu > 0 ? nu : 1), err);
+    if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)nu * (size_t)(nu > 0 ? nu : 1), err);
+    if (!rc) rc = grow((void **)&d->diag, &d->diag_cap, sizeof(double) * (size_t)m, err);
+    if (rc) return rc;
+    /* the staging buffer may still feed the last step's copy */
+    SPINV_CK(cudaStreamSynchronize(st), "Delassus: wait for the stream");
+    char *h = d->h_in;
+    memcpy(h, R->pos, sizeof(int) * (size_t)nu);
+    memcpy(h + b_pos, R->rp, sizeof(int) * (3 * (size_t)m + 1));
+    memcpy(h + b_pos + b_rp, R->ru, sizeof(int) * nent);
+    memcpy(h + b_pos + b_rp + b_ru, R->rx, sizeof(double) * nent);
+    SPINV_CK(cudaMemcpyAsync(d->in, h, bytes, cudaMemcpyHostToDevice, st), "Delassus: upload rows");
+    const int *pos = (const int *)d->in, *rp = (const int *)(d->in + b_pos),
+              *ru = (const int *)(d->in + b_pos + b_rp);
+    const double *rx = (const double *)(d->in + b_pos + b_rp + b_ru);
+    size_t ny = (size_t)n * (size_t)nu;
+    if (g->prec == PL_F32)
+        gather_columns<float><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const float *)g->val, pos, d->Y);
+    else
+        gather_columns<double><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const double *)g->val, pos, d->Y);
+    SPINV_CK(cudaGetLastError(), "Delassus: gather columns");
+    cublasStatus_t s = cublasSetStream(d->blas, st);
+    const double one = 1.0, zero = 0.0;
+    /* G = Y^T Y, lower triangle (column-major nu x nu) */
+    if (s == CUBLAS_STATUS_SUCCESS)
+        s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, nu, n, &one, d->Y, n, &zero, d->G, nu);
+    if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus: SYRK");
+    size_t mm = (size_t)m * (size_t)m;
+    assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nu, rp, ru, rx, d->G, W, d->diag);
+    SPINV_CK(cudaGetLastError(), "Delassus: assemble W");
+    SPINV_CK(cudaMemcpyAsync(diag_host, d->diag, sizeof(double) * (size_t)m, cudaMemcpyDeviceToHost, st),
+             "Delassus: diagonal down");
+    SPINV_CK(cudaStreamSynchronize(st), "Delassus: wait");
+    return PL_OK;
+}
