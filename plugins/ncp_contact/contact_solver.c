@@ -66,8 +66,9 @@ static const pl_field FIELDS[] = {
                   "matrix-free (W x = H A^-1 H^T x, one global solve per product) or auto "
                   "(explicit while the dense W fits in maxExplicitMB and a dense product, m^2, costs "
                   "no more than a matrix-free one, 6 nnz(S) as the global solver reports it; with "
-                  "the global step on a GPU, W is built there when the global solver can, else "
-                  "auto keeps it explicit only up to 1024 rows)",
+                  "the global step on a GPU, W is built there when the global solver can, and "
+                  "a matrix-free product's launches count as 8e6 entries; else auto keeps it "
+                  "explicit only up to 1024 rows)",
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),

@@ -11,12 +11,20 @@
  * matrix-free product (S and S^T on 3 columns: about 6 nnz(S)).  nnz(S) is
  * the statistic the global solver records when it factors; without it the
  * memory rule decides alone.  Deterministic: no timing decides. */
-static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m)
+static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, double launch_entries)
 {
     double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
     if (mb > s->max_explicit_mb) return 0;
-    return pl_stat_get(timers, "nnz(S)", &nnz_s) != 0 || (double)m * (double)m <= 6.0 * nnz_s;
+    return pl_stat_get(timers, "nnz(S)", &nnz_s) != 0 ||
+           (double)m * (double)m <= 6.0 * nnz_s + launch_entries;
 }
+
+/* On the GPU a matrix-free product also pays its launches (scatter, S,
+ * S^T, gather: a few microseconds each, even in a graph); they cost about
+ * as much as reading this many entries of a dense W (H100: explicit was
+ * 2.3x faster per constraint solve for the small scenes' 200-800 rows,
+ * docs/benchmarks.md, fourth GPU run). */
+#define DEVICE_LAUNCH_ENTRIES 8.0e6
 
 /* W explicit or matrix-free (see the delassus field). */
 /* With the global step on a device (a device service above and a global
@@ -58,7 +66,8 @@ int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     int dev = on_device(s, ops, sys), dev_w = dev && ops->version >= 3 && ops->delassus_device;
     int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
-                                                   auto_explicit(s, ctx->timers, s->rows.m) &&
+                                                   auto_explicit(s, ctx->timers, s->rows.m,
+                                                                 dev_w ? DEVICE_LAUNCH_ENTRIES : 0.0) &&
                                                    (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
     if (explicit_w && dev_w) return device_w(s, sys, err);
     if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);
