@@ -94,13 +94,50 @@ static int slides_over(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, cons
     return 1;
 }
 
+static int cmp_key(const void *x, const void *y)
+{
+    long long a = *(const long long *)x, b = *(const long long *)y;
+    return (a > b) - (a < b);
+}
+
+int coll_vv_collect(const pl_proximities *items, int from, int nb, coll_vv_kept *kv)
+{
+    kv->key = NULL;
+    kv->n = 0;
+    kv->nb = nb;
+    int m = 0;
+    for (int k = from; k < items->n; ++k) m += items->items[k].kind == PL_PROX_VERTEX_FACE;
+    if (m == 0) return PL_OK;
+    kv->key = malloc((size_t)m * sizeof *kv->key);
+    if (!kv->key) return PL_EINTERNAL;
+    for (int k = from; k < items->n; ++k) {
+        const pl_proximity *x = &items->items[k];
+        if (x->kind != PL_PROX_VERTEX_FACE) continue;
+        for (int a = 0; a < 3; ++a)
+            if (x->wb[a] > 1.0 - EDGE_END) kv->key[kv->n++] = (long long)x->a[0] * nb + x->b[a];
+    }
+    qsort(kv->key, (size_t)kv->n, sizeof *kv->key, cmp_key);
+    return PL_OK;
+}
+
+/* Whether the first direction kept the proximity of its vertex v with
+ * vertex p of the second direction's points. */
+static int vv_kept(const coll_vv_kept *kv, int v, int p)
+{
+    long long k = (long long)v * kv->nb + p;
+    return kv->n > 0 && bsearch(&k, kv->key, (size_t)kv->n, sizeof k, cmp_key) != NULL;
+}
+
 /* Vertex p of P against triangle j of T; fills out and returns 1 when kept.
  * A closest point at a triangle's vertex is a vertex-vertex proximity that
  * the other direction finds too: identical rows would make W singular, so
- * only the first pass keeps it (second != 0 drops it; in self-collision the
- * lower vertex index keeps it). */
+ * the second pass drops those the first kept (in self-collision the lower
+ * vertex index keeps it).  The first keeps only its vertex's nearest
+ * proximity beside the faces: a cloth vertex next to a cube's corner, not
+ * the nearest to it, has no other contact there (it is over none of the
+ * faces), so the second pass keeps it. */
 int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *T, int it,
-                        int j, int self, int second, const pl_detect_params *prm,
+                        int j, int self, const coll_vv_kept *second, const pl_detect_params *prm,
                         pl_proximity *out, int *face)
 {
     const int *tri = &T->tris[3 * j];
@@ -114,7 +151,9 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     double d0 = sqrt(pl_closest_point_triangle(x, &T->x0[3 * tri[0]], &T->x0[3 * tri[1]],
                                                &T->x0[3 * tri[2]], w));
     for (int a = 0; a < 3; ++a)
-        if (w[a] > 1.0 - EDGE_END && (second || (self && p > tri[a]))) return 0;
+        if (w[a] > 1.0 - EDGE_END &&
+            ((second && vv_kept(second, tri[a], p)) || (self && p > tri[a])))
+            return 0;
     double diff[3], motion[3];
     offset_and_motion(P, p, T, tri, w, diff, motion);
     const double *nf = &T->fnormal[3 * j];
