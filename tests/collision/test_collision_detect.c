@@ -412,6 +412,65 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
 }
 END_TEST
 
+/* A cloth edge beside a closed cube's side just below its top edge, across
+ * it: both sides of the edge-edge direction lie outside the cube (beyond the
+ * top's plane one way, the side's the other), so the outward bisector of the
+ * two faces does not say which side the cloth belongs on; the side it is on
+ * does.  The bisector's choice put it 15 mm through (a negative gap), and
+ * the solver pushed the cloth up through the cube's edge. */
+START_TEST(test_edge_beside_a_cube_keeps_its_side)
+{
+    double cx[24];
+    for (int b = 0; b < 8; ++b)
+        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
+    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
+                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int *edges, ne;
+    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
+    /* cloth edge 0-1 through (1.01, 0.988, 0.5) along (0.9, 0.436, 0): under
+     * the cube's edge 3-7 (x = y = 1, along z), beside its +x face */
+    const double P[3] = {1.01, 0.988, 0.5}, u[3] = {0.9, 0.4358898943540674, 0.0};
+    double sx[9];
+    for (int k = 0; k < 3; ++k) {
+        sx[k] = P[k] - 0.007 * u[k];
+        sx[3 + k] = P[k] + 0.007 * u[k];
+    }
+    sx[6] = P[0] + 0.004, sx[7] = P[1] - 0.008, sx[8] = P[2] + 0.01;
+    int stris[3] = {0, 1, 2};
+    int *sedges, nse;
+    ck_assert_int_eq(pl_triangle_edges(stris, 1, &sedges, &nse), PL_OK);
+    pl_coll_mesh T, C;
+    pl_coll_mesh_init(&T);
+    pl_coll_mesh_init(&C);
+    T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
+    C.nverts = 3, C.ntris = 1, C.nedges = nse, C.x0 = C.x1 = sx, C.tris = stris;
+    C.edges = sedges, C.sides = PL_SIDES_TWO;
+    pl_error err;
+    ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.02, &err), PL_OK);
+    ck_assert_int_eq(pl_coll_mesh_prepare(&C, 0.02, &err), PL_OK);
+    pl_detect_params prm = pl_detect_defaults(0.02);
+    pl_proximities p = {0};
+    ck_assert_int_eq(pl_detect_pair(&T, 0, &C, 1, &prm, &p), PL_OK);
+    double s, t, d = sqrt(pl_closest_segments(&cx[9], &cx[21], &sx[0], &sx[3], &s, &t));
+    ck_assert(d > 0.015 && d < 0.016);
+    int found = 0;
+    for (int k = 0; k < p.n; ++k) {
+        const pl_proximity *x = &p.items[k];
+        if (x->kind != PL_PROX_EDGE_EDGE || x->a[0] + x->a[1] != 10 || x->b[0] + x->b[1] != 1)
+            continue;
+        found++;
+        ck_assert_double_eq_tol(x->gap, d, 1e-12); /* on the side it is on, not through */
+        ck_assert(x->normal[0] < 0.0 && x->normal[1] > 0.0); /* from the cloth up to the cube */
+    }
+    ck_assert_int_eq(found, 1);
+    pl_proximities_free(&p);
+    pl_coll_mesh_free(&T);
+    pl_coll_mesh_free(&C);
+    free(edges);
+    free(sedges);
+}
+END_TEST
+
 START_TEST(test_pair_rows)
 {
     pl_rows rows;
@@ -467,6 +526,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_thin_triangle_keeps_each_side);
     tcase_add_test(tc, test_closed_surface_pushes_out);
     tcase_add_test(tc, test_point_beside_a_corner_keeps_its_contact);
+    tcase_add_test(tc, test_edge_beside_a_cube_keeps_its_side);
     tcase_add_test(tc, test_pair_rows);
     suite_add_tcase(s, tc);
     return s;
