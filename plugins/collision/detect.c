@@ -94,13 +94,50 @@ static int slides_over(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, cons
     return 1;
 }
 
+static int cmp_key(const void *x, const void *y)
+{
+    long long a = *(const long long *)x, b = *(const long long *)y;
+    return (a > b) - (a < b);
+}
+
+int coll_vv_collect(const pl_proximities *items, int from, int nb, coll_vv_kept *kv)
+{
+    kv->key = NULL;
+    kv->n = 0;
+    kv->nb = nb;
+    int m = 0;
+    for (int k = from; k < items->n; ++k) m += items->items[k].kind == PL_PROX_VERTEX_FACE;
+    if (m == 0) return PL_OK;
+    kv->key = malloc((size_t)m * sizeof *kv->key);
+    if (!kv->key) return PL_EINTERNAL;
+    for (int k = from; k < items->n; ++k) {
+        const pl_proximity *x = &items->items[k];
+        if (x->kind != PL_PROX_VERTEX_FACE) continue;
+        for (int a = 0; a < 3; ++a)
+            if (x->wb[a] > 1.0 - EDGE_END) kv->key[kv->n++] = (long long)x->a[0] * nb + x->b[a];
+    }
+    qsort(kv->key, (size_t)kv->n, sizeof *kv->key, cmp_key);
+    return PL_OK;
+}
+
+/* Whether the first direction kept the proximity of its vertex v with
+ * vertex p of the second direction's points. */
+static int vv_kept(const coll_vv_kept *kv, int v, int p)
+{
+    long long k = (long long)v * kv->nb + p;
+    return kv->n > 0 && bsearch(&k, kv->key, (size_t)kv->n, sizeof k, cmp_key) != NULL;
+}
+
 /* Vertex p of P against triangle j of T; fills out and returns 1 when kept.
  * A closest point at a triangle's vertex is a vertex-vertex proximity that
  * the other direction finds too: identical rows would make W singular, so
- * only the first pass keeps it (second != 0 drops it; in self-collision the
- * lower vertex index keeps it). */
+ * the second pass drops those the first kept (in self-collision the lower
+ * vertex index keeps it).  The first keeps only its vertex's nearest
+ * proximity beside the faces: a cloth vertex next to a cube's corner, not
+ * the nearest to it, has no other contact there (it is over none of the
+ * faces), so the second pass keeps it. */
 int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *T, int it,
-                        int j, int self, int second, const pl_detect_params *prm,
+                        int j, int self, const coll_vv_kept *second, const pl_detect_params *prm,
                         pl_proximity *out, int *face)
 {
     const int *tri = &T->tris[3 * j];
@@ -114,7 +151,9 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     double d0 = sqrt(pl_closest_point_triangle(x, &T->x0[3 * tri[0]], &T->x0[3 * tri[1]],
                                                &T->x0[3 * tri[2]], w));
     for (int a = 0; a < 3; ++a)
-        if (w[a] > 1.0 - EDGE_END && (second || (self && p > tri[a]))) return 0;
+        if (w[a] > 1.0 - EDGE_END &&
+            ((second && vv_kept(second, tri[a], p)) || (self && p > tri[a])))
+            return 0;
     double diff[3], motion[3];
     offset_and_motion(P, p, T, tri, w, diff, motion);
     const double *nf = &T->fnormal[3 * j];
@@ -189,23 +228,6 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     return 1;
 }
 
-/* One-sided meshes: mo = the outward bisector of the faces beside edge e
- * (unit); returns 1 when the edge-edge direction cr (length len) has a clear
- * component along it (then its sign says which side is outside). */
-static int outward(const pl_coll_mesh *m, int e, const double *cr, double len, double mo[3])
-{
-    mo[0] = mo[1] = mo[2] = 0.0;
-    for (int k = 0; k < 2; ++k) {
-        int t = m->edge_tris[2 * e + k];
-        if (t < 0) continue;
-        for (int i = 0; i < 3; ++i) mo[i] += m->fnormal[3 * t + i];
-    }
-    double l = sqrt(dot3(mo, mo));
-    if (!(l > 0.0)) return 0;
-    for (int i = 0; i < 3; ++i) mo[i] /= l;
-    return fabs(dot3(mo, cr)) > 0.2 * len;
-}
-
 /* One-sided meshes: whether the direction d from edge e points outside the
  * mesh there: beyond at least one of the planes of its faces (a convex
  * edge's outside is the union of the two half-spaces). */
@@ -219,6 +241,29 @@ static int outside_of(const pl_coll_mesh *m, int e, const double d[3])
         if (dot3(d, &m->fnormal[3 * t]) > 0.0) return 1;
     }
     return !any;
+}
+
+/* One-sided meshes: mo = the outward bisector of the faces beside edge e
+ * (unit); returns 1 when the edge-edge direction cr (length len) has a clear
+ * component along it and only one of +-cr points outside (then the sign of
+ * mo . cr says which side is outside).  When both do (cr nearly along a
+ * face: one side beyond each face's plane, a cloth edge hanging beside a
+ * cube's side just below its top edge), the bisector does not decide: it
+ * pushed such an edge up through the cube's edge (17 mm on sharp_corner.xml
+ * at step 198). */
+static int outward(const pl_coll_mesh *m, int e, const double *cr, double len, double mo[3])
+{
+    mo[0] = mo[1] = mo[2] = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        int t = m->edge_tris[2 * e + k];
+        if (t < 0) continue;
+        for (int i = 0; i < 3; ++i) mo[i] += m->fnormal[3 * t + i];
+    }
+    double l = sqrt(dot3(mo, mo));
+    if (!(l > 0.0)) return 0;
+    for (int i = 0; i < 3; ++i) mo[i] /= l;
+    double neg[3] = {-cr[0], -cr[1], -cr[2]};
+    return fabs(dot3(mo, cr)) > 0.2 * len && !(outside_of(m, e, cr) && outside_of(m, e, neg));
 }
 
 /* Whether n is (anti)parallel to a face beside edge e, within EDGE_FLAT. */

@@ -100,7 +100,8 @@ static int cand_push(work *w, const pl_proximity *p, int prim, int face)
 
 typedef struct pass {
     const pl_coll_mesh *P, *T; /* vertex-face: points of P, triangles of T; edge-edge: edges */
-    int ip, it, self, edges, brute, second;
+    int ip, it, self, edges, brute;
+    const coll_vv_kept *second; /* the second direction of a pair: what the first kept */
     const pl_detect_params *prm;
 } pass;
 
@@ -187,11 +188,15 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
     int rc = PL_OK;
     if (prm->vertex_face) {
         ps.P = A, ps.T = B, ps.ip = ia, ps.it = ib, ps.edges = 0;
+        int from = out->n;
         rc = run_pass(&ps, out);
         if (rc == PL_OK && !self) {
-            ps.P = B, ps.T = A, ps.ip = ib, ps.it = ia, ps.second = 1;
-            rc = run_pass(&ps, out);
-            ps.second = 0;
+            coll_vv_kept kv;
+            rc = coll_vv_collect(out, from, B->nverts, &kv);
+            ps.P = B, ps.T = A, ps.ip = ib, ps.it = ia, ps.second = &kv;
+            if (rc == PL_OK) rc = run_pass(&ps, out);
+            ps.second = NULL;
+            free(kv.key);
         }
     }
     if (rc == PL_OK && prm->edge_edge) {

@@ -339,6 +339,138 @@ START_TEST(test_closed_surface_pushes_out)
 }
 END_TEST
 
+/* A cloth point beside a closed cube's corner, not the corner's nearest
+ * cloth feature: the corner keeps only its nearest proximity beside the
+ * faces (here a triangle over it), and the point, over none of the cube's
+ * faces, is closest to the corner itself (a vertex-vertex proximity).  The
+ * second direction must keep it (on sharp_corner.xml such a point had no
+ * row, went into the cube and let its edges through the cloth); when the
+ * corner's nearest is that point, it is found once. */
+START_TEST(test_point_beside_a_corner_keeps_its_contact)
+{
+    double cx[24];
+    for (int b = 0; b < 8; ++b)
+        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
+    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
+                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int *edges, ne;
+    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
+    /* triangle 0 flat 2 mm over the corner (1, 1, 1); triangle 1 from
+     * vertex 3, 5 mm beside the corner (0.3 mm below the top), away */
+    double sx[18] = {0.95, 1.002, 0.95, 1.1,   1.002, 0.95, 0.95, 1.002, 1.1,
+                     1.004, 0.9997, 1.003, 1.05, 0.95, 1.003, 1.004, 0.95, 1.05};
+    int stris[6] = {0, 1, 2, 3, 4, 5};
+    int *sedges, nse;
+    ck_assert_int_eq(pl_triangle_edges(stris, 2, &sedges, &nse), PL_OK);
+    const double *c = &cx[21], *v = &sx[9];
+    double d = sqrt(pow(v[0] - c[0], 2) + pow(v[1] - c[1], 2) + pow(v[2] - c[2], 2));
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) /* triangle 0 away: the corner's nearest is vertex 3 */
+            for (int i = 0; i < 3; ++i) sx[3 * i + 1] = 1.5;
+        pl_coll_mesh T, P;
+        pl_coll_mesh_init(&T);
+        pl_coll_mesh_init(&P);
+        T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
+        P.nverts = 6, P.ntris = 2, P.nedges = nse, P.x0 = P.x1 = sx, P.tris = stris;
+        P.edges = sedges, P.sides = PL_SIDES_TWO;
+        pl_error err;
+        ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.01, &err), PL_OK);
+        ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+        pl_detect_params prm = pl_detect_defaults(0.01);
+        pl_proximities p = {0};
+        ck_assert_int_eq(pl_detect_pair(&T, 0, &P, 1, &prm, &p), PL_OK);
+        /* the contacts of vertex 3: its own (second direction: closest
+         * to the corner's edge 0.3 mm below it, 5 mm away) or the
+         * corner's with vertex 3 as the closest point */
+        int own = 0, corner = 0, of_corner = 0;
+        for (int k = 0; k < p.n; ++k) {
+            const pl_proximity *x = &p.items[k];
+            if (x->kind != PL_PROX_VERTEX_FACE) continue;
+            if (x->model_a == 1 && x->a[0] == 3) {
+                own++;
+                const double n[3] = {0.8, 0.0, 0.6};
+                ck_assert_double_eq_tol(x->gap, 0.005, 1e-12);
+                for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(x->normal[i], n[i], 1e-9);
+            }
+            if (x->model_a != 0 || x->a[0] != 7) continue;
+            corner++;
+            for (int i = 0; i < 3; ++i)
+                if (x->b[i] == 3 && x->wb[i] > 1.0 - 1e-3) {
+                    of_corner++;
+                    ck_assert_double_eq_tol(x->gap, d, 1e-12);
+                }
+        }
+        ck_assert_int_eq(own, pass == 0);
+        ck_assert_int_eq(of_corner, pass == 1);
+        ck_assert_int_eq(corner, 1); /* its nearest alone */
+        pl_proximities_free(&p);
+        pl_coll_mesh_free(&T);
+        pl_coll_mesh_free(&P);
+    }
+    free(edges);
+    free(sedges);
+}
+END_TEST
+
+/* A cloth edge beside a closed cube's side just below its top edge, across
+ * it: both sides of the edge-edge direction lie outside the cube (beyond the
+ * top's plane one way, the side's the other), so the outward bisector of the
+ * two faces does not say which side the cloth belongs on; the side it is on
+ * does.  The bisector's choice put it 15 mm through (a negative gap), and
+ * the solver pushed the cloth up through the cube's edge. */
+START_TEST(test_edge_beside_a_cube_keeps_its_side)
+{
+    double cx[24];
+    for (int b = 0; b < 8; ++b)
+        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
+    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
+                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int *edges, ne;
+    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
+    /* cloth edge 0-1 through (1.01, 0.988, 0.5) along (0.9, 0.436, 0): under
+     * the cube's edge 3-7 (x = y = 1, along z), beside its +x face */
+    const double P[3] = {1.01, 0.988, 0.5}, u[3] = {0.9, 0.4358898943540674, 0.0};
+    double sx[9];
+    for (int k = 0; k < 3; ++k) {
+        sx[k] = P[k] - 0.007 * u[k];
+        sx[3 + k] = P[k] + 0.007 * u[k];
+    }
+    sx[6] = P[0] + 0.004, sx[7] = P[1] - 0.008, sx[8] = P[2] + 0.01;
+    int stris[3] = {0, 1, 2};
+    int *sedges, nse;
+    ck_assert_int_eq(pl_triangle_edges(stris, 1, &sedges, &nse), PL_OK);
+    pl_coll_mesh T, C;
+    pl_coll_mesh_init(&T);
+    pl_coll_mesh_init(&C);
+    T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
+    C.nverts = 3, C.ntris = 1, C.nedges = nse, C.x0 = C.x1 = sx, C.tris = stris;
+    C.edges = sedges, C.sides = PL_SIDES_TWO;
+    pl_error err;
+    ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.02, &err), PL_OK);
+    ck_assert_int_eq(pl_coll_mesh_prepare(&C, 0.02, &err), PL_OK);
+    pl_detect_params prm = pl_detect_defaults(0.02);
+    pl_proximities p = {0};
+    ck_assert_int_eq(pl_detect_pair(&T, 0, &C, 1, &prm, &p), PL_OK);
+    double s, t, d = sqrt(pl_closest_segments(&cx[9], &cx[21], &sx[0], &sx[3], &s, &t));
+    ck_assert(d > 0.015 && d < 0.016);
+    int found = 0;
+    for (int k = 0; k < p.n; ++k) {
+        const pl_proximity *x = &p.items[k];
+        if (x->kind != PL_PROX_EDGE_EDGE || x->a[0] + x->a[1] != 10 || x->b[0] + x->b[1] != 1)
+            continue;
+        found++;
+        ck_assert_double_eq_tol(x->gap, d, 1e-12); /* on the side it is on, not through */
+        ck_assert(x->normal[0] < 0.0 && x->normal[1] > 0.0); /* from the cloth up to the cube */
+    }
+    ck_assert_int_eq(found, 1);
+    pl_proximities_free(&p);
+    pl_coll_mesh_free(&T);
+    pl_coll_mesh_free(&C);
+    free(edges);
+    free(sedges);
+}
+END_TEST
+
 START_TEST(test_pair_rows)
 {
     pl_rows rows;
@@ -393,6 +525,8 @@ static Suite *suite(void)
     tcase_add_test(tc, test_static_detection_is_complete);
     tcase_add_test(tc, test_thin_triangle_keeps_each_side);
     tcase_add_test(tc, test_closed_surface_pushes_out);
+    tcase_add_test(tc, test_point_beside_a_corner_keeps_its_contact);
+    tcase_add_test(tc, test_edge_beside_a_cube_keeps_its_side);
     tcase_add_test(tc, test_pair_rows);
     suite_add_tcase(s, tc);
     return s;
