@@ -300,16 +300,24 @@ START_TEST(test_thin_triangle_keeps_each_side)
 }
 END_TEST
 
+/* The unit cube: corners b = x + 2y + 4z, its 12 faces listed inward
+ * (clockwise seen from outside) on purpose: the detection must turn them
+ * outward by the enclosed volume's sign. */
+static void unit_cube(double cx[24], int tris[36])
+{
+    static const int T[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
+                              2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    for (int b = 0; b < 8; ++b)
+        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
+    memcpy(tris, T, sizeof T);
+}
+
 /* The unit cube's closed surface, outward, with points inside. */
 START_TEST(test_closed_surface_pushes_out)
 {
     double cx[24];
-    for (int b = 0; b < 8; ++b)
-        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
-    /* faces counter-clockwise from outside, corners b = x + 2y + 4z; listed inward on
-     * purpose: the enclosed volume's sign must turn them outward */
-    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
-                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int tris[36];
+    unit_cube(cx, tris);
     int *edges, ne;
     ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
     ck_assert_int_eq(ne, 18);
@@ -349,10 +357,8 @@ END_TEST
 START_TEST(test_point_beside_a_corner_keeps_its_contact)
 {
     double cx[24];
-    for (int b = 0; b < 8; ++b)
-        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
-    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
-                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int tris[36];
+    unit_cube(cx, tris);
     int *edges, ne;
     ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
     /* triangle 0 flat 2 mm over the corner (1, 1, 1); triangle 1 from
@@ -421,10 +427,8 @@ END_TEST
 START_TEST(test_edge_beside_a_cube_keeps_its_side)
 {
     double cx[24];
-    for (int b = 0; b < 8; ++b)
-        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
-    int tris[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
-                    2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    int tris[36];
+    unit_cube(cx, tris);
     int *edges, ne;
     ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
     /* cloth edge 0-1 through (1.01, 0.988, 0.5) along (0.9, 0.436, 0): under
