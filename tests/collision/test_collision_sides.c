@@ -3,6 +3,7 @@
  *  - a blade's border rule looks where an edge crosses the blade's plane:
  *    through the blade it is pushed out beyond the border, beside its corner
  *    it is left alone;
+ *  - a cloth edge wrapped round a blade's border keeps its edge-edge row;
  *  - a vertex under a sheet keeps its side on a neighbouring triangle (the
  *    side memory's neighbour fallback);
  *  - with the predicted end of the step: an edge turning about its end gets
@@ -18,11 +19,11 @@
 #include "collision.h"
 #include "detect.h"
 
-/* A rigid blade in the plane x = 0 (corner (0,0,0), bottom edge along z at
- * y = 0, slanted edge y = z) and one free edge crossing the blade's plane.
- * Returns the gap of the edge-edge proximity with the bottom edge (NAN if
- * none). */
-static double blade_bottom_gap(const double q0[3], const double q1[3])
+/* A rigid blade in the plane x = 0 (corner (0,0,0), bottom edge 0-1 along z
+ * at y = 0, slanted edge 0-2 along y = z) and one free edge near it.
+ * Returns the gap of the edge-edge proximity with the blade's edge b0-b1
+ * (NAN if none). */
+static double blade_edge_gap(const double q0[3], const double q1[3], int b0, int b1)
 {
     double bx[9] = {0, 0, 0, 0, 0, 1, 0, 1, 1}, ex[6];
     int btri[3] = {0, 1, 2}, bedges[6] = {0, 1, 0, 2, 1, 2}, eedge[2] = {0, 1};
@@ -44,12 +45,18 @@ static double blade_bottom_gap(const double q0[3], const double q1[3])
     ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
     double gap = NAN;
     for (int k = 0; k < p.n; ++k)
-        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1)
+        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == b0 && p.items[k].b[1] == b1)
             gap = p.items[k].gap;
     pl_proximities_free(&p);
     pl_coll_mesh_free(&B);
     pl_coll_mesh_free(&E);
     return gap;
+}
+
+/* The gap with the blade's bottom edge (blade_edge_gap). */
+static double blade_bottom_gap(const double q0[3], const double q1[3])
+{
+    return blade_edge_gap(q0, q1, 0, 1);
 }
 
 /* The border rule of a blade's edge: an edge through the blade near its
@@ -68,6 +75,35 @@ START_TEST(test_blade_border_rule_looks_where_an_edge_crosses)
     double b0[3] = {-0.01, 0.02, 0.005}, b1[3] = {0.01, 0.02, 0.015};
     g = blade_bottom_gap(b0, b1);
     ck_assert_msg(fabs(g - 0.02) < 1e-12, "beside the corner: gap %g", g);
+}
+END_TEST
+
+/* A cloth edge wrapped round a blade's border, its closest-point direction
+ * with the blade's edge within 20 degrees of the blade's normal and both
+ * ends near that edge, but not lying over the blade: the contacts of its
+ * ends do not hold it, the edge-edge row must exist.  Once dropped as "flat
+ * on the face" (cloth_on_knives.xml: a cloth edge 6.8 mm through a blade
+ * below its slanted edge, another round its bottom edge). */
+START_TEST(test_edge_wrapped_round_a_blade_border_keeps_its_row)
+{
+    /* one end 3 mm beyond the slanted edge on the -x side, the other over
+     * the blade on the +x side: the edge crosses the blade's plane 4 mm
+     * inside the blade (through it), to be pushed out: a negative gap */
+    const double r = sqrt(0.5), P[3] = {0.0, 0.5, 0.5};
+    const double o[3] = {0, 0, 0}, apex[3] = {0, 1, 1}, end[3] = {0, 0, 1};
+    double a0[3] = {-0.0023, P[1] + 0.003 * r, P[2] - 0.003 * r};
+    double a1[3] = {0.002, P[1] - 0.01 * r + 0.016 * r, P[2] + 0.01 * r + 0.016 * r};
+    double s, t, d = sqrt(pl_closest_segments(o, apex, a0, a1, &s, &t));
+    ck_assert(s > 0.01 && s < 0.99 && t > 0.01 && t < 0.99 && d < 0.005);
+    double g = blade_edge_gap(a0, a1, 0, 2);
+    ck_assert_msg(g < 0.0 && fabs(g) <= d + 1e-12, "through the blade: gap %g", g);
+    /* both ends on the +x side, one over the blade, the other 8 mm below its
+     * bottom edge: the edge passes the bottom edge 1.4 mm from it and keeps
+     * that side */
+    double b0[3] = {0.002, 0.01, 0.5}, b1[3] = {0.001, -0.008, 0.52};
+    d = sqrt(pl_closest_segments(o, end, b0, b1, &s, &t));
+    g = blade_bottom_gap(b0, b1);
+    ck_assert_msg(fabs(g - d) < 1e-12, "round the bottom edge: gap %g, distance %g", g, d);
 }
 END_TEST
 
@@ -268,6 +304,7 @@ static Suite *suite(void)
     Suite *s = suite_create("collision_sides");
     TCase *tc = tcase_create("sides");
     tcase_add_test(tc, test_blade_border_rule_looks_where_an_edge_crosses);
+    tcase_add_test(tc, test_edge_wrapped_round_a_blade_border_keeps_its_row);
     tcase_add_test(tc, test_side_of_a_neighbouring_triangle);
     tcase_add_test(tc, test_edge_turning_about_its_end_gets_a_row);
     tcase_add_test(tc, test_vertex_under_a_sliding_sheet);
