@@ -54,11 +54,29 @@ static int cand_less(const cand *x, const cand *y)
     return a < b || (a == b && x->prim < y->prim);
 }
 
+/* Whether triangles (the b of two vertex-face proximities) share a vertex. */
+static int share_vertex(const pl_proximity *x, const pl_proximity *y)
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (x->b[i] == y->b[j]) return 1;
+    return 0;
+}
+
 /* Keeps the nearest proximity of a vertex and, at most max_per_vertex in
  * all, further ones over a face whose normals differ from every kept one (a
  * vertex in a concave corner touches two faces); beside a convex edge the
- * nearest alone holds it, a second row would be nearly dependent. */
-static int finish_vertex(work *w, const pl_detect_params *prm)
+ * nearest alone holds it, a second row would be nearly dependent.  A vertex
+ * with no DOF (a blade's apex or corner) is the exception: its rows act
+ * only on the triangles' vertices, so a face sharing none with the kept
+ * ones gives an independent row, whatever its normal, and max_per_vertex
+ * (which bounds the rows on one vertex's DOFs) does not apply.  They are
+ * needed: a cloth draped over an apex has it next to folds of several
+ * triangles at once, and the nearest (an edge of a fold beside it) does not
+ * hold the face it is under (cloth_on_knives.xml: the apex came 6 mm through
+ * that face); a blade's corner between layers of a cloth wrapped round it
+ * has its three nearest in one layer and must keep the other off too. */
+static int finish_vertex(work *w, const pl_detect_params *prm, int nodof)
 {
     for (int i = 1; i < w->nc; ++i) { /* insertion sort: few candidates */
         cand x = w->c[i];
@@ -70,11 +88,13 @@ static int finish_vertex(work *w, const pl_detect_params *prm)
         w->c[j + 1] = x;
     }
     int first = w->out.n, kept = 0;
-    for (int i = 0; i < w->nc && kept < prm->max_per_vertex; ++i) {
+    for (int i = 0; i < w->nc && (nodof || kept < prm->max_per_vertex); ++i) {
         if (kept > 0 && !w->c[i].over_face) continue;
         int distinct = 1;
         for (int k = first; k < w->out.n && distinct; ++k)
-            if (dot3(w->out.items[k].normal, w->c[i].p.normal) >= prm->normal_cos) distinct = 0;
+            if (dot3(w->out.items[k].normal, w->c[i].p.normal) >= prm->normal_cos &&
+                !(nodof && !share_vertex(&w->out.items[k], &w->c[i].p)))
+                distinct = 0;
         if (!distinct) continue;
         if (coll_prox_push(&w->out, &w->c[i].p)) return PL_EINTERNAL;
         kept++;
@@ -132,7 +152,7 @@ static int run_item(const pass *ps, work *w, int i)
             return PL_EINTERNAL;
         }
     }
-    return ps->edges ? PL_OK : finish_vertex(w, ps->prm);
+    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, P->active && !P->active[i]);
 }
 
 static int max_threads(void)

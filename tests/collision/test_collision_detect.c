@@ -148,10 +148,33 @@ START_TEST(test_bvh_detection_equals_brute_force)
 }
 END_TEST
 
-/* Whether the closest-point direction of two edges is within 20 degrees of
- * a face normal beside edge e of m (such a pair is held by vertex contacts). */
+/* The height of x over triangle tri of m; *over: its foot is inside (on
+ * the inner side of the three edges, in the triangle's plane). */
+static double height_over(const pl_coll_mesh *m, int tri, const double *x, int *over)
+{
+    const double *v[3] = {&m->x0[3 * m->tris[3 * tri]], &m->x0[3 * m->tris[3 * tri + 1]],
+                          &m->x0[3 * m->tris[3 * tri + 2]]};
+    const double *f = &m->fnormal[3 * tri];
+    double h = 0.0;
+    for (int k = 0; k < 3; ++k) h += (x[k] - v[0][k]) * f[k];
+    *over = 1;
+    for (int j = 0; j < 3; ++j) {
+        const double *a = v[j], *b = v[(j + 1) % 3];
+        double ed[3], ax[3], c[3];
+        for (int k = 0; k < 3; ++k) ed[k] = b[k] - a[k], ax[k] = x[k] - h * f[k] - a[k];
+        c[0] = ed[1] * ax[2] - ed[2] * ax[1];
+        c[1] = ed[2] * ax[0] - ed[0] * ax[2];
+        c[2] = ed[0] * ax[1] - ed[1] * ax[0];
+        if (c[0] * f[0] + c[1] * f[1] + c[2] * f[2] < 0.0) *over = 0;
+    }
+    return h;
+}
+
+/* The edge-edge direction within 20 degrees of a face beside edge e of m,
+ * the other edge (o0 o1) over that face, both ends on one side. */
 static int flat_on_face(const pl_coll_mesh *m, int e, const double *p0, const double *p1,
-                        const double *q0, const double *q1, double s, double t, double d)
+                        const double *q0, const double *q1, double s, double t, double d,
+                        const double *o0, const double *o1)
 {
     double n[3];
     for (int k = 0; k < 3; ++k)
@@ -160,7 +183,10 @@ static int flat_on_face(const pl_coll_mesh *m, int e, const double *p0, const do
         int tri = m->edge_tris[2 * e + j];
         if (tri < 0) continue;
         const double *f = &m->fnormal[3 * tri];
-        if (fabs(n[0] * f[0] + n[1] * f[1] + n[2] * f[2]) > cos(20.0 * M_PI / 180.0)) return 1;
+        if (!(fabs(n[0] * f[0] + n[1] * f[1] + n[2] * f[2]) > cos(20.0 * M_PI / 180.0))) continue;
+        int over0, over1;
+        double h0 = height_over(m, tri, o0, &over0), h1 = height_over(m, tri, o1, &over1);
+        if (over0 && over1 && h0 * h1 > 0.0) return 1;
     }
     return 0;
 }
@@ -242,9 +268,9 @@ START_TEST(test_static_detection_is_complete)
                         (eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2]);
             int expect = d < alarm && s > 1e-3 && s < 1 - 1e-3 && t > 1e-3 && t < 1 - 1e-3 &&
                          c2 > 0.04 * l2 && (ma.sharp[e] || mb.sharp[f]) && d > 0 &&
-                         !(flat_on_face(&ma, e, p0, p1, q0, q1, s, t, d) &&
+                         !(flat_on_face(&ma, e, p0, p1, q0, q1, s, t, d, q0, q1) &&
                            ends_near(q0, q1, p0, p1, alarm)) &&
-                         !(flat_on_face(&mb, f, p0, p1, q0, q1, s, t, d) &&
+                         !(flat_on_face(&mb, f, p0, p1, q0, q1, s, t, d, p0, p1) &&
                            ends_near(p0, p1, q0, q1, alarm));
             int got = 0;
             for (int k = 0; k < p.n; ++k)

@@ -3,11 +3,13 @@
  *  - a blade's border rule looks where an edge crosses the blade's plane:
  *    through the blade it is pushed out beyond the border, beside its corner
  *    it is left alone;
+ *  - a cloth edge wrapped round a blade's border keeps its edge-edge row;
  *  - a vertex under a sheet keeps its side on a neighbouring triangle (the
  *    side memory's neighbour fallback);
  *  - with the predicted end of the step: an edge turning about its end gets
  *    an edge-edge row where the edges will be closest, and a vertex under a
- *    sliding sheet a row at the point it will be under.
+ *    sliding sheet a row at the point it will be under;
+ *  - a blade's corner under several layers of a cloth keeps a row with each.
  * Each test fails without the rule it checks (tried when they were added). */
 #include <check.h>
 #include <math.h>
@@ -17,11 +19,11 @@
 #include "collision.h"
 #include "detect.h"
 
-/* A rigid blade in the plane x = 0 (corner (0,0,0), bottom edge along z at
- * y = 0, slanted edge y = z) and one free edge crossing the blade's plane.
- * Returns the gap of the edge-edge proximity with the bottom edge (NAN if
- * none). */
-static double blade_bottom_gap(const double q0[3], const double q1[3])
+/* A rigid blade in the plane x = 0 (corner (0,0,0), bottom edge 0-1 along z
+ * at y = 0, slanted edge 0-2 along y = z) and one free edge near it.
+ * Returns the gap of the edge-edge proximity with the blade's edge b0-b1
+ * (NAN if none). */
+static double blade_edge_gap(const double q0[3], const double q1[3], int b0, int b1)
 {
     double bx[9] = {0, 0, 0, 0, 0, 1, 0, 1, 1}, ex[6];
     int btri[3] = {0, 1, 2}, bedges[6] = {0, 1, 0, 2, 1, 2}, eedge[2] = {0, 1};
@@ -43,12 +45,18 @@ static double blade_bottom_gap(const double q0[3], const double q1[3])
     ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
     double gap = NAN;
     for (int k = 0; k < p.n; ++k)
-        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1)
+        if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == b0 && p.items[k].b[1] == b1)
             gap = p.items[k].gap;
     pl_proximities_free(&p);
     pl_coll_mesh_free(&B);
     pl_coll_mesh_free(&E);
     return gap;
+}
+
+/* The gap with the blade's bottom edge (blade_edge_gap). */
+static double blade_bottom_gap(const double q0[3], const double q1[3])
+{
+    return blade_edge_gap(q0, q1, 0, 1);
 }
 
 /* The border rule of a blade's edge: an edge through the blade near its
@@ -67,6 +75,35 @@ START_TEST(test_blade_border_rule_looks_where_an_edge_crosses)
     double b0[3] = {-0.01, 0.02, 0.005}, b1[3] = {0.01, 0.02, 0.015};
     g = blade_bottom_gap(b0, b1);
     ck_assert_msg(fabs(g - 0.02) < 1e-12, "beside the corner: gap %g", g);
+}
+END_TEST
+
+/* A cloth edge wrapped round a blade's border, its closest-point direction
+ * with the blade's edge within 20 degrees of the blade's normal and both
+ * ends near that edge, but not lying over the blade: the contacts of its
+ * ends do not hold it, the edge-edge row must exist.  Once dropped as "flat
+ * on the face" (cloth_on_knives.xml: a cloth edge 6.8 mm through a blade
+ * below its slanted edge, another round its bottom edge). */
+START_TEST(test_edge_wrapped_round_a_blade_border_keeps_its_row)
+{
+    /* one end 3 mm beyond the slanted edge on the -x side, the other over
+     * the blade on the +x side: the edge crosses the blade's plane 4 mm
+     * inside the blade (through it), to be pushed out: a negative gap */
+    const double r = sqrt(0.5), P[3] = {0.0, 0.5, 0.5};
+    const double o[3] = {0, 0, 0}, apex[3] = {0, 1, 1}, end[3] = {0, 0, 1};
+    double a0[3] = {-0.0023, P[1] + 0.003 * r, P[2] - 0.003 * r};
+    double a1[3] = {0.002, P[1] - 0.01 * r + 0.016 * r, P[2] + 0.01 * r + 0.016 * r};
+    double s, t, d = sqrt(pl_closest_segments(o, apex, a0, a1, &s, &t));
+    ck_assert(s > 0.01 && s < 0.99 && t > 0.01 && t < 0.99 && d < 0.005);
+    double g = blade_edge_gap(a0, a1, 0, 2);
+    ck_assert_msg(g < 0.0 && fabs(g) <= d + 1e-12, "through the blade: gap %g", g);
+    /* both ends on the +x side, one over the blade, the other 8 mm below its
+     * bottom edge: the edge passes the bottom edge 1.4 mm from it and keeps
+     * that side */
+    double b0[3] = {0.002, 0.01, 0.5}, b1[3] = {0.001, -0.008, 0.52};
+    d = sqrt(pl_closest_segments(o, end, b0, b1, &s, &t));
+    g = blade_bottom_gap(b0, b1);
+    ck_assert_msg(fabs(g - d) < 1e-12, "round the bottom edge: gap %g, distance %g", g, d);
 }
 END_TEST
 
@@ -207,14 +244,71 @@ START_TEST(test_vertex_under_a_sliding_sheet)
 }
 END_TEST
 
+/* A blade's corner (no DOF) under four layers of a cloth crumpled round
+ * it, their triangles sharing no vertex, 1 to 2.5 mm above it and tilted
+ * by at most 17 degrees: each layer needs its row (their rows act on
+ * different vertices, none a combination of the others).  The per-vertex
+ * rule (nearest, then only faces with a different normal, three at most)
+ * kept the nearest alone, and on cloth_on_knives.xml a blade's apex came
+ * 6 mm through the face it was under.  A vertex with DOFs keeps that rule
+ * (its rows would all act on it along nearly the same normal). */
+START_TEST(test_corner_under_cloth_layers_keeps_each)
+{
+    const double h[4] = {0.001, 0.0015, 0.002, 0.0025}, a[4] = {0.0, 0.2, -0.2, 0.3};
+    double sx[36];
+    int stris[12];
+    for (int k = 0; k < 4; ++k) { /* in the plane y = h + a z, round (0, h, 0) */
+        const double v[3][2] = {{-0.01, -0.01}, {0.0, 0.015}, {0.01, -0.01}};
+        for (int j = 0; j < 3; ++j) {
+            sx[9 * k + 3 * j] = v[j][0];
+            sx[9 * k + 3 * j + 1] = h[k] + a[k] * v[j][1];
+            sx[9 * k + 3 * j + 2] = v[j][1];
+            stris[3 * k + j] = 3 * k + j;
+        }
+    }
+    int *sedges, sne;
+    ck_assert_int_eq(pl_triangle_edges(stris, 4, &sedges, &sne), PL_OK);
+    double px[3] = {0.0, 0.0, 0.0};
+    unsigned char rigid[1] = {0};
+    for (int dof = 0; dof < 2; ++dof) {
+        pl_coll_mesh S, P;
+        pl_coll_mesh_init(&S);
+        pl_coll_mesh_init(&P);
+        S.nverts = 12, S.ntris = 4, S.nedges = sne, S.x0 = S.x1 = sx, S.tris = stris;
+        S.edges = sedges, S.sides = PL_SIDES_TWO;
+        P.nverts = 1, P.x0 = P.x1 = px, P.active = dof ? NULL : rigid;
+        pl_error err;
+        ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
+        ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+        pl_detect_params prm = pl_detect_defaults(0.01);
+        pl_proximities p = {0};
+        ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
+        int want = dof ? 1 : 4;
+        ck_assert_int_eq(p.n, want);
+        for (int i = 0; i < p.n; ++i) {
+            int k = p.items[i].b[0] / 3;
+            ck_assert_double_eq_tol(p.items[i].gap, h[k] / sqrt(1.0 + a[k] * a[k]), 1e-12);
+            ck_assert(p.items[i].normal[1] < -0.9); /* the cloth above the corner */
+        }
+        if (dof) ck_assert_int_eq(p.items[0].b[0], 0); /* the nearest */
+        pl_proximities_free(&p);
+        pl_coll_mesh_free(&S);
+        pl_coll_mesh_free(&P);
+    }
+    free(sedges);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_sides");
     TCase *tc = tcase_create("sides");
     tcase_add_test(tc, test_blade_border_rule_looks_where_an_edge_crosses);
+    tcase_add_test(tc, test_edge_wrapped_round_a_blade_border_keeps_its_row);
     tcase_add_test(tc, test_side_of_a_neighbouring_triangle);
     tcase_add_test(tc, test_edge_turning_about_its_end_gets_a_row);
     tcase_add_test(tc, test_vertex_under_a_sliding_sheet);
+    tcase_add_test(tc, test_corner_under_cloth_layers_keeps_each);
     suite_add_tcase(s, tc);
     return s;
 }
