@@ -294,6 +294,9 @@ static int along_face(const pl_coll_mesh *m, int e, const double n[3], const dou
     for (int k = 0; k < 2; ++k) {
         int t = m->edge_tris[2 * e + k], o0, o1;
         if (t < 0 || !(fabs(dot3(n, &m->fnormal[3 * t])) > EDGE_FLAT)) continue;
+        /* a closed surface's edge: the other edge cannot wrap round it to
+         * its inside, the ends' contacts hold it (as before the knives) */
+        if (!m->two_sided) return 1;
         double s0 = height_over(m, t, q0, &o0), s1 = height_over(m, t, q1, &o1);
         if (o0 && o1 && s0 * s1 > 0.0) return 1;
     }

@@ -71,8 +71,8 @@ static int share_vertex(const pl_proximity *x, const pl_proximity *y)
  * only on the triangles' vertices, so a face sharing none with the kept
  * ones gives an independent row, whatever its normal, and max_per_vertex
  * (which bounds the rows on one vertex's DOFs) does not apply.  They are
- * needed: a cloth draped over an apex has it next to folds of several
- * triangles at once, and the nearest (an edge of a fold beside it) does not
+ * needed: a cloth (a thin, two-sided sheet) draped over an apex has it
+ * next to folds of several triangles at once, and the nearest (an edge of a fold beside it) does not
  * hold the face it is under (cloth_on_knives.xml: the apex came 6 mm through
  * that face); a blade's corner between layers of a cloth wrapped round it
  * has its three nearest in one layer and must keep the other off too. */
@@ -152,7 +152,11 @@ static int run_item(const pass *ps, work *w, int i)
             return PL_EINTERNAL;
         }
     }
-    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, P->active && !P->active[i]);
+    /* the exception for vertices with no DOF is for layers of a thin sheet
+     * (cloth): against a closed surface the old rule holds (the raptor's
+     * grasp failed with it: a fixed finger's vertices kept rows with every
+     * face of the body) */
+    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, P->active && !P->active[i] && T->two_sided);
 }
 
 static int max_threads(void)

@@ -170,8 +170,9 @@ static double height_over(const pl_coll_mesh *m, int tri, const double *x, int *
     return h;
 }
 
-/* The edge-edge direction within 20 degrees of a face beside edge e of m,
- * the other edge (o0 o1) over that face, both ends on one side. */
+/* The edge-edge direction within 20 degrees of a face beside edge e of m
+ * and, when m is a thin sheet, the other edge (o0 o1) over that face, both
+ * ends on one side. */
 static int flat_on_face(const pl_coll_mesh *m, int e, const double *p0, const double *p1,
                         const double *q0, const double *q1, double s, double t, double d,
                         const double *o0, const double *o1)
@@ -184,6 +185,7 @@ static int flat_on_face(const pl_coll_mesh *m, int e, const double *p0, const do
         if (tri < 0) continue;
         const double *f = &m->fnormal[3 * tri];
         if (!(fabs(n[0] * f[0] + n[1] * f[1] + n[2] * f[2]) > cos(20.0 * M_PI / 180.0))) continue;
+        if (!m->two_sided) return 1; /* a closed surface: flat beside the edge suffices */
         int over0, over1;
         double h0 = height_over(m, tri, o0, &over0), h1 = height_over(m, tri, o1, &over1);
         if (over0 && over1 && h0 * h1 > 0.0) return 1;
