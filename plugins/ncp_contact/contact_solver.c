@@ -64,8 +64,9 @@ static const pl_field FIELDS[] = {
                   "how W is applied: explicit (dense W = Y^T Y, Y = S P H^T, built once per step; on "
                   "the GPU by cuBLAS from the columns of S the rows touch), "
                   "matrix-free (W x = H A^-1 H^T x, one global solve per product) or auto "
-                  "(explicit while the dense W fits in maxExplicitMB and a dense product, m^2, costs "
-                  "no more than a matrix-free one, 6 nnz(S) as the global solver reports it; with "
+                  "(explicit while the dense W fits in maxExplicitMB, a dense product, m^2, costs "
+                  "no more than a matrix-free one, 6 nnz(S) as the global solver reports it, and, on "
+                  "the CPU, building W costs no more than a step's matrix-free products; with "
                   "the global step on a GPU, W is built there when the global solver can, and "
                   "a matrix-free product's launches count as 8e6 entries; else auto keeps it "
                   "explicit only up to 1024 rows)",
