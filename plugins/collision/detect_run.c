@@ -152,11 +152,14 @@ static int run_item(const pass *ps, work *w, int i)
             return PL_EINTERNAL;
         }
     }
-    /* the exception for vertices with no DOF is for layers of a thin sheet
-     * (cloth): against a closed surface the old rule holds (the raptor's
-     * grasp failed with it: a fixed finger's vertices kept rows with every
-     * face of the body) */
-    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, P->active && !P->active[i] && T->two_sided);
+    /* the exception for vertices with no DOF is for thin sheets: a blade's
+     * or a plate's corner, or any obstacle vertex over a cloth's layers.
+     * Between two closed surfaces the old rule holds (the raptor's grasp
+     * failed with it: a fixed finger's vertices kept rows with every face of
+     * the body); without it the medium gingerbread's cookie caught on a
+     * plate's corner. */
+    int nodof = P->active && !P->active[i] && (P->two_sided || T->two_sided);
+    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, nodof);
 }
 
 static int max_threads(void)
