@@ -6,9 +6,11 @@
  * Constraint global and Frame, with the CollisionPipeline's Detection
  * timer apart.  Prints a Markdown table.
  *
- *   bench_contact [--steps N] [--out DIR] [SCENE.xml ...]
+ *   bench_contact [--steps N] [--out DIR] [--set PATH=VALUE ...] [SCENE.xml ...]
  *
- * Without scenes it runs the small and medium variants in scenes/. */
+ * Without scenes it runs the small and medium variants in scenes/.  --set
+ * overrides fields of every scene (e.g. contact.delassus=explicit: W
+ * explicit against matrix-free) and is shown beside the scene's name. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,9 +29,13 @@ static const char *const PHASES[] = {"Schur",       "Local",      "Global",
                                      "Assembly",    "Constraint solve", "Correction",
                                      "Constraint global", "Frame", "Detection"};
 
+enum { MAX_SETS = 8 };
+static const char *sets[MAX_SETS];
+static int nsets;
+
 static int run_scene(const char *path, int steps, const char *out_dir)
 {
-    pl_sim *sim = bench_load(path, NULL, NULL, 0, out_dir);
+    pl_sim *sim = bench_load(path, NULL, sets, nsets, out_dir);
     if (!sim) return 1;
     bench_scene_info info;
     if (bench_describe(sim, &info) != PL_OK) {
@@ -48,7 +54,12 @@ static int run_scene(const char *path, int steps, const char *out_dir)
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     char buf[64];
     double contacts = bench_stat(t, "contacts max");
-    printf("| %s | %d | %d | %s | %s | %s |", name, info.vertices, info.elements, info.material,
+    char label[512];
+    int at = snprintf(label, sizeof label, "%s", name);
+    for (int k = 0; k < nsets && at < (int)sizeof label; ++k)
+        at += snprintf(label + at, sizeof label - (size_t)at, "%s%s", k ? ", " : " (", sets[k]);
+    if (nsets && at < (int)sizeof label) snprintf(label + at, sizeof label - (size_t)at, ")");
+    printf("| %s | %d | %d | %s | %s | %s |", label, info.vertices, info.elements, info.material,
            bench_fmt(buf, sizeof buf, "%.2f", bench_stat(t, "S memory [MB]")),
            bench_fmt(buf + 32, 32, "%.0f", contacts));
     for (size_t k = 0; k < sizeof PHASES / sizeof PHASES[0]; ++k)
@@ -70,8 +81,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[first], "--out") && first + 1 < argc) {
             out_dir = argv[first + 1];
             first += 2;
+        } else if (!strcmp(argv[first], "--set") && first + 1 < argc && nsets < MAX_SETS) {
+            sets[nsets++] = argv[first + 1];
+            first += 2;
         } else {
-            fprintf(stderr, "usage: %s [--steps N] [--out DIR] [SCENE.xml ...]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--steps N] [--out DIR] [--set PATH=VALUE ...] [SCENE.xml ...]\n",
+                    argv[0]);
             return 2;
         }
     }

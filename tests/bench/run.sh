@@ -10,7 +10,9 @@
 #   BENCH_MODES        global-solver modes (default sparse,direct)
 #   BENCH_CONV_SCENE   scene of the convergence study (default scenes/twisting_bar.xml)
 #   BENCH_CONV_FRAMES  run-up frames before the studied step (default 100)
-#   BENCH_SKIP         "scenes" or "convergence": skip that part (and its tables in the doc)
+#   BENCH_SKIP         parts to skip (and their tables in the doc): scenes, convergence, contact
+#   BENCH_CONTACT_STEPS  steps per contact scene (default 60; the pulling scenes twice that)
+#   BENCH_W_STEPS      steps of the explicit vs matrix-free W runs of the sharp corner (default 25)
 #   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
 #   JOBS               build jobs (default: nproc)
 #   PLIANT_DEVICE      cpu (default here) or auto (scenes run on a GPU when one is usable)
@@ -43,8 +45,12 @@ DOC="$ROOT/docs/benchmarks.md"
 PNG="$ROOT/docs/convergence.png"
 mkdir -p "$OUT" "$ROOT/docs"
 
+skip() { case " $SKIP " in *" $1 "*) return 0 ;; esac; return 1; }
+CSTEPS=${BENCH_CONTACT_STEPS:-60}
+WSTEPS=${BENCH_W_STEPS:-25}
+
 echo "== building the benchmarks in $BUILD"
-cmake --build "$BUILD" --target bench_scenes bench_convergence -j "$JOBS"
+cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact -j "$JOBS"
 BIN="$BUILD/bench"
 LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 
@@ -53,8 +59,29 @@ REL_BUILD=${BUILD#"$ROOT"/}
 SCENES_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_scenes --frames $FRAMES --modes $MODES --out-dir $REL_BUILD/bench_out --csv $REL_BUILD/bench_out/scenes.csv $SCENES"
 CONV_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_convergence --scene $CONV_SCENE --frames $CONV_FRAMES --iterations 20 --stiffness 1e5,1e7,1e9 --out-dir $REL_BUILD/bench_out --csv $REL_BUILD/bench_out/convergence.csv"
 
+CONTACT_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_contact --steps $CSTEPS --out $REL_BUILD/bench_out (the small and medium cloth, ball and gingerbread scenes; the pulling scenes with --steps $((2 * CSTEPS)))"
+W_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_contact --steps $WSTEPS --out $REL_BUILD/bench_out --set contact.delassus=explicit|matrix-free scenes/sharp_corner_small.xml scenes/sharp_corner.xml"
+
 status=0
-if [ "$SKIP" != scenes ]; then
+if ! skip contact; then
+    echo "== $CONTACT_CMD"
+    S=scenes
+    { "$BIN/bench_contact" --steps "$CSTEPS" --out "$OUT" $S/cloth_on_knives_small.xml $S/cloth_on_knives.xml \
+          $S/sharp_corner_small.xml $S/sharp_corner.xml $S/squeezing_ball_small.xml $S/squeezing_ball.xml \
+          $S/gingerbread_small.xml $S/gingerbread.xml &&
+      "$BIN/bench_contact" --steps "$((2 * CSTEPS))" --out "$OUT" $S/pulling_through_gap_small.xml \
+          $S/pulling_through_gap.xml | grep '^| pulling'; } >"$OUT/contact.md" 2>"$OUT/contact.log" ||
+        { status=1; echo "run.sh: bench_contact failed, see $OUT/contact.log" >&2; }
+    cat "$OUT/contact.md"
+    echo "== $W_CMD"
+    for w in explicit matrix-free; do
+        "$BIN/bench_contact" --steps "$WSTEPS" --out "$OUT" --set contact.delassus=$w \
+            $S/sharp_corner_small.xml $S/sharp_corner.xml
+    done 2>"$OUT/contact_w.log" | awk 'NR <= 4 || /^\| sharp/' \
+        >"$OUT/contact_w.md" || status=1
+    cat "$OUT/contact_w.md"
+fi
+if ! skip scenes; then
     echo "== $SCENES_CMD"
     # shellcheck disable=SC2086 # SCENES is a list of words
     if "$BIN/bench_scenes" --frames "$FRAMES" --modes "$MODES" --out-dir "$OUT" \
@@ -65,7 +92,7 @@ if [ "$SKIP" != scenes ]; then
     fi
     cat "$OUT/scenes.md"
 fi
-if [ "$SKIP" != convergence ]; then
+if ! skip convergence; then
     echo "== $CONV_CMD"
     if "$BIN/bench_convergence" --scene "$CONV_SCENE" --frames "$CONV_FRAMES" --iterations 20 \
         --stiffness 1e5,1e7,1e9 --out-dir "$OUT" --csv "$OUT/convergence.csv" \
@@ -153,8 +180,10 @@ GEN="$OUT/generated.md"
     echo
     echo "      $SCENES_CMD"
     echo "      $CONV_CMD"
+    echo "      $CONTACT_CMD"
+    echo "      $W_CMD"
     echo
-    if [ "$SKIP" != scenes ]; then
+    if ! skip scenes; then
         echo "Times are medians per frame over $FRAMES frames in ms (\"/it\": divided by the" \
              "local-global iterations per frame); S+S^T MB is the memory of S and S^T (MB = 2^20 bytes);" \
              "factor and inverse are the precompute times in s. CSV: \`$REL_BUILD/bench_out/scenes.csv\`."
@@ -162,7 +191,22 @@ GEN="$OUT/generated.md"
         cat "$OUT/scenes.md"
         echo
     fi
-    if [ "$SKIP" != convergence ]; then
+    if ! skip contact; then
+        echo "## Measured: the contact scenes (issue 5), small and medium sizes"
+        echo
+        echo "Medians per frame [ms] of the paper's Table 3 phases over the frames in which each ran;"
+        echo "Detection is the CollisionPipeline's (the paper's Frame leaves it out)."
+        echo
+        grep '^|' "$OUT/contact.md"
+        echo
+        echo "W explicit against matrix-free on the sharp corner ($WSTEPS steps: the cloth lands after"
+        echo "about 10), forced with \`--set contact.delassus=...\` (\`delassus=auto\` picks matrix-free"
+        echo "for both sizes on the CPU):"
+        echo
+        grep '^|' "$OUT/contact_w.md"
+        echo
+    fi
+    if ! skip convergence; then
         echo "## Measured: convergence of the local-global iterations"
         echo
         echo "Relative error (eps(q^k) - eps(q*)) / (eps(q^0) - eps(q*)) of one step taken from the"
