@@ -158,8 +158,9 @@ static int run_item(const pass *ps, work *w, int i)
      * failed with it: a fixed finger's vertices kept rows with every face of
      * the body); without it the medium gingerbread's cookie caught on a
      * plate's corner. */
+    if (ps->edges) return PL_OK; /* i is an edge: the rest is for vertices */
     int nodof = P->active && !P->active[i] && (P->two_sided || T->two_sided);
-    return ps->edges ? PL_OK : finish_vertex(w, ps->prm, nodof);
+    return finish_vertex(w, ps->prm, nodof);
 }
 
 static int max_threads(void)
