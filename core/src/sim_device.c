@@ -19,24 +19,23 @@
 #define DEVICE_PLUGIN "cuda"
 #define DEVICE_TYPE "CudaDevice"
 
-/* "cpu" or "auto": the options', else PLIANT_DEVICE, else auto. */
-static const char *policy(const pl_sim_options *opt, pl_diag *diag, const char *file, int *rc)
+/* 1 for the policy "auto", 0 for "cpu": the options', else PLIANT_DEVICE,
+ * else auto.  Anything else is an error in diag (and 0). */
+static int policy_auto(const pl_sim_options *opt, pl_diag *diag, const char *file)
 {
     const char *p = opt && opt->device ? opt->device : getenv("PLIANT_DEVICE");
     const char *from = opt && opt->device ? "the loader's device option" : "PLIANT_DEVICE";
-    *rc = PL_OK;
-    if (!p || !*p || !strcmp(p, "auto")) return "auto";
-    if (!strcmp(p, "cpu")) return "cpu";
-    *rc = pl_diag_error(diag, PL_EINPUT, file, 0, NULL,
-                        "%s: '%s' is not a device policy (cpu or auto)", from, p);
-    return "cpu";
+    if (!p || !*p || !strcmp(p, "auto")) return 1;
+    if (strcmp(p, "cpu"))
+        pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "%s: '%s' is not a device policy (cpu or auto)",
+                      from, p);
+    return 0;
 }
 
 pl_component *pl_sim_implicit_device(pl_node *root, pl_registry *reg, pl_model *model,
                                      const pl_sim_options *opt, pl_diag *diag)
 {
-    int rc;
-    if (strcmp(policy(opt, diag, model->file, &rc), "auto")) return NULL;
+    if (!policy_auto(opt, diag, model->file)) return NULL;
     if (pl_node_count_role(root, PL_ROLE_DEVICE) > 0) return NULL;
     if (pl_node_count_role(root, PL_ROLE_ANIMATION_LOOP) == 0) return NULL;
     const pl_type *t = pl_registry_find(reg, DEVICE_TYPE);

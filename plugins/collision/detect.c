@@ -45,6 +45,11 @@ static int is_active(const pl_coll_mesh *m, int v) { return !m->active || m->act
 
 static double tiny_of(const pl_detect_params *prm) { return 1e-12 + 1e-9 * prm->alarm; }
 
+/* Whether a point at distance dist from a triangle, height above its plane,
+ * is over the face (edges included): its closest point is the foot of the
+ * perpendicular, up to round-off. */
+static int foot_inside(double height, double dist) { return fabs(height) >= (1.0 - 1e-9) * dist; }
+
 /* n = +-c / |c| pointing against the relative motion d of A (A came from that side). */
 static int oppose_motion(const double c[3], const double d[3], double n[3])
 {
@@ -89,7 +94,7 @@ static int slides_over(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, cons
     for (int k = 0; k < 3; ++k) d[k] = P->x1[3 * p + k] - (w1[0] * a[k] + w1[1] * b[k] + w1[2] * c[k]);
     h = dot3(d, nf) / len;
     double inside1 = fmin(w1[0], fmin(w1[1], w1[2])), inside0 = fmin(w[0], fmin(w[1], w[2]));
-    if (!(fabs(h) >= (1.0 - 1e-9) * d1) || !(inside1 > 0.0) || !(inside1 > inside0)) return 0;
+    if (!foot_inside(h, d1) || !(inside1 > 0.0) || !(inside1 > inside0)) return 0;
     memcpy(w, w1, sizeof w1);
     return 1;
 }
@@ -158,9 +163,7 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     offset_and_motion(P, p, T, tri, w, diff, motion);
     const double *nf = &T->fnormal[3 * j];
     double n[3], gap, tiny = tiny_of(prm), height = dot3(diff, nf);
-    /* the closest point is the foot of the perpendicular: x is over the face
-     * (edges included), not beside it */
-    int over_face = fabs(height) >= (1.0 - 1e-9) * d0;
+    int over_face = foot_inside(height, d0); /* over the face, not beside it */
     memset(out, 0, sizeof *out);
     out->kind = PL_PROX_VERTEX_FACE;
     out->model_a = ip;
@@ -275,7 +278,7 @@ static double height_over(const pl_coll_mesh *m, int t, const double q[3], int *
     double w[3], h = 0.0;
     double d = sqrt(pl_closest_point_triangle(q, a, &m->x0[3 * tri[1]], &m->x0[3 * tri[2]], w));
     for (int i = 0; i < 3; ++i) h += (q[i] - a[i]) * nf[i];
-    *over = fabs(h) >= (1.0 - 1e-9) * d;
+    *over = foot_inside(h, d);
     return h;
 }
 

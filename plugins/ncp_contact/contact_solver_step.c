@@ -6,32 +6,9 @@
 
 #include "contact_solver.h"
 
-/* delassus=auto: explicit when the dense W fits in maxExplicitMB and one
- * dense product (m^2 multiply-adds, memory-bound) costs no more than one
- * matrix-free product (S and S^T on 3 columns: about 6 nnz(S)).  nnz(S) is
- * the statistic the global solver records when it factors; without it the
- * memory rule decides alone.  Deterministic: no timing decides. */
 /* Products of W in a step, about: local-global iterations times (CR
  * iterations + the linearisation and the line search); the paper's 5 x 13. */
 #define PRODUCTS_PER_STEP 65.0
-
-static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, int n,
-                         double launch_entries, int build_on_host)
-{
-    double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
-    if (mb > s->max_explicit_mb) return 0;
-    if (pl_stat_get(timers, "nnz(S)", &nnz_s) != 0) return 1;
-    if (!((double)m * (double)m <= 6.0 * nnz_s + launch_entries)) return 0;
-    if (!build_on_host || n <= 0) return 1;
-    /* and building it on the CPU, W = Y^T Y from the rows of Y (sum over
-     * rows of nnz^2), costs no more than the step's matrix-free products:
-     * with a column of S holding nnz(S) / n entries on average, the 3m
-     * columns of Y hold 3 m nnz(S) / n spread over n rows.  A dense S makes
-     * the build dominate (squeezing_ball.xml, 3.4k rows, S 72 MB: 10.5 s a
-     * frame on one core, docs/scenes.md). */
-    double ynnz = 3.0 * (double)m * nnz_s / (double)n;
-    return ynnz * ynnz / (double)n <= PRODUCTS_PER_STEP * 6.0 * nnz_s;
-}
 
 /* On the GPU a matrix-free product also pays its launches (scatter, S,
  * S^T, gather: a few microseconds each, even in a graph); they cost about
@@ -39,6 +16,29 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, 
  * 2.3x faster per constraint solve for the small scenes' 200-800 rows,
  * docs/benchmarks.md, fourth GPU run). */
 #define DEVICE_LAUNCH_ENTRIES 8.0e6
+
+/* delassus=auto: explicit when the dense W fits in maxExplicitMB and one
+ * dense product (m^2 multiply-adds, memory-bound) costs no more than one
+ * matrix-free product (S and S^T on 3 columns: about 6 nnz(S); on a device
+ * plus its launches) and, where W is built on the CPU (dev_w = 0), building
+ * it costs no more than the step's matrix-free products.  nnz(S) is the
+ * statistic the global solver records when it factors; without it the
+ * memory rule decides alone.  Deterministic: no timing decides. */
+static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, int n, int dev_w)
+{
+    double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
+    if (mb > s->max_explicit_mb) return 0;
+    if (pl_stat_get(timers, "nnz(S)", &nnz_s) != 0) return 1;
+    if (!((double)m * (double)m <= 6.0 * nnz_s + (dev_w ? DEVICE_LAUNCH_ENTRIES : 0.0))) return 0;
+    if (dev_w || n <= 0) return 1;
+    /* the build, W = Y^T Y from the rows of Y, costs the sum over rows of
+     * nnz^2: with a column of S holding nnz(S) / n entries on average, the
+     * 3m columns of Y hold 3 m nnz(S) / n spread over n rows.  A dense S
+     * makes it dominate (squeezing_ball.xml, 3.4k rows, S 72 MB: 10.5 s a
+     * frame on one core, docs/scenes.md). */
+    double ynnz = 3.0 * (double)m * nnz_s / (double)n;
+    return ynnz * ynnz / (double)n <= PRODUCTS_PER_STEP * 6.0 * nnz_s;
+}
 
 /* W explicit or matrix-free (see the delassus field). */
 /* With the global step on a device (a device service above and a global
@@ -80,8 +80,7 @@ int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     int dev = on_device(s, ops, sys), dev_w = dev && ops->version >= 3 && ops->delassus_device;
     int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
-                                                   auto_explicit(s, ctx->timers, s->rows.m, sys->nfree,
-                                                                 dev_w ? DEVICE_LAUNCH_ENTRIES : 0.0, !dev_w) &&
+                                                   auto_explicit(s, ctx->timers, s->rows.m, sys->nfree, dev_w) &&
                                                    (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
     if (explicit_w && dev_w) return device_w(s, sys, err);
     if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);

@@ -328,32 +328,43 @@ START_TEST(test_thin_triangle_keeps_each_side)
 }
 END_TEST
 
-/* The unit cube: corners b = x + 2y + 4z, its 12 faces listed inward
- * (clockwise seen from outside) on purpose: the detection must turn them
- * outward by the enclosed volume's sign. */
-static void unit_cube(double cx[24], int tris[36])
+/* The unit cube as a detection mesh over its own arrays: corners b = x +
+ * 2y + 4z, its 12 faces listed inward (clockwise seen from outside) on
+ * purpose: the detection must turn them outward by the enclosed volume's
+ * sign. */
+typedef struct cube {
+    double x[24];
+    int tris[36], *edges, ne;
+} cube;
+
+static void cube_make(cube *c)
 {
     static const int T[36] = {0, 1, 3, 0, 3, 2, 4, 7, 5, 4, 6, 7, 0, 5, 1, 0, 4, 5,
                               2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
     for (int b = 0; b < 8; ++b)
-        for (int k = 0; k < 3; ++k) cx[3 * b + k] = (b >> k) & 1;
-    memcpy(tris, T, sizeof T);
+        for (int k = 0; k < 3; ++k) c->x[3 * b + k] = (b >> k) & 1;
+    memcpy(c->tris, T, sizeof T);
+    ck_assert_int_eq(pl_triangle_edges(c->tris, 12, &c->edges, &c->ne), PL_OK);
+    ck_assert_int_eq(c->ne, 18);
+}
+
+/* T initialised over c (sides auto: closed, so one-sided), not prepared. */
+static void cube_mesh(const cube *c, pl_coll_mesh *T)
+{
+    pl_coll_mesh_init(T);
+    T->nverts = 8, T->ntris = 12, T->nedges = c->ne, T->x0 = T->x1 = c->x, T->tris = c->tris;
+    T->edges = c->edges;
 }
 
 /* The unit cube's closed surface, outward, with points inside. */
 START_TEST(test_closed_surface_pushes_out)
 {
-    double cx[24];
-    int tris[36];
-    unit_cube(cx, tris);
-    int *edges, ne;
-    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
-    ck_assert_int_eq(ne, 18);
+    cube c;
+    cube_make(&c);
     double px[9] = {0.5, 0.5, 1.004, 0.4, 0.55, 0.996, 0.5, 0.5, 0.5};
     pl_coll_mesh T, P;
-    pl_coll_mesh_init(&T);
+    cube_mesh(&c, &T);
     pl_coll_mesh_init(&P);
-    T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
     P.nverts = 3, P.x0 = P.x1 = px;
     pl_error err;
     ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.01, &err), PL_OK);
@@ -371,7 +382,7 @@ START_TEST(test_closed_surface_pushes_out)
     pl_proximities_free(&p);
     pl_coll_mesh_free(&T);
     pl_coll_mesh_free(&P);
-    free(edges);
+    free(c.edges);
 }
 END_TEST
 
@@ -384,11 +395,8 @@ END_TEST
  * corner's nearest is that point, it is found once. */
 START_TEST(test_point_beside_a_corner_keeps_its_contact)
 {
-    double cx[24];
-    int tris[36];
-    unit_cube(cx, tris);
-    int *edges, ne;
-    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
+    cube c;
+    cube_make(&c);
     /* triangle 0 flat 2 mm over the corner (1, 1, 1); triangle 1 from
      * vertex 3, 5 mm beside the corner (0.3 mm below the top), away */
     double sx[18] = {0.95, 1.002, 0.95, 1.1,   1.002, 0.95, 0.95, 1.002, 1.1,
@@ -396,15 +404,14 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
     int stris[6] = {0, 1, 2, 3, 4, 5};
     int *sedges, nse;
     ck_assert_int_eq(pl_triangle_edges(stris, 2, &sedges, &nse), PL_OK);
-    const double *c = &cx[21], *v = &sx[9];
-    double d = sqrt(pow(v[0] - c[0], 2) + pow(v[1] - c[1], 2) + pow(v[2] - c[2], 2));
+    const double *o = &c.x[21], *v = &sx[9];
+    double d = sqrt(pow(v[0] - o[0], 2) + pow(v[1] - o[1], 2) + pow(v[2] - o[2], 2));
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1) /* triangle 0 away: the corner's nearest is vertex 3 */
             for (int i = 0; i < 3; ++i) sx[3 * i + 1] = 1.5;
         pl_coll_mesh T, P;
-        pl_coll_mesh_init(&T);
+        cube_mesh(&c, &T);
         pl_coll_mesh_init(&P);
-        T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
         P.nverts = 6, P.ntris = 2, P.nedges = nse, P.x0 = P.x1 = sx, P.tris = stris;
         P.edges = sedges, P.sides = PL_SIDES_TWO;
         pl_error err;
@@ -441,7 +448,7 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
         pl_coll_mesh_free(&T);
         pl_coll_mesh_free(&P);
     }
-    free(edges);
+    free(c.edges);
     free(sedges);
 }
 END_TEST
@@ -454,11 +461,8 @@ END_TEST
  * the solver pushed the cloth up through the cube's edge. */
 START_TEST(test_edge_beside_a_cube_keeps_its_side)
 {
-    double cx[24];
-    int tris[36];
-    unit_cube(cx, tris);
-    int *edges, ne;
-    ck_assert_int_eq(pl_triangle_edges(tris, 12, &edges, &ne), PL_OK);
+    cube c;
+    cube_make(&c);
     /* cloth edge 0-1 through (1.01, 0.988, 0.5) along (0.9, 0.436, 0): under
      * the cube's edge 3-7 (x = y = 1, along z), beside its +x face */
     const double P[3] = {1.01, 0.988, 0.5}, u[3] = {0.9, 0.4358898943540674, 0.0};
@@ -472,9 +476,8 @@ START_TEST(test_edge_beside_a_cube_keeps_its_side)
     int *sedges, nse;
     ck_assert_int_eq(pl_triangle_edges(stris, 1, &sedges, &nse), PL_OK);
     pl_coll_mesh T, C;
-    pl_coll_mesh_init(&T);
+    cube_mesh(&c, &T);
     pl_coll_mesh_init(&C);
-    T.nverts = 8, T.ntris = 12, T.nedges = ne, T.x0 = T.x1 = cx, T.tris = tris, T.edges = edges;
     C.nverts = 3, C.ntris = 1, C.nedges = nse, C.x0 = C.x1 = sx, C.tris = stris;
     C.edges = sedges, C.sides = PL_SIDES_TWO;
     pl_error err;
@@ -483,7 +486,7 @@ START_TEST(test_edge_beside_a_cube_keeps_its_side)
     pl_detect_params prm = pl_detect_defaults(0.02);
     pl_proximities p = {0};
     ck_assert_int_eq(pl_detect_pair(&T, 0, &C, 1, &prm, &p), PL_OK);
-    double s, t, d = sqrt(pl_closest_segments(&cx[9], &cx[21], &sx[0], &sx[3], &s, &t));
+    double s, t, d = sqrt(pl_closest_segments(&c.x[9], &c.x[21], &sx[0], &sx[3], &s, &t));
     ck_assert(d > 0.015 && d < 0.016);
     int found = 0;
     for (int k = 0; k < p.n; ++k) {
@@ -498,7 +501,7 @@ START_TEST(test_edge_beside_a_cube_keeps_its_side)
     pl_proximities_free(&p);
     pl_coll_mesh_free(&T);
     pl_coll_mesh_free(&C);
-    free(edges);
+    free(c.edges);
     free(sedges);
 }
 END_TEST

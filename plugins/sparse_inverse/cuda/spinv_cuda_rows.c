@@ -39,16 +39,14 @@ int pl_spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
     }
     for (int k = 0; k < n; ++k) pinv[perm[k]] = k, ucol[k] = -1;
     /* unknowns numbered in increasing order: a fixed numbering, whatever
-     * the row order */
+     * the row order (ucol marks the touched ones first) */
     for (size_t e = 0; e < nent; ++e) ucol[H->j[e]] = 0;
     int nu = 0;
     for (int c = 0; c < n; ++c)
-        if (ucol[c] == 0) {
+        if (ucol[c] >= 0) {
             R->pos[nu] = pinv[c];
-            ucol[c] = ++nu; /* stored +1 until all are numbered */
+            ucol[c] = nu++;
         }
-    for (int c = 0; c < n; ++c)
-        if (ucol[c] > 0) ucol[c]--;
     R->nu = nu;
     memcpy(R->rp, H->p, sizeof(int) * (3 * (size_t)m + 1));
     for (size_t e = 0; e < nent; ++e) {
