@@ -63,6 +63,17 @@ int pl_shape_cylinder(pl_shape *s, const double center[3], const double axis[3],
  * local axis, +x for radial directions. */
 double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3]);
 
+/* Look-ahead: whether the straight path y0 -> y1 (a body point's motion over
+ * a step, relative to the shape) comes within alarm of the surface.  When it
+ * does, *t in [0, 1] is the path parameter of its first point at distance
+ * <= gap (the kept contactDistance: where the contact will be), or of its
+ * nearest point when it comes no closer, and closest / normal are that
+ * point's closest surface point and outward normal.  The shapes are convex,
+ * so the plane through closest along normal keeps the point out whatever
+ * the path does afterwards.  Returns 1 or 0. */
+int pl_shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
+                   double gap, double *t, double closest[3], double normal[3]);
+
 /* out = the shape moved by the rigid map x -> Rm x + tm. */
 void pl_shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out);
 
@@ -99,6 +110,9 @@ void pl_motion_pose(const pl_motion *m, double t, double R[9], double tr[3]);
  * translation uses its left derivative (the segment ending at t), i.e. the
  * velocity over a step that ends at t; 0 before the first key time. */
 void pl_motion_velocity(const pl_motion *m, double t, const double p[3], double v[3]);
+/* The rigid map of the motion from time t0 to t1: a point moving with the
+ * shape from x at t0 is at R x + tr at t1. */
+void pl_motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3]);
 /* Whether the motion moves anything at all. */
 int pl_motion_is_static(const pl_motion *m);
 
