@@ -19,6 +19,7 @@
 
 #include "pliant/error.h"
 #include "pliant/rows.h"
+#include "detect.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -132,6 +133,30 @@ typedef struct pl_obstacle_contact {
     int vertex;             /* the body point's first global vertex */
     int model;              /* index of its collision model (scene order) */
 } pl_obstacle_contact;
+
+/* ---- motion beyond the prediction (impact.c) ----------------------------- */
+
+/* A collision model's points over a step, summarised: their swept box from
+ * the start of the step to the prediction (x + h v + h^2 g for a body; an
+ * obstacle's pose at t and t + h), their mean velocity and how far the
+ * velocities spread around it. */
+typedef struct pl_reach {
+    pl_aabb box;      /* [m] */
+    double v[3];      /* mean velocity [m/s] */
+    double spread;    /* largest |v_i - v| [m/s] */
+    unsigned groups;
+    int n;            /* points */
+} pl_reach;
+
+/* n points x (at t, or for an obstacle posed at t + h) with velocities v
+ * (NULL: at rest), a body's gravity grav. */
+void pl_reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
+                 double h, const double grav[3], pl_reach *r);
+/* The largest relative speed [m/s] at which another of the n models (not
+ * model `except`, -1 for none; not sharing a group) can strike model k in
+ * this step: their boxes come within alarm of each other.  Model k's
+ * points may move that speed times h beyond their prediction. */
+double pl_hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
 
 /* ---- collision groups (groups.c) ----------------------------------------- */
 #define PL_COLLISION_MAX_GROUP 32

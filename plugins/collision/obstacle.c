@@ -83,6 +83,11 @@ static int find_models(coll_obstacle *o, pl_ctx *ctx)
     }
     o->models = l.items;
     o->nmodels = l.n;
+    free(o->geo);
+    free(o->reach);
+    o->geo = calloc((size_t)(l.n ? l.n : 1), sizeof *o->geo);
+    o->reach = calloc((size_t)(l.n ? l.n : 1), sizeof *o->reach);
+    if (!o->geo || !o->reach) return pl_component_error(&o->base, ctx, PL_EINTERNAL, "out of memory");
     if (o->nmodels == 0)
         pl_component_warn(&o->base, ctx,
                           "the scene has no collision model (e.g. <SurfaceCollisionModel/> next "
@@ -125,8 +130,12 @@ void coll_obstacle_destroy(pl_component *c)
     coll_obstacle *o = (coll_obstacle *)c;
     free(o->models);
     free(o->work);
+    free(o->geo);
+    free(o->reach);
     o->models = NULL;
     o->work = NULL;
+    o->geo = NULL;
+    o->reach = NULL;
 }
 
 static pl_obstacle_contact *push_record(coll_obstacle *o)
@@ -167,15 +176,17 @@ typedef struct posed {
     pl_shape s;            /* at t + h (the unknowns are positions at t + h) */
     double R[9], tr[3];    /* the obstacle's own motion from t to t + h */
     double t1, h, g[3];    /* end time [s], step [s], the model's gravity [m/s^2] */
+    double margin;         /* how far the model may move beyond its prediction [m] */
 } posed;
 
 /* Where point i of g will be in contact, if anywhere: its position at the
  * start of the step when within alarmDistance there (as always), else the
  * first point of its predicted path over the step (x + h v + h^2 g,
  * relative to the moving obstacle) that comes within contactDistance, or
- * within alarmDistance when it comes no closer: a fast point is caught
- * before it crosses (look-ahead).  Fills p, n; returns the signed distance
- * at the start of the step along n, or NAN when the point stays clear. */
+ * within alarmDistance (plus the margin of a body struck by another) when
+ * it comes no closer: a fast point is caught before it crosses
+ * (look-ahead).  Fills p, n; returns the signed distance at the start of
+ * the step along n, or NAN when the point stays clear. */
 static double find_contact(const coll_obstacle *o, const posed *ps,
                            const pl_collision_geometry *g, int i, double p[3], double n[3])
 {
@@ -189,7 +200,8 @@ static double find_contact(const coll_obstacle *o, const posed *ps,
         y0[k] = r[0] * x[0] + r[1] * x[1] + r[2] * x[2] + ps->tr[k]; /* rides with the shape */
         y1[k] = x[k] + ps->h * v + ps->h * ps->h * ps->g[k];
     }
-    if (!pl_shape_sweep(&ps->s, y0, y1, o->alarm_distance, o->contact_distance, &t, p, n))
+    if (!pl_shape_sweep(&ps->s, y0, y1, o->alarm_distance + ps->margin, o->contact_distance, &t,
+                        p, n))
         return NAN;
     return n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2]);
 }
@@ -252,17 +264,26 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     if (pl_collision_groups(&o->group, &groups, &e) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     o->nwork = 0;
+    /* every model first: a body struck by another in this step may move
+     * beyond its prediction (impact.c) */
     for (int k = 0; k < o->nmodels; ++k) {
         pl_component *mc = o->models[k];
         const pl_collision_model_ops *ops = pl_component_role(mc, PL_ROLE_COLLISION_MODEL);
-        pl_collision_geometry g;
-        memset(&g, 0, sizeof g);
-        int rc = ops->update(mc, ctx, q, &g, err);
+        pl_collision_geometry *g = &o->geo[k];
+        memset(g, 0, sizeof *g);
+        int rc = ops->update(mc, ctx, q, g, err);
         if (rc) return rc;
+        double grav[3] = {0.0, 0.0, 0.0};
+        if (!g->is_obstacle) pl_node_gravity(mc->node, grav);
+        pl_reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &o->reach[k]);
+    }
+    for (int k = 0; k < o->nmodels; ++k) {
+        const pl_collision_geometry *g = &o->geo[k];
         /* geometry without DOFs cannot respond; groups opt out */
-        if (g.is_obstacle || (groups & g.groups)) continue;
-        pl_node_gravity(mc->node, ps.g);
-        rc = model_contacts(o, k, &g, &ps, &m, sys, rows, err);
+        if (g->is_obstacle || (groups & g->groups)) continue;
+        pl_node_gravity(o->models[k]->node, ps.g);
+        ps.margin = sys->h * pl_hit_speed(o->reach, o->nmodels, k, -1, o->alarm_distance);
+        int rc = model_contacts(o, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }
     if (pl_data_store(ctx->data, o->slot, o->work, (size_t)o->nwork * sizeof *o->work))

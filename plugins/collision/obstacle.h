@@ -35,6 +35,8 @@ struct coll_obstacle {
     coll_shape_fn make_shape;
     pl_component **models;     /* collision models of the scene, scene order */
     int nmodels;
+    pl_collision_geometry *geo;/* per model: this step's geometry (scratch) */
+    pl_reach *reach;           /* per model: its motion over the step (scratch) */
     int slot;                  /* data slot "contacts" */
     pl_obstacle_contact *work; /* this step's records before they go to the slot */
     int nwork, capwork;

@@ -98,7 +98,9 @@ static void free_models(collision_pipeline *p)
         free(p->models[k].active);
     }
     free(p->models);
+    free(p->reach);
     p->models = NULL;
+    p->reach = NULL;
     p->nmodels = 0;
 }
 
@@ -132,7 +134,8 @@ static int cp_bind(pl_component *c, pl_ctx *ctx)
     free_models(p);
     pl_node *root = c->node;
     while (root->parent) root = root->parent;
-    if (pl_node_visit_role(root, PL_ROLE_COLLISION_MODEL, collect_model, p))
+    if (pl_node_visit_role(root, PL_ROLE_COLLISION_MODEL, collect_model, p) ||
+        !(p->reach = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *p->reach)))
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     if (p->nmodels < 2)
         pl_component_warn(c, ctx,
@@ -172,7 +175,7 @@ static int cp_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     pl_timer_start(ctx->timers, p->t_detect);
     p->nwork = 0;
     int rc = coll_pipeline_update_models(p, ctx, sys, q, err);
-    if (rc == PL_OK) rc = coll_pipeline_detect(p, ctx->data, err);
+    if (rc == PL_OK) rc = coll_pipeline_detect(p, ctx->data, sys->h, err);
     if (rc == PL_OK) rc = coll_pipeline_emit(p, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;

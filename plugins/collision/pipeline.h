@@ -4,6 +4,7 @@
 #ifndef PLIANT_COLLISION_PIPELINE_H
 #define PLIANT_COLLISION_PIPELINE_H
 
+#include "collision.h"
 #include "detect.h"
 #include "pliant/pliant.h"
 
@@ -41,6 +42,7 @@ typedef struct collision_pipeline {
     /* model */
     pipe_model *models;
     int nmodels;
+    pl_reach *reach;               /* per model: its motion over the step (scratch) */
     int slot, t_detect;
     /* per-step scratch */
     pl_proximities prox;
@@ -57,8 +59,8 @@ extern const pl_type coll_pipeline_type;
 int coll_pipeline_update_models(collision_pipeline *p, pl_ctx *ctx, const pl_system *sys,
                                 const pl_buffer *q, pl_error *err);
 /* Stage 2: proximities of every pair of models that may touch (p->prox);
- * d holds the previous step's contacts (their sides are kept). */
-int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err);
+ * d holds the previous step's contacts (their sides are kept); h the step. */
+int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, double h, pl_error *err);
 /* Stage 3: rows and records (p->work) of the proximities. */
 int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *rows,
                        pl_error *err);
