@@ -92,7 +92,8 @@ static int ml_init(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT, "filename: cannot find '%s' (tried %s)",
                                   l->filename, tried);
     if (!(l->resolved = strdup(path))) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_mesh_load_options opt = {l->only_attached, l->keep_inverted};
+    pl_mesh_load_options opt = {.drop_unused = l->only_attached,
+                                .keep_inverted = l->keep_inverted};
     pl_diag diag;
     pl_diag_init(&diag);
     int rc = pl_mesh_load(path, &opt, &l->mesh, &diag);

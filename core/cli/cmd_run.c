@@ -18,6 +18,7 @@ typedef struct run_args {
     int nsets;
     int quiet;
     const char *device;
+    int allow_plugin_path;
 } run_args;
 
 static int parse_int_arg(const char *s, int *out)
@@ -60,6 +61,8 @@ static int parse_args(int argc, char **argv, run_args *a)
                 fprintf(stderr, "pliant run: --device expects cpu or auto, got '%s'\n", a->device);
                 return 2;
             }
+        } else if (!strcmp(s, "--allow-plugin-path")) {
+            a->allow_plugin_path = 1; /* the scene may dlopen a file: the user trusts it */
         } else if (!strcmp(s, "--quiet") || !strcmp(s, "-q")) {
             a->quiet = 1;
         } else if (s[0] == '-') {
@@ -110,7 +113,9 @@ int cli_run(int argc, char **argv)
         return rc;
     }
     if (a.quiet) pl_log_set_level(PL_LOG_WARN);
-    pl_sim_options opt = {NULL, a.out, a.export_every, a.sets, a.nsets, a.device};
+    pl_sim_options opt = {.out_dir = a.out, .export_every = a.export_every, .overrides = a.sets,
+                          .noverrides = a.nsets, .device = a.device,
+                          .allow_plugin_path = a.allow_plugin_path};
     pl_diag diag;
     pl_diag_init(&diag);
     double t0 = pl_now();

@@ -12,6 +12,7 @@ static void usage(FILE *f)
           "             [--timings FILE.json] [--set PATH=VALUE ...] [--quiet]\n"
           "             [--device cpu|auto]  (auto: the GPU when the scene declares no\n"
           "             device and one is usable; default PLIANT_DEVICE, else auto)\n"
+          "             [--allow-plugin-path]  (trusted scenes: RequiredPlugin may name a file)\n"
           "  pliant list [TYPE]          components and plugins, with their fields\n"
           "  pliant doc [FILE.md]        regenerate the component reference\n"
           "  pliant regress LIST [--update] [--refs DIR]\n"

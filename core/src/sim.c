@@ -140,7 +140,8 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     }
     if (opt && opt->out_dir && !(s->out_dir = strdup(opt->out_dir))) goto fail;
     s->export_every = opt ? opt->export_every : 0;
-    s->model.root = pl_scene_build(xml, len, file, s->registry, diag);
+    int flags = opt && opt->allow_plugin_path ? PL_SCENE_ALLOW_PLUGIN_PATH : 0;
+    s->model.root = pl_scene_build(xml, len, file, s->registry, flags, diag);
     if (!s->model.root || diag->nerrors) goto fail;
     pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);

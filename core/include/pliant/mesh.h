@@ -5,6 +5,8 @@
 #ifndef PLIANT_MESH_H
 #define PLIANT_MESH_H
 
+#include <stddef.h>
+
 #include "error.h"
 
 #ifdef __cplusplus
@@ -20,9 +22,21 @@ typedef struct pl_mesh {
     int *tris;       /* ntris x 3, 0-based */
 } pl_mesh;
 
+/* A format named in advance (PL_MESH_AUTO: recognised from the content). */
+typedef enum pl_mesh_format {
+    PL_MESH_AUTO = 0,
+    PL_MESH_VTK_LEGACY,
+    PL_MESH_VTU,
+    PL_MESH_GMSH,
+    PL_MESH_OBJ,
+    PL_MESH_STL_ASCII,
+    PL_MESH_STL_BINARY
+} pl_mesh_format;
+
 typedef struct pl_mesh_load_options {
     int drop_unused;   /* remove vertices no element uses (renumbering elements) */
     int keep_inverted; /* leave negatively oriented tetrahedra as they are */
+    pl_mesh_format format; /* PL_MESH_AUTO (0): detect */
 } pl_mesh_load_options;
 
 void pl_mesh_init(pl_mesh *m);
@@ -36,6 +50,10 @@ int pl_mesh_copy(pl_mesh *dst, const pl_mesh *src);
  * kinds, fixed inverted tetrahedra) go to diag; an error names the file and
  * line.  opt may be NULL (defaults: fix inverted tets, keep unused vertices). */
 int pl_mesh_load(const char *path, const pl_mesh_load_options *opt, pl_mesh *out, pl_diag *diag);
+/* The same from size bytes in memory (a copy is made); `name` stands for
+ * the file name in messages. */
+int pl_mesh_load_buffer(const char *name, const void *buf, size_t size,
+                        const pl_mesh_load_options *opt, pl_mesh *out, pl_diag *diag);
 
 /* Checks indices are in range and coordinates finite; PL_EINPUT otherwise. */
 int pl_mesh_validate(const pl_mesh *m, const char *file, pl_diag *diag);

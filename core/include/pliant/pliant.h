@@ -3,6 +3,7 @@
 #define PLIANT_H
 
 #include "buffer.h"
+#include "checked.h"
 #include "component.h"
 #include "error.h"
 #include "field.h"

@@ -39,6 +39,11 @@ typedef struct pl_sim_options {
      * device service gets a CudaDevice when the cuda plugin loads and a GPU
      * answers (components with device="auto" then run on it); "cpu": never. */
     const char *device;
+    /* 0 (default): <RequiredPlugin> takes plugin names, found on the plugin
+     * path; a name with '/' or '..' is an input error.  1: it may also name
+     * a shared object by path (loading one runs its code: only for scenes
+     * the user trusts; `pliant run --allow-plugin-path`). */
+    int allow_plugin_path;
 } pl_sim_options;
 
 /* Loads and initialises a scene.  On any error returns NULL with every
