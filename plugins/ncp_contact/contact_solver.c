@@ -22,6 +22,7 @@
  * When the animation loop hands iterate() device buffers (LocalGlobalSolver
  * device="cuda", CUDA builds), the iterations run on the GPU:
  * contact_device.c; begin stays on the CPU. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -140,8 +141,9 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     ncp_contact_solver *s = (ncp_contact_solver *)c;
     char msg[256];
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
-    s->slot = pl_model_add_slot(ctx->model, c, "warmStart", 0);
+    s->slot = pl_model_add_var_slot(ctx->model, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
     if (s->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, s->slot, pl_ncpc_keys_check);
     return PL_OK;
 }
 
