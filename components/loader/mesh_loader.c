@@ -1,5 +1,6 @@
 /* mesh_loader.c - MeshLoader: reads a mesh file (any supported format,
  * detected from the content) and provides it to the node. */
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include "io/mesh_subdivide.h"
 #include "loader.h"
+#include "pliant/work_limits.h"
 
 typedef struct mesh_loader {
     pl_component base;
@@ -114,6 +116,16 @@ static int ml_init(pl_component *c, pl_ctx *ctx)
     if (l->subdivide < 0)
         return pl_component_error(c, ctx, PL_EINPUT, "subdivide must be >= 0, got %d",
                                   l->subdivide);
+    /* each round multiplies the tetrahedra by 8, the triangles by 4: refuse
+     * before making the first one what the last one could not hold */
+    pl_work_limits lim;
+    pl_work_limits_of(c->node, &lim);
+    double elements = l->mesh.ntets * pow(8, l->subdivide) + l->mesh.ntris * pow(4, l->subdivide);
+    char what[96];
+    snprintf(what, sizeof what, "the element count after subdivide=\"%d\" (of %d tetrahedra and "
+             "%d triangles)", l->subdivide, l->mesh.ntets, l->mesh.ntris);
+    if (pl_work_limit_check(c, ctx, elements, lim.max_elements, what, "maxElements"))
+        return PL_EINPUT;
     pl_error se;
     if ((rc = pl_mesh_subdivide(&l->mesh, l->subdivide, &se)) != PL_OK)
         return pl_component_error(c, ctx, rc, "subdivide: %s", se.msg);

@@ -3,6 +3,7 @@
 #include "pliant/sim.h"
 #include "pliant/log.h"
 #include "pliant/roles.h"
+#include "pliant/work_limits.h"
 #include "scene.h"
 #include "walk.h"
 
@@ -120,6 +121,24 @@ static int load_tree(pl_sim *s, pl_diag *diag)
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err);
 
+/* A time step is the one number of a node that scales everything (dt^2 in
+ * every update): above the cap, positions overflow to NaN a step later, so
+ * it is refused here as bad input, with the node's file:line. */
+static void check_time_steps(const pl_node *n, pl_diag *diag)
+{
+    if (n->has_dt) {
+        pl_work_limits lim;
+        pl_work_limits_of(n, &lim);
+        char np[160];
+        if (!(n->dt <= lim.max_dt))
+            pl_diag_error(diag, PL_EINPUT, n->file, n->line, pl_node_path(n, np, sizeof np),
+                          "dt = %g s is above the cap of %g s (it guards against steps that "
+                          "overflow; a scene that needs more sets <WorkLimits maxTimeStep=\"...\"/>)",
+                          n->dt, lim.max_dt);
+    }
+    for (int k = 0; k < n->nchildren; ++k) check_time_steps(n->children[k], diag);
+}
+
 static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_options *opt,
                     pl_diag *diag)
 {
@@ -145,6 +164,7 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     if (!s->model.root || diag->nerrors) goto fail;
     pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
+    check_time_steps(s->model.root, diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
     if (load_tree(s, diag) != PL_OK) goto fail;

@@ -30,6 +30,7 @@
 
 #include "contact_solver.h"
 #include "pliant/plugin.h"
+#include "pliant/work_limits.h"
 
 static const char *const NCP_CHOICES[] = {"fischer-burmeister", "minimum-map", NULL};
 static const char *const PRECOND_CHOICES[] = {"delassus", "mass", NULL};
@@ -141,6 +142,11 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     ncp_contact_solver *s = (ncp_contact_solver *)c;
     char msg[256];
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
+    pl_work_limits lim;
+    pl_work_limits_of(c->node, &lim);
+    if (pl_work_limit_check(c, ctx, s->cr_iterations, lim.max_iterations,
+                            "crIterations (per constraint solve)", "maxIterations"))
+        return PL_EINPUT;
     s->slot = pl_model_add_var_slot(ctx->model, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
     if (s->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     pl_model_set_slot_check(ctx->model, s->slot, pl_ncpc_keys_check);

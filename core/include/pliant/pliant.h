@@ -18,6 +18,7 @@
 #include "sim.h"
 #include "sparse.h"
 #include "timer.h"
+#include "work_limits.h"
 
 #define PLIANT_VERSION_MAJOR 0
 #define PLIANT_VERSION_MINOR 1
