@@ -47,7 +47,7 @@ static int check_size(pl_component *c, pl_ctx *ctx, double elements)
 {
     if (!(elements >= 0)) return PL_OK;
     pl_work_limits lim;
-    pl_work_limits_of(c->node, &lim);
+    pl_work_limits_of(ctx->model, c->node, &lim);
     return pl_work_limit_check(c, ctx, elements, lim.max_elements,
                                "the number of elements it would generate", "maxElements");
 }

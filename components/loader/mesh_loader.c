@@ -119,7 +119,7 @@ static int ml_init(pl_component *c, pl_ctx *ctx)
     /* each round multiplies the tetrahedra by 8, the triangles by 4: refuse
      * before making the first one what the last one could not hold */
     pl_work_limits lim;
-    pl_work_limits_of(c->node, &lim);
+    pl_work_limits_of(ctx->model, c->node, &lim);
     double elements = l->mesh.ntets * pow(8, l->subdivide) + l->mesh.ntris * pow(4, l->subdivide);
     char what[96];
     snprintf(what, sizeof what, "the element count after subdivide=\"%d\" (of %d tetrahedra and "

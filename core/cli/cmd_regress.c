@@ -62,7 +62,7 @@ static int check_cost(pl_sim *sim, const states *st, const pl_regression_entry *
                       const char *list, pl_error *err)
 {
     pl_work_limits lim;
-    pl_work_limits_of(pl_sim_model(sim)->root, &lim);
+    pl_work_limits_of(pl_sim_model(sim), pl_sim_model(sim)->root, &lim);
     if (e->steps > lim.max_steps)
         return pl_error_set(err, PL_EINPUT, list, e->line, NULL,
                             "%d steps are above the cap of %lld (the scene may raise it with "

@@ -22,6 +22,7 @@ struct pl_sim {
     char *out_dir;
     int export_every;
     pl_component *loop;      /* the animation loop, or NULL */
+    pl_work_limits ceiling;  /* pl_sim_options.max_limits, model.ceiling points here */
     pl_sim_callback callback;
     void *callback_user;
     int frame_timer;
@@ -124,11 +125,11 @@ static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err);
 /* A time step is the one number of a node that scales everything (dt^2 in
  * every update): above the cap, positions overflow to NaN a step later, so
  * it is refused here as bad input, with the node's file:line. */
-static void check_time_steps(const pl_node *n, pl_diag *diag)
+static void check_time_steps(const pl_model *m, const pl_node *n, pl_diag *diag)
 {
     if (n->has_dt) {
         pl_work_limits lim;
-        pl_work_limits_of(n, &lim);
+        pl_work_limits_of(m, n, &lim);
         char np[160];
         if (!(n->dt <= lim.max_dt))
             pl_diag_error(diag, PL_EINPUT, n->file, n->line, pl_node_path(n, np, sizeof np),
@@ -136,7 +137,7 @@ static void check_time_steps(const pl_node *n, pl_diag *diag)
                           "overflow; a scene that needs more sets <WorkLimits maxTimeStep=\"...\"/>)",
                           n->dt, lim.max_dt);
     }
-    for (int k = 0; k < n->nchildren; ++k) check_time_steps(n->children[k], diag);
+    for (int k = 0; k < n->nchildren; ++k) check_time_steps(m, n->children[k], diag);
 }
 
 static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_options *opt,
@@ -158,13 +159,17 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
         }
     }
     if (opt && opt->out_dir && !(s->out_dir = strdup(opt->out_dir))) goto fail;
+    if (opt && opt->max_limits) {
+        s->ceiling = *opt->max_limits;
+        s->model.ceiling = &s->ceiling;
+    }
     s->export_every = opt ? opt->export_every : 0;
     int flags = opt && opt->allow_plugin_path ? PL_SCENE_ALLOW_PLUGIN_PATH : 0;
     s->model.root = pl_scene_build(xml, len, file, s->registry, flags, diag);
     if (!s->model.root || diag->nerrors) goto fail;
     pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
-    check_time_steps(s->model.root, diag);
+    check_time_steps(&s->model, s->model.root, diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
     if (load_tree(s, diag) != PL_OK) goto fail;

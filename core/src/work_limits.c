@@ -40,10 +40,9 @@ static int wl_init(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
-void pl_work_limits_of(const pl_node *n, pl_work_limits *out)
+/* The caps of the nearest WorkLimits in n or above (out unchanged if none). */
+static void scene_limits(const pl_node *n, pl_work_limits *out)
 {
-    *out = (pl_work_limits){PL_LIMIT_ELEMENTS, PL_LIMIT_ITERATIONS, PL_LIMIT_STEPS,
-                            PL_LIMIT_RECORD_MB, PL_LIMIT_TIME_STEP};
     for (; n; n = n->parent)
         for (int k = 0; k < n->ncomponents; ++k) {
             const pl_component *c = n->components[k];
@@ -61,6 +60,22 @@ void pl_work_limits_of(const pl_node *n, pl_work_limits *out)
             if (w->max_dt > 0) out->max_dt = w->max_dt;
             return;
         }
+}
+
+#define MIN(a, b) ((a) < (b) ? (a) : (b))
+
+void pl_work_limits_of(const pl_model *m, const pl_node *n, pl_work_limits *out)
+{
+    *out = (pl_work_limits){PL_LIMIT_ELEMENTS, PL_LIMIT_ITERATIONS, PL_LIMIT_STEPS,
+                            PL_LIMIT_RECORD_MB, PL_LIMIT_TIME_STEP};
+    scene_limits(n, out);
+    const pl_work_limits *c = m ? m->ceiling : NULL;
+    if (!c) return;
+    out->max_elements = MIN(out->max_elements, c->max_elements);
+    out->max_iterations = MIN(out->max_iterations, c->max_iterations);
+    out->max_steps = MIN(out->max_steps, c->max_steps);
+    out->max_record_mb = MIN(out->max_record_mb, c->max_record_mb);
+    out->max_dt = MIN(out->max_dt, c->max_dt);
 }
 
 int pl_work_limit_check(const pl_component *c, pl_ctx *ctx, double amount, long long cap,

@@ -143,7 +143,7 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     char msg[256];
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
     pl_work_limits lim;
-    pl_work_limits_of(c->node, &lim);
+    pl_work_limits_of(ctx->model, c->node, &lim);
     if (pl_work_limit_check(c, ctx, s->cr_iterations, lim.max_iterations,
                             "crIterations (per constraint solve)", "maxIterations"))
         return PL_EINPUT;

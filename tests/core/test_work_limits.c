@@ -96,6 +96,13 @@ START_TEST(subdivision_is_estimated_before_it_starts)
     s = load("", body);
     ck_assert_ptr_nonnull(s);
     ck_assert_int_eq(tets_of(s, "a/m"), 512);
+    /* a program running scenes it does not trust sets ceilings no scene can raise */
+    char xml[1024];
+    snprintf(xml, sizeof xml, "<Node name=\"root\">\n%s</Node>\n", body);
+    pl_work_limits ceiling = {100, 10, 10, 1, 0.1};
+    pl_sim_options opt = {.max_limits = &ceiling};
+    ck_assert_ptr_null(pl_sim_load_string(xml, "limits.xml", &opt, &diag));
+    expect_refused("above the cap of 100 ", 5);
     pl_sim_free(s);
 }
 END_TEST

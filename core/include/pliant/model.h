@@ -39,6 +39,7 @@ typedef struct pl_model {
     pl_slot_info *slots;
     int nslots, cap_slots;
     struct pl_data *initial;    /* the state right after loading: what reset restores */
+    const struct pl_work_limits *ceiling; /* caps no scene can raise (NULL: none) */
 } pl_model;
 
 typedef struct pl_slot {

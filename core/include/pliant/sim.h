@@ -44,6 +44,10 @@ typedef struct pl_sim_options {
      * a shared object by path (loading one runs its code: only for scenes
      * the user trusts; `pliant run --allow-plugin-path`). */
     int allow_plugin_path;
+    /* NULL: the scene's WorkLimits (else the defaults) bound its work.
+     * Else also these ceilings, which no scene can raise: for a program that
+     * runs scenes it does not trust (see work_limits.h). */
+    const struct pl_work_limits *max_limits;
 } pl_sim_options;
 
 /* Loads and initialises a scene.  On any error returns NULL with every

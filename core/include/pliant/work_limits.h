@@ -16,6 +16,7 @@
 #define PLIANT_WORK_LIMITS_H
 
 #include "component.h"
+#include "model.h"
 #include "node.h"
 
 #ifdef __cplusplus
@@ -38,8 +39,10 @@ typedef struct pl_work_limits {
 } pl_work_limits;
 
 /* The limits in force in node n: those of the nearest WorkLimits component
- * in n or its ancestors, else the defaults.  n may be NULL (defaults). */
-void pl_work_limits_of(const pl_node *n, pl_work_limits *out);
+ * in n or its ancestors, else the defaults; then no more than the model's
+ * ceiling (pl_sim_options.max_limits) where it has one.  m and n may be
+ * NULL. */
+void pl_work_limits_of(const pl_model *m, const pl_node *n, pl_work_limits *out);
 
 /* Refuses `amount` of `what` above `cap` for component c: PL_OK, or
  * PL_EINPUT reported at c's file:line naming the field that raises it. */
