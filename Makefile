@@ -8,7 +8,15 @@ CMAKE_FLAGS ?=
 DEMO_SCENE ?= scenes/twisting_bar_small.xml
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build demo test test-fast test-asan bench docs clean
+FUZZ_BUILD ?= build-fuzz
+FUZZ_COV_BUILD ?= build-fuzz-cov
+# seconds each fuzz target runs (make fuzz FUZZ_SECONDS=600 for the 10-minute runs of docs/fuzzing.md)
+FUZZ_SECONDS ?= 180
+# targets to run (default: all of tests/fuzz)
+FUZZ_TARGETS ?=
+
+.PHONY: all deps deps-fuzz configure build demo test test-fast test-asan bench docs clean fuzz \
+	fuzz-build fuzz-coverage
 
 all: build
 
@@ -40,6 +48,30 @@ test-asan: $(ASAN_BUILD)/CMakeCache.txt
 
 test: test-fast test-asan
 
+# Fuzzing (tests/fuzz, docs/fuzzing.md): clang + libFuzzer, not part of `make test`
+# (which replays the seeds and the regression inputs).  Runs under nice -n 19.
+deps-fuzz:
+	@sh cmake/install-deps.sh fuzz
+
+$(FUZZ_BUILD)/CMakeCache.txt: | deps-fuzz
+	CC=clang cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLIANT_FUZZ=ON \
+	  -DPLIANT_TESTS=OFF -DPLIANT_CUDA=OFF $(CMAKE_FLAGS)
+
+fuzz-build: $(FUZZ_BUILD)/CMakeCache.txt
+	nice -n 19 cmake --build $(FUZZ_BUILD) -j $(JOBS)
+
+fuzz: fuzz-build
+	nice -n 19 sh tests/fuzz/run_fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+$(FUZZ_COV_BUILD)/CMakeCache.txt: | deps-fuzz
+	CC=clang cmake -S . -B $(FUZZ_COV_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLIANT_FUZZ_COVERAGE=ON \
+	  -DPLIANT_TESTS=OFF -DPLIANT_CUDA=OFF $(CMAKE_FLAGS)
+
+# line coverage of each target's reader over the corpus `make fuzz` grew
+fuzz-coverage: $(FUZZ_COV_BUILD)/CMakeCache.txt
+	nice -n 19 cmake --build $(FUZZ_COV_BUILD) -j $(JOBS)
+	nice -n 19 sh tests/fuzz/coverage.sh $(FUZZ_COV_BUILD) $(FUZZ_BUILD) $(FUZZ_TARGETS)
+
 bench: build
 	sh tests/bench/run.sh $(BUILD)
 
@@ -47,4 +79,4 @@ docs: build
 	$(BUILD)/bin/pliant doc docs/components.md
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(FUZZ_COV_BUILD) out

@@ -1,9 +1,29 @@
 # Warning-free C11 with gcc: -Wall -Wextra -Werror everywhere we compile C.
 set(PLIANT_C_WARNINGS -Wall -Wextra -Werror -Wno-unused-parameter)
+if(PLIANT_FUZZ OR PLIANT_FUZZ_COVERAGE)
+  # the fuzz builds use clang, whose warnings differ from gcc's: gcc's -Werror
+  # build is the one that keeps the code warning-free
+  set(PLIANT_C_WARNINGS -Wall -Wextra -Wno-unused-parameter)
+endif()
 add_compile_options("$<$<COMPILE_LANGUAGE:C>:${PLIANT_C_WARNINGS}>")
 # _GNU_SOURCE for strdup/dladdr/clock_gettime while keeping -std=c11.
 add_compile_definitions(_GNU_SOURCE)
 if(PLIANT_SANITIZE)
   add_compile_options("$<$<COMPILE_LANGUAGE:C>:-fsanitize=address,undefined;-fno-omit-frame-pointer;-fno-sanitize-recover=undefined>")
   add_link_options(-fsanitize=address,undefined)
+endif()
+# Fuzzing (tests/fuzz, make fuzz): clang only; every object is instrumented
+# for libFuzzer's coverage feedback and checked by ASan and UBSan.
+if(PLIANT_FUZZ OR PLIANT_FUZZ_COVERAGE)
+  if(NOT CMAKE_C_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PLIANT_FUZZ needs clang: configure with CC=clang (make fuzz does)")
+  endif()
+endif()
+if(PLIANT_FUZZ)
+  add_compile_options("$<$<COMPILE_LANGUAGE:C>:-fsanitize=fuzzer-no-link,address,undefined;-fno-omit-frame-pointer;-fno-sanitize-recover=undefined>")
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(PLIANT_FUZZ_COVERAGE)
+  add_compile_options("$<$<COMPILE_LANGUAGE:C>:-fprofile-instr-generate;-fcoverage-mapping>")
+  add_link_options(-fprofile-instr-generate)
 endif()
