@@ -25,7 +25,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const char *path = fuzz_memfile(data, size);
     if (!path) return 0;
     /* a tiny scene's worth of work: the caps bound every load and step */
-    pl_work_limits ceiling = {.max_elements = 20000, .max_iterations = 50, .max_steps = 10,
+    pl_work_limits ceiling = {.max_elements = 4000, .max_iterations = 50, .max_steps = 10,
                               .max_record_mb = 16, .max_dt = 1.0};
     pl_sim_options opt = {.out_dir = "/tmp/pliant_fuzz_scene_out", .export_every = 1000000,
                           .device = "cpu", .max_limits = &ceiling};
