@@ -27,7 +27,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* a tiny scene's worth of work: the caps bound every load and step */
     pl_work_limits ceiling = {.max_elements = 4000, .max_iterations = 50, .max_steps = 10,
                               .max_record_mb = 16, .max_dt = 1.0};
-    pl_sim_options opt = {.out_dir = "/tmp/pliant_fuzz_scene_out", .export_every = 1000000,
+    /* exporters write into memory (tmpfs): a shared machine's disk stalls would be timeouts */
+    pl_sim_options opt = {.out_dir = "/dev/shm/pliant_fuzz_scene_out", .export_every = 1000000,
                           .device = "cpu", .max_limits = &ceiling};
     pl_diag diag;
     pl_diag_init(&diag);
