@@ -7,6 +7,7 @@
  * Exit: 0 all passed, 1 some failed, 2 bad input. */
 #include <pliant/pliant.h>
 
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -137,26 +138,41 @@ static int compare_refs(const char *refs, const char *scene, const states *st,
     return rc;
 }
 
+static const char USAGE[] =
+    "usage: pliant regress LIST [--update] [--refs DIR]\n"
+    "Runs every scene of LIST (lines \"scene steps epsilon [mapped] [lastonly]\", paths\n"
+    "relative to LIST) and compares each MechanicalObject's positions with the stored\n"
+    "references (SOFA's measure: per compared step ||x - x_ref|| / nDoF, against epsilon).\n\n"
+    "  -u, --update      rewrite the references instead of comparing\n"
+    "  -r, --refs DIR    reference folder (default: as LIST says, else LIST's folder/references)\n"
+    "  -j, --threads N   OpenMP threads per run\n"
+    "  -h, --help        this text\n"
+    "Temporary outputs go to $TMPDIR (default /tmp) and are removed.\n"
+    "exit codes: 0 all passed, 1 some failed, 2 bad input or a scene that does not run\n";
+
 int cli_regress(int argc, char **argv)
 {
+    static const struct option opts[] = {
+        {"update", no_argument, NULL, 'u'}, {"refs", required_argument, NULL, 'r'},
+        {"threads", required_argument, NULL, 'j'}, {"help", no_argument, NULL, 'h'},
+        {0, 0, 0, 0}};
     const char *list_path = NULL, *refs_opt = NULL;
-    int update = 0;
-    for (int k = 0; k < argc; ++k) {
-        if (!strcmp(argv[k], "--update"))
-            update = 1;
-        else if (!strcmp(argv[k], "--refs") && k + 1 < argc)
-            refs_opt = argv[++k];
-        else if (argv[k][0] != '-' && !list_path)
-            list_path = argv[k];
-        else {
-            fprintf(stderr, "pliant regress: unexpected argument '%s'\n", argv[k]);
-            return 2;
+    int update = 0, threads = 0, c, rc = 0;
+    opterr = 0;
+    while (!rc && (c = getopt_long(argc, argv, "ur:j:h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'u': update = 1; break;
+        case 'r': refs_opt = optarg; break;
+        case 'j': rc = cli_parse_int("regress", "--threads", optarg, 1, &threads); break;
+        case 'h': return fputs(USAGE, stdout), 0;
+        default: rc = cli_bad_option("regress", argv, optind, optopt);
         }
     }
-    if (!list_path) {
-        fprintf(stderr, "usage: pliant regress LIST [--update] [--refs DIR]\n");
-        return 2;
-    }
+    if (rc) return rc;
+    if (optind >= argc) return cli_usage_error("regress", "no regression LIST given");
+    if (optind + 1 < argc) return cli_usage_error("regress", "more than one LIST given");
+    list_path = argv[optind];
+    cli_threads_set(threads);
     pl_regression_list list = {0};
     pl_diag diag;
     pl_diag_init(&diag);
@@ -167,7 +183,7 @@ int cli_regress(int argc, char **argv)
         return 2;
     }
     pl_diag_free(&diag);
-    char list_dir[1024], refs[2048], out_dir[] = "/tmp/pliant_regress_XXXXXX";
+    char list_dir[1024], refs[2048];
     dir_of(list_path, list_dir, sizeof list_dir);
     if (refs_opt)
         snprintf(refs, sizeof refs, "%s", refs_opt);
@@ -176,8 +192,9 @@ int cli_regress(int argc, char **argv)
     else
         snprintf(refs, sizeof refs, "%s/references", list_dir);
     if (update) mkdir(refs, 0755);
-    if (!mkdtemp(out_dir)) {
-        fprintf(stderr, "pliant regress: cannot create a temporary folder\n");
+    char *out_dir = cli_tmpdir_create("regress");
+    if (!out_dir) {
+        fprintf(stderr, "pliant regress: cannot create a temporary folder in $TMPDIR\n");
         pl_regression_list_free(&list);
         return 1;
     }
@@ -216,5 +233,7 @@ int cli_regress(int argc, char **argv)
     printf("%d scenes: %d passed, %d failed, %d errors\n", list.count,
            list.count - failed - bad, failed, bad);
     pl_regression_list_free(&list);
+    cli_remove_tree(out_dir);
+    free(out_dir);
     return bad ? 2 : failed ? 1 : 0;
 }
