@@ -29,6 +29,8 @@ void cli_scene_name(const char *path, char *buf, size_t size);
 /* Creates $TMPDIR/pliant_<tag>_XXXXXX (TMPDIR defaults to /tmp); returns a
  * malloc'ed path or NULL. */
 char *cli_tmpdir_create(const char *tag);
+/* mkdir -p; returns 0 when the folder exists afterwards. */
+int cli_make_dirs(const char *path);
 /* Removes a folder and everything in it; returns 0 on success. */
 int cli_remove_tree(const char *path);
 

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 
@@ -73,6 +74,22 @@ char *cli_tmpdir_create(const char *tag)
         return NULL;
     }
     return path;
+}
+
+int cli_make_dirs(const char *path)
+{
+    char buf[4096];
+    size_t n = (size_t)snprintf(buf, sizeof buf, "%s", path);
+    if (n >= sizeof buf) return -1;
+    for (size_t i = 1; i <= n; ++i) {
+        if (buf[i] != '/' && buf[i] != '\0') continue;
+        char save = buf[i];
+        buf[i] = '\0';
+        struct stat st;
+        if (mkdir(buf, 0777) != 0 && (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))) return -1;
+        buf[i] = save;
+    }
+    return 0;
 }
 
 static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "cli_dispatch.h"
 
 #ifndef PLIANT_VERSION_STRING
 #define PLIANT_VERSION_STRING "?"
@@ -24,6 +25,7 @@ static const command COMMANDS[] = {
     {"list", cli_list, "components and plugins, with their fields"},
     {"doc", cli_doc, "the component reference in Markdown"},
     {"regress", cli_regress, "run a regression list against stored references"},
+    {"sweep", cli_sweep, "run a scene over a grid of field values, tabulate outputs"},
 };
 #define NCOMMANDS ((int)(sizeof COMMANDS / sizeof COMMANDS[0]))
 
@@ -39,7 +41,8 @@ static void usage(FILE *f)
 
 static void version(void)
 {
-    printf("pliant %s (plugin ABI %d)\n", PLIANT_VERSION_STRING, PL_ABI_VERSION);
+    printf("pliant %s (plugin ABI %d, %s)\n", PLIANT_VERSION_STRING, PL_ABI_VERSION,
+           cli_dispatch_build_info());
 }
 
 int main(int argc, char **argv)
