@@ -8,7 +8,6 @@
 #include "cli_dispatch.h"
 
 static int g_rank = 0, g_size = 1, g_mpi = 0, g_sharing = 1;
-static char g_gpu[64];       /* CUDA_VISIBLE_DEVICES for this rank's runs; "" = as is */
 
 /* The launchers' environment: Open MPI's mpirun, PMI (MPICH, Slurm's srun
  * --mpi=pmi2) and PMIx (srun --mpi=pmix).  Returns 1 when started by one;
@@ -22,6 +21,9 @@ static int launched(int *size, int *rank)
     *rank = r ? atoi(r) : -1;
     return s || r;
 }
+
+#ifdef PLIANT_HAVE_MPI
+static char g_gpu[64];       /* CUDA_VISIBLE_DEVICES for this rank's runs; "" = as is */
 
 /* GPUs of this node: CUDA_VISIBLE_DEVICES's list where set (a launcher or
  * Slurm's gres may have narrowed it), else the NVIDIA driver's count. */
@@ -43,6 +45,7 @@ static int gpu_list(char ids[][16], int max)
     if (d) closedir(d);
     return n;
 }
+#endif
 
 int cli_dispatch_init(const char *cmd, int *argc, char ***argv)
 {

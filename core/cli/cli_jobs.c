@@ -144,3 +144,18 @@ void cli_job_describe(const cli_job_result *r, double timeout, char *buf, size_t
     default: snprintf(buf, size, "could not start (fork failed)"); break;
     }
 }
+
+const char *cli_report_get(const char *report, const char *key, char *buf, size_t size)
+{
+    size_t n = strlen(key);
+    for (const char *p = report; p && *p;) {
+        const char *nl = strchr(p, '\n');
+        size_t len = nl ? (size_t)(nl - p) : strlen(p);
+        if (len > n && !strncmp(p, key, n) && p[n] == ' ') {
+            snprintf(buf, size, "%.*s", (int)(len - n - 1), p + n + 1);
+            return buf;
+        }
+        p = nl ? nl + 1 : NULL;
+    }
+    return NULL;
+}

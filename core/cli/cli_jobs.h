@@ -46,6 +46,10 @@ int cli_job_start(cli_job *j, int job, cli_job_fn fn, void *ctx, double timeout,
 int cli_job_poll(cli_job *j, int wait_ms, cli_job_result *res);
 void cli_job_result_free(cli_job_result *r);
 
+/* The value of a report line "KEY VALUE" ("ms", "rec 2", ...) into buf, or
+ * NULL when the report has no such line. */
+const char *cli_report_get(const char *report, const char *key, char *buf, size_t size);
+
 /* "ended with exit code 1", "crashed: SIGSEGV (Segmentation fault)",
  * "timed out after 5 s" */
 void cli_job_describe(const cli_job_result *r, double timeout, char *buf, size_t size);

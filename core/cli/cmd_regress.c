@@ -87,34 +87,21 @@ typedef struct table {
     int printed, failed, bad;
 } table;
 
-static const char *field(const char *text, const char *key, char *buf, size_t size)
-{
-    size_t n = strlen(key);
-    for (const char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL)
-        if (!strncmp(p, key, n) && p[n] == ' ') {
-            const char *e = strchr(p + n + 1, '\n');
-            snprintf(buf, size, "%.*s", (int)(e ? e - (p + n + 1) : (long)strlen(p + n + 1)),
-                     p + n + 1);
-            return buf;
-        }
-    return NULL;
-}
-
 static char *format_row(table *t, const cli_job_result *r)
 {
     const pl_regression_entry *e = &t->x->list->items[r->job];
     char result[32], val[1600], cell[1700];
-    const char *res = field(r->text, "result", result, sizeof result);
+    const char *res = cli_report_get(r->text, "result", result, sizeof result);
     if (res && (!strcmp(res, "pass") || !strcmp(res, "FAIL"))) {
-        double err = atof(field(r->text, "error", val, sizeof val) ? val : "nan");
+        double err = atof(cli_report_get(r->text, "error", val, sizeof val) ? val : "nan");
         snprintf(cell, sizeof cell, "%12.3e  %s", err, res);
         t->failed += !strcmp(res, "FAIL");
     } else if (res && !strcmp(res, "written")) {
         snprintf(cell, sizeof cell, "%12s  reference written (%s states)", "-",
-                 field(r->text, "states", val, sizeof val) ? val : "?");
+                 cli_report_get(r->text, "states", val, sizeof val) ? val : "?");
     } else {
         /* the child reported an error (msg), or ended without a report */
-        if (!field(r->text, "msg", val, sizeof val)) {
+        if (!cli_report_get(r->text, "msg", val, sizeof val)) {
             char how[160], where[160];
             cli_job_describe(r, t->timeout, how, sizeof how);
             cli_dispatch_where(r, where, sizeof where);

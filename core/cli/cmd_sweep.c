@@ -120,7 +120,7 @@ static void run_done(const cli_job_result *r, void *user)
 {
     runs *t = user;
     char buf[160], how[160];
-    const char *st = sweep_report_get(r->text, "status", buf, sizeof buf);
+    const char *st = cli_report_get(r->text, "status", buf, sizeof buf);
     t->reports[r->job] = st ? strdup(r->text) : NULL;
     if (r->end == CLI_JOB_EXITED && r->code == 0 && st && !strcmp(st, "ok")) {
         snprintf(how, sizeof how, "ok");

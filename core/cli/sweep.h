@@ -57,8 +57,6 @@ void sweep_run_dir(const sweep *s, int run, char *buf, size_t size);
 int sweep_spec_check(const sweep *s);
 /* The report of a run that completed before (result.txt), or NULL. */
 char *sweep_completed(const sweep *s, int run);
-/* One value of a report ("ms", "rec 2", ...) into buf, or NULL. */
-const char *sweep_report_get(const char *report, const char *key, char *buf, size_t size);
 /* Writes OUT/sweep.csv and OUT/sweep.md from the runs' reports and status
  * texts ("ok", "crashed: SIGSEGV ..."); returns 0 or 1. */
 int sweep_write_tables(const sweep *s, char *const *reports, char *const *status);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_jobs.h"
 #include "sweep.h"
 
 static char *slurp(const char *path)
@@ -67,28 +68,13 @@ int sweep_spec_check(const sweep *s)
     return rc;
 }
 
-const char *sweep_report_get(const char *report, const char *key, char *buf, size_t size)
-{
-    size_t n = strlen(key);
-    for (const char *p = report; p && *p;) {
-        const char *nl = strchr(p, '\n');
-        size_t len = nl ? (size_t)(nl - p) : strlen(p);
-        if (len > n && !strncmp(p, key, n) && p[n] == ' ') {
-            snprintf(buf, size, "%.*s", (int)(len - n - 1), p + n + 1);
-            return buf;
-        }
-        p = nl ? nl + 1 : NULL;
-    }
-    return NULL;
-}
-
 char *sweep_completed(const sweep *s, int run)
 {
     char path[1200], dir[1100], buf[64];
     sweep_run_dir(s, run, dir, sizeof dir);
     snprintf(path, sizeof path, "%s/result.txt", dir);
     char *r = slurp(path);
-    const char *st = r ? sweep_report_get(r, "status", buf, sizeof buf) : NULL;
+    const char *st = r ? cli_report_get(r, "status", buf, sizeof buf) : NULL;
     if (st && !strcmp(st, "ok")) return r;
     free(r);
     return NULL;
@@ -149,15 +135,15 @@ static void row(FILE *f, const sweep *s, int run, const char *rep, const char *s
     for (int a = 0; a < s->naxes; ++a) cell(f, sweep_value(s, run, a), 0);
     for (int k = 0; k < s->nrecords; ++k) {
         snprintf(key, sizeof key, "rec %d", k);
-        const char *v = big && rep ? sweep_report_get(rep, key, big, 1 << 20) : NULL;
+        const char *v = big && rep ? cli_report_get(rep, key, big, 1 << 20) : NULL;
         cell(f, v ? v : "", 0);
     }
-    cell(f, rep && sweep_report_get(rep, "steps", buf, sizeof buf) ? buf : "", 0);
-    double ms = rep && sweep_report_get(rep, "ms", buf, sizeof buf) ? atof(buf) : 0;
+    cell(f, rep && cli_report_get(rep, "steps", buf, sizeof buf) ? buf : "", 0);
+    double ms = rep && cli_report_get(rep, "ms", buf, sizeof buf) ? atof(buf) : 0;
     snprintf(buf, sizeof buf, "%.3f", ms);
     cell(f, rep ? buf : "", 0);
     cell(f, status, 0);
-    cell(f, rep && sweep_report_get(rep, "msg", buf, sizeof buf) ? buf : "", 1);
+    cell(f, rep && cli_report_get(rep, "msg", buf, sizeof buf) ? buf : "", 1);
     free(big);
 }
 

@@ -97,7 +97,22 @@ check "a path given twice is refused" "[ $? -eq 2 ] && grep -q 'given twice' '$T
 "$PLIANT" sweep --help > "$TMP/out" 2>&1
 check "sweep --help" "[ $? -eq 0 ] && grep -q '^usage: pliant sweep' '$TMP/out'"
 
-# 5. a build without MPI started by mpirun says so (what mpirun sets: Open MPI's variables)
+# 5. regress: a scene that crashes or hangs is an ERROR row, the others pass
+sed 's/kind="none"/kind="segv"/' "$TMP/fall.xml" > "$TMP/fall_segv.xml"
+sed 's/kind="none"/kind="hang"/' "$TMP/fall.xml" > "$TMP/fall_hang.xml"
+cp "$TMP/fall.xml" "$TMP/fall2.xml"
+printf 'fall.xml 6 1e-12\nfall2.xml 8 1e-12 0 1\n' > "$TMP/ok.txt"
+printf 'fall.xml 6 1e-12\nfall_segv.xml 6 1e-12\nfall_hang.xml 6 1e-12\nfall2.xml 8 1e-12 0 1\n' > "$TMP/list.txt"
+"$PLIANT" regress "$TMP/ok.txt" --update -q > /dev/null 2>&1
+"$PLIANT" regress "$TMP/list.txt" -q --timeout 5 > "$TMP/out" 2> "$TMP/err"
+code=$?
+check "regress with a crashing and a hanging scene exits 2, the others pass" \
+  "[ $code -eq 2 ] && grep -q '^4 scenes: 2 passed, 0 failed, 2 errors' '$TMP/out' && grep -q '^fall.xml .* pass\$' '$TMP/out' && grep -q '^fall2.xml .* pass\$' '$TMP/out'"
+check "the crash is its row's ERROR and reported with the host" \
+  "grep -q '^fall_segv.xml .*ERROR: the run crashed: SIGSEGV' '$TMP/out' && grep -q 'fall_segv.xml: the run crashed: SIGSEGV (Segmentation fault) (host ' '$TMP/err'"
+check "the hang is stopped by --timeout" "grep -q '^fall_hang.xml .*ERROR: the run timed out after 5 s' '$TMP/out'"
+
+# 6. a build without MPI started by mpirun says so (what mpirun sets: Open MPI's variables)
 if "$PLIANT" --version | grep -q 'without MPI'; then
   OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=1 "$PLIANT" sweep "$TMP/fall.xml" --set root.dt=0.01 \
     -n 2 -o "$TMP/m" > /dev/null 2> "$TMP/err"
