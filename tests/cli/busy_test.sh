@@ -13,7 +13,7 @@ TMP=$(mktemp -d "${TMPDIR:-/tmp}/pliant_busy_test.XXXXXX")
 BUSY=""
 trap '[ -n "$BUSY" ] && kill "$BUSY" 2>/dev/null; rm -rf "$TMP"' EXIT
 SCENE="$SRC/scenes/twisting_bar_small.xml"
-STEPS=${BUSY_TEST_STEPS:-150}
+STEPS=${BUSY_TEST_STEPS:-100}
 
 # ms/step of one run (the summary line: "..., 1.234 ms/step, 2 threads")
 ms_per_step() {

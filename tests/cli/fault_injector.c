@@ -43,7 +43,11 @@ static int fault_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
         for (size_t k = 0; x && k < v.rows * v.cols; ++k) x[k] = NAN;
         return PL_OK;
     }
-    case FAULT_SEGV: raise(SIGSEGV); break;
+    case FAULT_SEGV:
+        /* the default action: a sanitizer's handler would turn it into exit(1) */
+        signal(SIGSEGV, SIG_DFL);
+        raise(SIGSEGV);
+        break;
     case FAULT_ABORT: abort();
     case FAULT_HANG:
         for (;;) pause();
