@@ -5,7 +5,7 @@
 # packages are present.
 set -eu
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
-zlib1g-dev libsiconos-numerics-dev"
+zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin"
 # `install-deps.sh fuzz` (make fuzz): clang with libFuzzer, LLVM's coverage
 # tools and clang's OpenMP runtime, only for the fuzz targets.
 if [ "${1:-}" = fuzz ]; then

@@ -61,7 +61,7 @@ for t in $TARGETS; do
     counts=$("$LLVM_COV" report "$bin" $objects -instr-profile="$OUT/prof/$t.profdata" \
                -show-functions "$SRC/$file" 2>/dev/null |
              awk -v funcs=",$funcs," '
-               $1 ~ /^[A-Za-z_][A-Za-z0-9_.:]*$/ && NF >= 7 && $5 ~ /^[0-9]+$/ {
+               $1 != "TOTAL" && $1 ~ /^[A-Za-z_][A-Za-z0-9_.:]*$/ && NF >= 7 && $5 ~ /^[0-9]+$/ {
                  name = $1; sub(/^.*:/, "", name)
                  if (funcs == ",," || index(funcs, "," name ",")) { l += $5; m += $6 }
                }
