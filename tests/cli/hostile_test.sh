@@ -5,7 +5,7 @@
 set -u
 PLIANT=$1
 BUILD=$3
-TMP=$(mktemp -d)
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/pliant_hostile_test.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 pass=0
 fail=0
@@ -21,7 +21,7 @@ BAR='  <Node name="bar">
 
 # 1. a huge time step is bad input, not a NaN at the first step (exit 1)
 printf '<Node name="root" dt="1e308">\n  <NewtonSolver/>\n%s\n</Node>\n' "$BAR" > "$TMP/dt.xml"
-"$PLIANT" run "$TMP/dt.xml" -n 3 > /dev/null 2> "$TMP/err"
+"$PLIANT" run "$TMP/dt.xml" -n 3 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?
 check "dt=1e308 exits 2" "[ $code -eq 2 ]"
 check "dt=1e308 names file:line" "grep -q 'dt.xml:1: error: root: dt = 1e+308 s' '$TMP/err'"
@@ -29,18 +29,18 @@ check "dt=1e308 names file:line" "grep -q 'dt.xml:1: error: root: dt = 1e+308 s'
 # 2. a scene cannot load a shared object by path unless the user allows it
 LIB="$BUILD/tests/plugins/libpl_ctor_plugin.so"
 printf '<Node name="root">\n  <RequiredPlugin name="%s"/>\n</Node>\n' "$LIB" > "$TMP/lib.xml"
-"$PLIANT" run "$TMP/lib.xml" -n 1 > /dev/null 2> "$TMP/err"
+"$PLIANT" run "$TMP/lib.xml" -n 1 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?
 check "a plugin path exits 2" "[ $code -eq 2 ]"
 check "a plugin path names file:line" "grep -q 'lib.xml:2: error: RequiredPlugin: .* is a path' '$TMP/err'"
-"$PLIANT" run "$TMP/lib.xml" -n 1 --allow-plugin-path > /dev/null 2> "$TMP/err"
+"$PLIANT" run "$TMP/lib.xml" -n 1 --out "$TMP/out" --allow-plugin-path > /dev/null 2> "$TMP/err"
 code=$?
 check "--allow-plugin-path loads it" "[ $code -eq 0 ]"
 
 # 3. a file that is not a mesh is not quoted
 printf 'root:x:0:0:TOPSECRET-42:/root:/bin/sh\n' > "$TMP/passwd"
 printf '<Node name="root">\n  <MeshLoader filename="%s"/>\n</Node>\n' "$TMP/passwd" > "$TMP/pw.xml"
-"$PLIANT" run "$TMP/pw.xml" -n 1 > /dev/null 2> "$TMP/err"
+"$PLIANT" run "$TMP/pw.xml" -n 1 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?
 check "a non-mesh file exits 2" "[ $code -eq 2 ]"
 check "a non-mesh file is named" "grep -q 'passwd:1: error' '$TMP/err'"
@@ -49,11 +49,11 @@ check "a non-mesh file is not quoted" "! grep -q 'TOPSECRET' '$TMP/err'"
 # 4. unbounded work is refused before it starts
 printf '# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n' > "$TMP/tet.vtk"
 printf '<Node name="root">\n  <MeshLoader filename="tet.vtk" subdivide="30"/>\n</Node>\n' > "$TMP/sub.xml"
-timeout 20 "$PLIANT" run "$TMP/sub.xml" -n 1 > /dev/null 2> "$TMP/err"
+timeout 20 "$PLIANT" run "$TMP/sub.xml" -n 1 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?
 check "subdivide=30 exits 2 at once" "[ $code -eq 2 ] && grep -q 'sub.xml:2: error' '$TMP/err'"
 printf '<Node name="root">\n  <NewtonSolver maxIterations="2000000000"/>\n%s\n</Node>\n' "$BAR" > "$TMP/it.xml"
-"$PLIANT" run "$TMP/it.xml" -n 1 > /dev/null 2> "$TMP/err"
+"$PLIANT" run "$TMP/it.xml" -n 1 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?
 check "2e9 iterations exit 2" "[ $code -eq 2 ] && grep -q 'it.xml:2: error' '$TMP/err'"
 

@@ -10,24 +10,25 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "test_tmp.h"
+
 static pl_diag diag;
-static char dir[64];
+static char *dir;
 
 static void setup(void)
 {
     pl_diag_init(&diag);
     setenv("PLIANT_PLUGIN_PATH", PL_TEST_PLUGIN_DIR, 1);
     unsetenv("PL_CTOR_PLUGIN_RAN");
-    snprintf(dir, sizeof dir, "/tmp/pl_hostile_XXXXXX");
-    ck_assert_ptr_nonnull(mkdtemp(dir));
+    dir = test_tmp_mkdtemp("hostile");
+    ck_assert_ptr_nonnull(dir);
 }
 
 static void teardown(void)
 {
     pl_diag_free(&diag);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    ck_assert_int_eq(system(cmd), 0);
+    test_tmp_rmtree(dir);
+    free(dir);
 }
 
 /* The first diagnostic whose message holds `needle`, or NULL. */
@@ -40,7 +41,7 @@ static const pl_error *find(const char *needle)
 
 static const char *write_file(const char *name, const void *data, size_t n)
 {
-    static char path[160];
+    static char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "wb");
     ck_assert_ptr_nonnull(f);

@@ -11,14 +11,15 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "test_tmp.h"
+
 static pl_diag diag;
-static char tet_path[64];
+static char tet_path[1024];
 
 static void setup(void)
 {
     pl_diag_init(&diag);
-    snprintf(tet_path, sizeof tet_path, "/tmp/pl_limits_XXXXXX");
-    int fd = mkstemp(tet_path);
+    int fd = test_tmp_file(tet_path, sizeof tet_path, "limits");
     ck_assert_int_ge(fd, 0);
     const char *vtk = "# vtk DataFile Version 2.0\none tetrahedron\nASCII\nDATASET "
                       "UNSTRUCTURED_GRID\nPOINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
@@ -36,7 +37,7 @@ static void teardown(void)
 /* Loads `body` (the children of the root node, from line 2 on); NULL on failure. */
 static pl_sim *load(const char *root_attrs, const char *body)
 {
-    char xml[2048];
+    char xml[2600];
     snprintf(xml, sizeof xml, "<Node name=\"root\"%s>\n%s</Node>\n", root_attrs, body);
     pl_sim *s = pl_sim_load_string(xml, "limits.xml", NULL, &diag);
     if (getenv("PL_TEST_VERBOSE")) pl_diag_print(&diag, stderr);
@@ -67,7 +68,7 @@ static int tets_of(pl_sim *s, const char *path)
 
 START_TEST(subdivision_is_estimated_before_it_starts)
 {
-    char body[512];
+    char body[2048];
     /* the case: 30 rounds of one tetrahedron (8^30 of them) */
     snprintf(body, sizeof body, "  <MeshLoader name=\"m\" filename=\"%s\" subdivide=\"30\"/>\n",
              tet_path);
@@ -97,7 +98,7 @@ START_TEST(subdivision_is_estimated_before_it_starts)
     ck_assert_ptr_nonnull(s);
     ck_assert_int_eq(tets_of(s, "a/m"), 512);
     /* a program running scenes it does not trust sets ceilings no scene can raise */
-    char xml[1024];
+    char xml[2600];
     snprintf(xml, sizeof xml, "<Node name=\"root\">\n%s</Node>\n", body);
     pl_work_limits ceiling = {100, 10, 10, 1, 0.1};
     pl_sim_options opt = {.max_limits = &ceiling};
