@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "export/export.h"
+#include <pliant/export.h>
 
 typedef struct states {
     pl_component *items[64];

@@ -9,6 +9,7 @@
 #ifndef PLIANT_MODEL_H
 #define PLIANT_MODEL_H
 
+#include "api.h"
 #include <stddef.h>
 #include <stdio.h>
 #include "component.h"
@@ -47,17 +48,17 @@ typedef struct pl_data {
 
 /* Declares a state slot of `bytes` bytes owned by c (during init).  Returns
  * its index (>= 0) or -1 on allocation failure. */
-int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
+PL_API int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
 /* Index of the slot named "path.name", or -1. */
-int pl_model_find_slot(const pl_model *m, const char *fullname);
+PL_API int pl_model_find_slot(const pl_model *m, const char *fullname);
 
 /* A new data with every slot allocated and zeroed; NULL on failure. */
-pl_data *pl_data_create(const pl_model *m);
+PL_API pl_data *pl_data_create(const pl_model *m);
 /* A deep copy; NULL on failure. */
-pl_data *pl_data_clone(const pl_data *src);
+PL_API pl_data *pl_data_clone(const pl_data *src);
 /* Copies src into dst (same model); resizes dst's slots. */
-int pl_data_copy(pl_data *dst, const pl_data *src);
-void pl_data_free(pl_data *d);
+PL_API int pl_data_copy(pl_data *dst, const pl_data *src);
+PL_API void pl_data_free(pl_data *d);
 
 static inline void *pl_data_slot(const pl_data *d, int slot)
 {
@@ -68,16 +69,16 @@ static inline size_t pl_data_slot_bytes(const pl_data *d, int slot)
     return d->slots[slot].bytes;
 }
 /* Grows or shrinks a slot (contacts change in number); new bytes are zero. */
-int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
+PL_API int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
 
 /* Resizes a slot to `bytes` and copies src into it (a per-step list such as
  * the contacts of a step); PL_OK or PL_EINTERNAL. */
-int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
+PL_API int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
 
 /* Binary save/restore of a whole state (time, step, every slot by name).
  * Restoring checks that the file belongs to a model with the same slots. */
-int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
-int pl_data_load(pl_data *d, FILE *f, pl_error *err);
+PL_API int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
+PL_API int pl_data_load(pl_data *d, FILE *f, pl_error *err);
 
 #ifdef __cplusplus
 }

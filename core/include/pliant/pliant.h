@@ -5,6 +5,7 @@
 #include "buffer.h"
 #include "component.h"
 #include "error.h"
+#include "export.h"
 #include "field.h"
 #include "log.h"
 #include "mesh.h"
@@ -17,6 +18,7 @@
 #include "sim.h"
 #include "sparse.h"
 #include "timer.h"
+#include "util.h"
 
 #define PLIANT_VERSION_MAJOR 0
 #define PLIANT_VERSION_MINOR 1
