@@ -63,7 +63,7 @@ static int read_ints(vtk_reader *r, long long n, int width, int *out, const char
         }
         return PL_OK;
     }
-    const unsigned char *p;
+    const unsigned char *p = NULL;
     int line = t->line;
     if (take_binary(t, (size_t)n * (size_t)width, what, &p)) return PL_EINPUT;
     for (long long i = 0; i < n; ++i) {

@@ -138,8 +138,7 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
     const pl_device_ops *dops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     s->stream = dops && dops->stream ? (struct CUstream_st *)dops->stream(dev) : NULL;
     if (s->device == DEVICE_CUDA || (s->device == DEVICE_AUTO && dev && s->mode == PL_SPINV_SPARSE)) {
-        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64,
-                                      PL_SPINV_CUDA_OWN, &e);
+        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64, &e);
         if (!s->gpu) return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         if (timers)
             pl_stat_set(timers, "S device memory [MB]",
