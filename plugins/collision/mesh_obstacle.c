@@ -164,7 +164,7 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     mesh_obstacle *o = (mesh_obstacle *)c;
     pl_motion m;
     pl_error e;
-    unsigned groups;
+    unsigned groups = 0;
     if (motion_of(o, &m, &groups, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     double t1 = ctx->data->time + pl_node_dt(c->node), R[9], tr[3];
     pl_motion_pose(&m, t1, R, tr);
