@@ -65,8 +65,9 @@ int pl_registry_default_plugin_dir(char *buf, size_t size)
     return PL_EINPUT;
 }
 
-/* The folders searched, in order, into dirs[0..n-1] (strings owned by the
- * caller's `store`: one malloc'ed copy of PLIANT_PLUGIN_PATH). */
+/* The folders searched, in order: dirs[0..n-1] point into the registry's
+ * folders, env (a copy of PLIANT_PLUGIN_PATH cut at its colons) and own
+ * (libpliant's folder); at most 64. */
 typedef struct search_path {
     const char *dirs[64];
     int n;

@@ -24,7 +24,8 @@
  * bumps the major version, and plugins of another major are refused.
  * A plugin may define PL_ABI_TARGET_MINOR before including the SDK to be
  * built for hosts from that minor on: the headers then leave out what later
- * minors added.
+ * minors added (each addition sits in #if PL_ABI_TARGET_MINOR >= m, a role
+ * table's new members and its raised version too).
  *
  * History: 3 and before: one number.  4.0: the detector role and
  * pl_contacts removed, pl_type registered by pointer (its plugin name is the
