@@ -134,7 +134,12 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
 #ifdef PLIANT_HAVE_CUDA
     pl_spinv_cuda_destroy(s->gpu);
     s->gpu = NULL;
-    pl_component *dev = pl_util_device(c);
+    pl_component *dev = pl_util_device(c), *svc = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    if (s->device == DEVICE_CUDA && svc && !dev)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "device=\"cuda\": the device service %s has no device here (no "
+                                 "GPU answers)",
+                                 svc->name);
     const pl_device_ops *dops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     s->stream = dops && dops->stream ? (struct CUstream_st *)dops->stream(dev) : NULL;
     if (s->device == DEVICE_CUDA || (s->device == DEVICE_AUTO && dev && s->mode == PL_SPINV_SPARSE)) {
