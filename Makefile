@@ -1,8 +1,9 @@
 # Thin wrapper over CMake/CTest.  The two commands of the quick start:
 #   make demo   install what is missing, build, run the default scene
-#   make test   build, run the whole suite, then again under ASan+UBSan (a
-#               build without CUDA), then check that both builds document
-#               the same scene format (`pliant doc`, byte for byte)
+#   make test   build, run the whole suite, then again under ASan+UBSan (that
+#               build has no CUDA and no MPI: the MPI tests run in the first pass),
+#               then check that both builds document the same scene format
+#               (`pliant doc`, byte for byte)
 # make test and CI turn warnings into errors (PLIANT_WERROR=ON); a plain
 # build (make build, cmake) does not, so a newer compiler never stops it.
 BUILD ?= build
@@ -37,7 +38,8 @@ test-fast: configure
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 $(ASAN_BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLIANT_SANITIZE=ON -DPLIANT_CUDA=OFF $(CMAKE_FLAGS)
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLIANT_SANITIZE=ON -DPLIANT_CUDA=OFF \
+	  -DPLIANT_MPI=OFF $(CMAKE_FLAGS)
 
 test-asan: $(ASAN_BUILD)/CMakeCache.txt
 	cmake -S . -B $(ASAN_BUILD) -DPLIANT_WERROR=ON
