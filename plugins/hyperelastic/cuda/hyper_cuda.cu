@@ -18,7 +18,6 @@ struct pl_hyper_cuda {
     int *vptr, *vinc;       /* nverts + 1, 4n */
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
     int *stats;             /* max iterations, missed, first non-finite element */
-    double bytes;
 };
 
 namespace {
@@ -171,7 +170,6 @@ int upload(pl_hyper_cuda *g, T **dst, const T *src, size_t count, pl_error *err)
 {
     size_t bytes = (count > 0 ? count : 1) * sizeof(T);
     HC_CK(cudaMalloc((void **)dst, bytes), "cudaMalloc");
-    g->bytes += (double)bytes;
     if (src && count) HC_CK(cudaMemcpy(*dst, src, count * sizeof(T), cudaMemcpyHostToDevice), "upload");
     return PL_OK;
 }
@@ -263,12 +261,3 @@ extern "C" int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream,
     return PL_OK;
 }
 
-extern "C" int pl_hyper_cuda_count(const pl_hyper_cuda *g)
-{
-    return g ? g->n : 0;
-}
-
-extern "C" double pl_hyper_cuda_device_bytes(const pl_hyper_cuda *g)
-{
-    return g ? g->bytes : 0.0;
-}

@@ -10,7 +10,6 @@ struct pl_stencil_cuda {
     int n, nverts, nnz, keep_norm;
     int *ptr, *vert, *vptr, *vinc;
     double *coef, *w, *rest, *targets, *work;
-    double bytes;
 };
 
 namespace {
@@ -27,7 +26,6 @@ int upload(pl_stencil_cuda *g, T **dst, const T *src, size_t count, pl_error *er
     size_t bytes = (count > 0 ? count : 1) * sizeof(T);
     cudaError_t e = cudaMalloc((void **)dst, bytes);
     if (e != cudaSuccess) return cuda_fail(err, e, "cudaMalloc");
-    g->bytes += (double)bytes;
     if (src && count) {
         e = cudaMemcpy(*dst, src, count * sizeof(T), cudaMemcpyHostToDevice);
         if (e != cudaSuccess) return cuda_fail(err, e, "upload");
@@ -156,7 +154,3 @@ extern "C" int pl_stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2
     return e == cudaSuccess ? PL_OK : cuda_fail(err, e, "stencil kernels");
 }
 
-extern "C" double pl_stencil_cuda_device_bytes(const pl_stencil_cuda *g)
-{
-    return g ? g->bytes : 0.0;
-}
