@@ -7,7 +7,7 @@
 #include <limits.h>
 #include <stdlib.h>
 
-#include "hyper_cuda_math2.cuh"
+#include "local_solve.h" /* the local solve the CPU runs too (compiled as CUDA) */
 
 struct pl_hyper_cuda {
     int n, nverts, material;
@@ -95,11 +95,7 @@ __global__ void __launch_bounds__(kThreads)
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        int it;
-        if constexpr (Dd == 3)
-            it = hcu::local_solve3(material, m, la, what, z, p);
-        else
-            it = hcu::local_solve32(material, m, la, what, z, p);
+        const int it = hm_local_solve(Dd, material, m, la, what, z, p);
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
