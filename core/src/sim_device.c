@@ -62,7 +62,7 @@ void pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg
      * initialises it again; CudaDevice's init is idempotent. */
     pl_diag scratch;
     pl_diag_init(&scratch);
-    pl_ctx ctx = {model, NULL, reg, NULL, &scratch};
+    pl_ctx ctx = {model, NULL, reg, NULL, &scratch, model};
     if (c->type->ops.init) c->type->ops.init(c, &ctx);
     if (scratch.nerrors) {
         pl_log_debug("no implicit device: %s",

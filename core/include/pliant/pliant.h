@@ -6,6 +6,7 @@
 #include "component.h"
 #include "error.h"
 #include "field.h"
+#include "input.h"
 #include "log.h"
 #include "mesh.h"
 #include "model.h"
