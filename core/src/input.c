@@ -78,7 +78,12 @@ int pl_input_declare(pl_model *m, pl_component *c, pl_error *err)
                                 "%s.%s: an input field must be a numeric field that is not an "
                                 "output (type %s)",
                                 c->type->name, f->name, pl_field_type_name(f->type));
-        int slot = pl_model_add_slot(m, c, f->name, 0);
+        /* scalars and vec3 have a fixed size; lists change in length */
+        size_t bytes = f->type == PL_F_DOUBLE ? sizeof(double)
+                       : f->type == PL_F_VEC3 ? 3 * sizeof(double)
+                       : (f->type == PL_F_DOUBLES || f->type == PL_F_INTS) ? 0
+                                                                            : sizeof(int);
+        int slot = pl_model_add_slot(m, c, f->name, bytes);
         if (slot < 0)
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "%s.%s: cannot declare its slot",
                                 c->type->name, f->name);
