@@ -4,7 +4,7 @@
 # packages are present.
 set -eu
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
-zlib1g-dev libsiconos-numerics-dev"
+zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin"
 missing=""
 for p in $PKGS; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "cable_test_util.h"
+#include "test_tmp.h"
 
 static const char *SCENE =
     "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
@@ -148,8 +149,8 @@ START_TEST(saved_and_restored_data_continues_bitwise)
     pl_data *d = pl_sim_data(s), *other = pl_data_clone(d);
     set(s, d, "cable.value", LIFT);
     set(s, other, "cable.value", PRESS);
-    char path[] = "/tmp/pliant_two_data_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "two_data");
     ck_assert_int_ge(fd, 0);
     close(fd);
     pl_error err;

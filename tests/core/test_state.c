@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "test_tmp.h"
 
 static const char *SCENE =
     "<Node name=\"root\" dt=\"0.01\">\n"
@@ -52,8 +53,8 @@ START_TEST(save_and_restore_round_trip_exactly)
 {
     pl_sim *s = load();
     pl_error err;
-    char path[] = "/tmp/pliant_state_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "state");
     ck_assert_int_ge(fd, 0);
     close(fd);
     double a[12], b[12];
@@ -82,8 +83,8 @@ START_TEST(restoring_a_foreign_or_broken_file_fails_cleanly)
 {
     pl_sim *s = load();
     pl_error err;
-    char path[] = "/tmp/pliant_bad_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "bad");
     ck_assert_int_ge(fd, 0);
     ck_assert_int_eq(write(fd, "PLSTATE1garbage", 15), 15);
     close(fd);
@@ -173,8 +174,8 @@ START_TEST(input_fields_live_in_each_data)
     positions(s, b, pb);
     ck_assert(pa[1] < 0.0 && pb[1] > 0.0);
     /* a saved data brings its input along; reset restores the scene's */
-    char path[] = "/tmp/pliant_input_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "input");
     ck_assert_int_ge(fd, 0);
     FILE *f = fdopen(fd, "wb");
     ck_assert_int_eq(pl_data_save(b, f, &err), PL_OK);

@@ -41,10 +41,17 @@
 #include <string.h>
 
 #include "gpu_util.h"
+#include "test_tmp.h"
 #include "pliant/pliant.h"
 
 static FILE *md;
-static const char *STATE = "/tmp/gpu_scenes_state.bin";
+/* The checkpoint of the restore checks, in this run's temporary folder. */
+static const char *state_file(void)
+{
+    static char path[1100];
+    if (!path[0]) snprintf(path, sizeof path, "%s/state.bin", test_tmp_dir());
+    return path;
+}
 
 typedef struct config {
     const char *name;
@@ -90,7 +97,7 @@ static pl_sim *load(const char *path, const config *c)
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000; /* the first frame only */
     opt.overrides = c->cuda ? ov : NULL;
     opt.noverrides = c->cuda ? 3 : 0;
@@ -262,9 +269,9 @@ static void check_scene(const char *path)
     const int contact = has_contact(scene);
     char own[3][64];
     if (!ref || pl_sim_step(ref, run_up(scene), &err) != PL_OK ||
-        pl_sim_save_state(ref, STATE, &err) != PL_OK || (contact && set_converged(ref, own)) ||
-        step_from(ref, STATE, 1, &one) ||
-        step_from(ref, STATE, 10, &ten)) {
+        pl_sim_save_state(ref, state_file(), &err) != PL_OK || (contact && set_converged(ref, own)) ||
+        step_from(ref, state_file(), 1, &one) ||
+        step_from(ref, state_file(), 10, &ten)) {
         snprintf(what, sizeof what, "%s: CPU reference", scene);
         gpu_check_line(md, what, INFINITY, 0.0);
         goto done;
@@ -273,7 +280,7 @@ static void check_scene(const char *path)
     for (int g = 0; g < 3; ++g) {
         pl_sim *sim = load(path, &gpus[g]);
         int f32 = gpus[g].f32;
-        if (!sim || step_from(sim, STATE, 1, &s)) {
+        if (!sim || step_from(sim, state_file(), 1, &s)) {
             snprintf(what, sizeof what, "%s, %s: loads and steps", scene, gpus[g].name);
             gpu_check_line(md, what, INFINITY, 0.0);
             pl_sim_free(sim);
@@ -305,14 +312,14 @@ static void check_scene(const char *path)
                 gpu_check_line(md, what, rel_floor(s.u, one.u, one.nu, 1e-3), 1e-9);
         }
         snap_free(&s);
-        if (step_from(sim, STATE, 10, &s) == 0) {
+        if (step_from(sim, state_file(), 10, &s) == 0) {
             snprintf(what, sizeof what, "%s, 10 frames from the state, %s: positions", scene,
                      gpus[g].name);
             gpu_note_line(md, what, rel(s.x, ten.x, ten.nx));
         }
-        if (g == 1 && step_from(sim, STATE, 5, &s2) == 0) {
+        if (g == 1 && step_from(sim, state_file(), 5, &s2) == 0) {
             snap_free(&s);
-            if (step_from(sim, STATE, 5, &s) == 0) {
+            if (step_from(sim, state_file(), 5, &s) == 0) {
                 size_t diff = 0;
                 for (size_t i = 0; i < s.nx; ++i)
                     diff += memcmp(&s.x[i], &s2.x[i], sizeof(double)) != 0;
@@ -335,7 +342,7 @@ static void check_scene(const char *path)
         snprintf(what, sizeof what, "%s, 1 frame from a saved state, cuda float64, graph, "
                  "delassus=%s: positions", scene, MODES[w]);
         if (!sim || pl_sim_set(sim, "contact.delassus", MODES[w], &err) != PL_OK ||
-            step_from(sim, STATE, 1, &s) != 0)
+            step_from(sim, state_file(), 1, &s) != 0)
             gpu_check_line(md, what, INFINITY, 0.0);
         else
             gpu_check_line(md, what, rel(s.x, one.x, one.nx), 1e-9);
@@ -349,7 +356,8 @@ static void check_scene(const char *path)
         snap_free(&one);
         for (int k = 0; k < 3; ++k)
             if (pl_sim_set(ref, CONVERGED[k][0], own[k], &err) != PL_OK) printf("set: %s\n", err.msg);
-        if (sim && step_from(ref, STATE, 1, &one) == 0 && step_from(sim, STATE, 1, &s) == 0) {
+        if (sim && step_from(ref, state_file(), 1, &one) == 0 &&
+            step_from(sim, state_file(), 1, &s) == 0) {
             snprintf(what, sizeof what,
                      "%s, 1 frame, cuda float64, graph, the scene's contact settings (crIterations "
                      "%s, unconverged): positions",
@@ -505,7 +513,7 @@ static void implicit_device_check(void)
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000;
     opt.device = "auto";
     pl_sim *sim = pl_sim_load_file(path, &opt, &diag), *ref = load(path, &declared),
@@ -530,7 +538,10 @@ static void implicit_device_check(void)
 /* Two data of one model on the device, interleaved, against each alone. */
 static void two_data_check(void)
 {
-    const char *path = "scenes/cable_finger_small.xml", *sa = "/tmp/gpu_two_a", *sb = "/tmp/gpu_two_b";
+    const char *path = "scenes/cable_finger_small.xml";
+    char sa[1100], sb[1100];
+    snprintf(sa, sizeof sa, "%s/two_a.bin", test_tmp_dir());
+    snprintf(sb, sizeof sb, "%s/two_b.bin", test_tmp_dir());
     const config gpu = {"cuda float64, graph", 1, 0, 1, 0};
     pl_sim *sim = load(path, &gpu), *ref = load(path, &gpu);
     pl_data *other = sim ? pl_data_clone(pl_sim_data(sim)) : NULL;
