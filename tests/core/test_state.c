@@ -280,6 +280,44 @@ START_TEST(a_step_callback_drives_the_data_being_stepped)
 }
 END_TEST
 
+/* A type whose input field cannot be one (a string): refused at load. */
+typedef struct bad_input {
+    pl_component base;
+    char *label;
+} bad_input;
+
+static const pl_field BAD_FIELDS[] = {
+    PL_FIELD(bad_input, label, "label", PL_F_STRING, "x", "a text", PL_FIELD_INPUT),
+};
+
+static const pl_type BAD_INPUT = {.abi_version = PL_ABI_VERSION,
+                                  .name = "BadInput",
+                                  .size = sizeof(bad_input),
+                                  .fields = BAD_FIELDS,
+                                  .nfields = 1};
+
+START_TEST(an_input_field_must_be_numeric)
+{
+    pl_registry *r = pl_registry_create();
+    pl_error err;
+    ck_assert_int_eq(pl_register_builtin_components(r, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &BAD_INPUT, &err), PL_OK);
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.registry = r;
+    pl_sim *s = pl_sim_load_string("<Node name=\"root\">\n  <BadInput name=\"bad\"/>\n</Node>",
+                                   "bad.xml", &opt, &diag);
+    ck_assert_ptr_null(s);
+    ck_assert_int_eq(diag.nerrors, 1);
+    ck_assert_ptr_nonnull(strstr(diag.items[0].msg, "BadInput.label: an input field must be"));
+    ck_assert_str_eq(diag.items[0].file, "bad.xml");
+    ck_assert_int_eq(diag.items[0].line, 2);
+    pl_diag_free(&diag);
+    pl_registry_free(r);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("state");
@@ -292,6 +330,7 @@ int main(void)
     tcase_add_test(tc, a_step_callback_drives_the_scene_and_can_stop_it);
     tcase_add_test(tc, input_fields_live_in_each_data);
     tcase_add_test(tc, a_step_callback_drives_the_data_being_stepped);
+    tcase_add_test(tc, an_input_field_must_be_numeric);
     tcase_add_test(tc, workspaces_are_per_data_and_remade_with_the_model);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
