@@ -102,10 +102,18 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "needs a global solver (e.g. <SparseInverseSolver/> with "
                                   "<RequiredPlugin name=\"sparse_inverse\"/>)");
+    const pl_global_solver_ops *ops = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    char path[256];
+    if (s->nconstraints && ops->version >= 4 && ops->approximate && ops->approximate(s->solver))
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "the global solver %s (%s) only approximates A^-1 b, and the "
+                                  "scene's %d constraint component(s) need W = H A^-1 H^T: use "
+                                  "an exact global solver (SparseInverseSolver)",
+                                  pl_component_path(s->solver, path, sizeof path),
+                                  s->solver->type->name, s->nconstraints);
     int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 1);
     if (rc) return rc;
     s->dyn.sys.global_solver = s->solver;
-    const pl_global_solver_ops *ops = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (s->dyn.nfree > 0 && (rc = ops->factor(s->solver, &s->dyn.A_ff, ctx->timers, &err))) {
         pl_diag_add(ctx->diag, &err);
         return rc;
@@ -214,6 +222,10 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
     pl_buffer bb = pl_buffer_host_f64(d->b_free, (size_t)d->nfree, 3);
     pl_buffer xb = pl_buffer_host_f64(d->q_free, (size_t)d->nfree, 3);
+    /* an iterative global solver starts from the current iterate */
+    int from_iterate = gs->version >= 4 && gs->solve_from;
+    for (int f = 0; from_iterate && f < d->nfree; ++f)
+        memcpy(&d->q_free[3 * f], &d->q[3 * d->free_vertex[f]], 3 * sizeof(double));
     for (int it = 0; it < s->iterations; ++it) {
         pl_timer_start(ctx->timers, s->t_local);
         rc = local_step(s, ctx, err);
@@ -227,7 +239,9 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             rc = d->nfree ? cs->iterate(s->contact, ctx, &d->sys, &qk, &bb, &xb, err) : PL_OK;
         } else {
             pl_timer_start(ctx->timers, s->t_global);
-            rc = d->nfree ? gs->solve(s->solver, &bb, &xb, err) : PL_OK;
+            if (d->nfree)
+                rc = from_iterate ? gs->solve_from(s->solver, &bb, &xb, it, err)
+                                  : gs->solve(s->solver, &bb, &xb, err);
             pl_timer_stop(ctx->timers, s->t_global);
         }
         if (rc) return rc;
