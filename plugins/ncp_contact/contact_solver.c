@@ -111,6 +111,13 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
+    PL_FIELD(ncp_contact_solver, stick_start, "stickStart", PL_F_BOOL, "1",
+             "at the first iteration of a step, contacts without force (new ones, all of them "
+             "in the first step from rest) that the free motion closes start from the forces "
+             "that hold them still (normal and friction rows as equalities, one conjugate "
+             "residual solve), projected on the friction cone; 0: they start from 0 and the "
+             "friction grows over the iterations (docs/contact.md)",
+             PL_FIELD_RUNTIME),
 #ifdef PLIANT_HAVE_CUDA
     PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",
                   "where the iterations' constraint work runs: auto (where the animation loop "
@@ -257,6 +264,7 @@ static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, cons
     for (int j = 0; j < s->rows.m; ++j) s->lambda_all[s->rows.full[j]] = s->lambda[j];
     pl_ncpc_statistics(s, t);
     s->active = 1;
+    s->first_iteration = 1;
     return PL_OK;
 }
 
@@ -386,7 +394,15 @@ static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     pl_ncp_step_info info = {0, 0.0, 0.0};
     pl_ncp_line_info li = {1.0, 0.0, 0.0, 0, 0};
     pl_timer_start(t, s->t_solve);
-    st = constraint_solve(s, &info, &li, err);
+    if (s->first_iteration && s->stick_start) {
+        /* contacts without force start from the forces holding them still */
+        pl_ncp_operator op = pl_ncpc_delassus_operator(&s->D);
+        int got = pl_ncpc_stick_start(&s->rows, &op, s->h, s->delta_free, s->lambda, s->cr_iterations, err);
+        st = got < 0 ? -got : s->D.status;
+        if (st != PL_OK && s->D.status != PL_OK) *err = s->D.err;
+    }
+    s->first_iteration = 0;
+    if (st == PL_OK) st = constraint_solve(s, &info, &li, err);
     pl_timer_stop(t, s->t_solve);
     if (st == PL_OK) {
         pl_timer_start(t, s->t_corr);

@@ -28,12 +28,14 @@ typedef struct ncp_contact_solver {
     int correction;           /* 0 jacobian (paper), 1 multiplier */
     int project;
     int line_search;
+    int stick_start;
     /* model: [A^-1]_ii of the factor, until the next reinit */
     double *inv_diag;
     int inv_diag_n, inv_diag_ok;
     int slot;                 /* pl_data slot of the warm-start records */
     /* the step */
     int active;               /* begin ran for the step being taken */
+    int first_iteration;      /* the next iterate is the step's first */
     int nall, nfree;
     double h;
     pl_ncpc_rows rows;
