@@ -5,6 +5,7 @@
 #define PLIANT_LOCAL_GLOBAL_H
 
 #include "dynamics.h"
+#include "force_residual.h"
 
 /* Device copies of the loop's vectors (float64, n x 3 unless said), made
  * through the scene's device service (pl_device_ops); dev == NULL: the loop
@@ -30,6 +31,10 @@ typedef struct local_global_solver {
     pl_component base;
     int iterations;
     double tolerance;
+    double force_tolerance;    /* [N]: stop once the force residual is below it (0: not used) */
+    int compute_residual;      /* field: 0 auto, 1 on, 2 off */
+    int report_residual;       /* the force residual of each step is recorded */
+    int initial_guess;         /* 0 prediction sn, 1 inertia q_t + h v_t */
     double damping;
     int compute_energy;
     pl_link solver_link;
@@ -42,7 +47,8 @@ typedef struct local_global_solver {
     int nconstraints;
     pl_rows rows;
     int ready;
-    int t_local, t_global, t_assembly;
+    int t_local, t_global, t_assembly, t_residual;
+    pl_force_residual res;     /* force_residual.c */
     lg_device gpu;
 } local_global_solver;
 
@@ -61,5 +67,12 @@ int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err);
 int pl_lg_begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err);
 /* The multipliers to the state (constraint forces) and to their emitters. */
 void pl_lg_end_constraints(local_global_solver *s, pl_ctx *ctx);
+/* The force residual [N] at dyn.q with the contact solver's multipliers
+ * (cs NULL: none), and its record in the timings.  local_global_solver.c. */
+int pl_lg_residual(local_global_solver *s, pl_ctx *ctx, const pl_contact_solver_ops *cs,
+                   double *out, pl_error *err);
+void pl_lg_record_residual(local_global_solver *s, pl_ctx *ctx, double residual, int iterations);
+/* dyn.q <- q^0 of the step (initialGuess), before the prescribed vertices. */
+void pl_lg_initial_guess(local_global_solver *s);
 
 #endif

@@ -21,6 +21,8 @@
 #include "solver.h"
 
 static const char *const device_choices[] = {"cpu", "cuda", "auto", NULL};
+static const char *const guess_choices[] = {"prediction", "inertia", NULL};
+static const char *const residual_choices[] = {"auto", "on", "off", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(local_global_solver, iterations, "iterations", PL_F_INT, "5",
@@ -29,6 +31,27 @@ static const pl_field FIELDS[] = {
              "run to tolerance: stop when the largest position change of an iteration is below "
              "tolerance times the bounding-box diagonal (0: always run `iterations`)",
              PL_FIELD_RUNTIME),
+    PL_FIELD(local_global_solver, force_tolerance, "forceTolerance", PL_F_DOUBLE, "0",
+             "run to equilibrium: stop when the force residual max_i |m_i (q_i - s_i) / h^2 - "
+             "f_int,i(q) - (H^T lambda)_i| over free vertices is below it [N] (0: not used; with "
+             "tolerance > 0 too, both must hold); costs one gradient evaluation per iteration; "
+             "the iterations then run on the CPU",
+             PL_FIELD_RUNTIME),
+    PL_FIELD_ENUM(local_global_solver, compute_residual, "computeResidual", residual_choices,
+                  "auto",
+                  "record the force residual [N] at the end of each step (series \"force "
+                  "residual\" and statistic \"force residual max\" in the timings, phase "
+                  "\"Residual\"; one gradient evaluation per step, on the CPU): on, off, or auto "
+                  "(on when the iterations run on the CPU; off on the device, where that host "
+                  "evaluation would cost more than the frame)",
+                  PL_FIELD_RUNTIME),
+    PL_FIELD_ENUM(local_global_solver, initial_guess, "initialGuess", guess_choices, "prediction",
+                  "q^0 of each step's iterations: prediction (sn = q_t + h v_t + h^2 g, the "
+                  "paper's) or inertia (q_t + h v_t: a body held against gravity, e.g. a soft "
+                  "robot at rest, is already in equilibrium there: with forceTolerance 1e-3 N the "
+                  "resting finger of cable_finger_small.xml took 1 iteration a step instead of "
+                  "133, docs/scenes.md)",
+                  PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, damping, "damping", PL_F_DOUBLE, "0",
              "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
@@ -75,9 +98,13 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     pl_error err;
     s->ready = 0;
     pl_lg_device_free(s);
+    pl_force_residual_free(&s->res);
     pl_dynamics_free(&s->dyn);
     if (s->iterations < 1) return pl_component_error(c, ctx, PL_EINPUT, "iterations must be >= 1");
     if (s->tolerance < 0) return pl_component_error(c, ctx, PL_EINPUT, "tolerance must be >= 0");
+    if (!(s->force_tolerance >= 0))
+        return pl_component_error(c, ctx, PL_EINPUT, "forceTolerance must be >= 0 [N], got %g",
+                                  s->force_tolerance);
     free(s->constraints);
     s->constraints = NULL;
     collect cl = {NULL, 0};
@@ -121,7 +148,13 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     s->t_local = pl_timer_id(ctx->timers, "Local");
     s->t_assembly = pl_timer_id(ctx->timers, "Assembly");
     s->t_global = pl_timer_id(ctx->timers, "Global");
+    s->t_residual = pl_timer_id(ctx->timers, "Residual");
     if ((rc = pl_lg_device_setup(s, ctx))) return rc;
+    /* computeResidual: 0 auto, 1 on, 2 off */
+    s->report_residual = s->compute_residual == 1 || (s->compute_residual == 0 && !s->gpu.dev);
+    if ((s->report_residual || s->force_tolerance > 0) &&
+        (rc = pl_force_residual_init(&s->res, &s->dyn, c, ctx)))
+        return rc;
     pl_log_info("LocalGlobalSolver: %d vertices (%d unknowns), %d local terms, %d iterations%s",
                 s->dyn.n, s->dyn.nfree, s->dyn.nterms, s->iterations,
                 s->gpu.dev ? ", on the device" : "");
@@ -133,6 +166,7 @@ static void lg_destroy(pl_component *c)
 {
     local_global_solver *s = (local_global_solver *)c;
     pl_lg_device_free(s);
+    pl_force_residual_free(&s->res);
     pl_dynamics_free(&s->dyn);
     pl_rows_free(&s->rows);
     free(s->constraints);
@@ -192,6 +226,47 @@ static int local_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
     return PL_OK;
 }
 
+/* q^0: the prediction sn (the paper), or q_t + h v_t without gravity's
+ * h^2 g, which is where a supported body at rest already is.  Shared with
+ * the device path (local_global.h). */
+void pl_lg_initial_guess(local_global_solver *s)
+{
+    pl_dynamics *d = &s->dyn;
+    if (s->initial_guess == 0) {
+        memcpy(d->q, d->sn, (size_t)d->n * 3 * sizeof(double));
+        return;
+    }
+    for (int i = 0; i < 3 * d->n; ++i) d->q[i] = d->q_t[i] + d->h * d->v_t[i];
+}
+
+/* The force residual [N] at the current iterate d->q with the contact
+ * solver's current multipliers (cs NULL: no constraint force); timed as
+ * "Residual".  Shared with the device path (local_global.h). */
+int pl_lg_residual(local_global_solver *s, pl_ctx *ctx, const pl_contact_solver_ops *cs,
+                   double *out, pl_error *err)
+{
+    int count = 0;
+    const double *lambda = cs ? cs->multipliers(s->contact, &count) : NULL;
+    if (lambda && count != s->rows.n) lambda = NULL;
+    pl_timer_start(ctx->timers, s->t_residual);
+    int rc = pl_force_residual_eval(&s->res, &s->dyn, ctx->data, s->dyn.q, lambda ? &s->rows : NULL,
+                                    lambda, out, err);
+    pl_timer_stop(ctx->timers, s->t_residual);
+    return rc;
+}
+
+/* The step's residual into the timings ("force residual" per step, its
+ * maximum) and, when iterations stop on a tolerance, the iterations done. */
+void pl_lg_record_residual(local_global_solver *s, pl_ctx *ctx, double residual, int iterations)
+{
+    if (!isnan(residual)) {
+        pl_series_push(ctx->timers, "force residual", residual);
+        pl_stat_max(ctx->timers, "force residual max", residual);
+    }
+    if (s->tolerance > 0 || s->force_tolerance > 0)
+        pl_series_push(ctx->timers, "iterations", iterations);
+}
+
 static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
     local_global_solver *s = (local_global_solver *)c;
@@ -206,7 +281,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     pl_dynamics_gather(d, ctx->data);
     pl_dynamics_predict(d);
-    memcpy(d->q, d->sn, (size_t)d->n * 3 * sizeof(double));
+    pl_lg_initial_guess(s);
     int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
     if (rc) return rc;
     int nrows = 0;
@@ -226,6 +301,8 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     int from_iterate = gs->version >= 4 && gs->solve_from;
     for (int f = 0; from_iterate && f < d->nfree; ++f)
         memcpy(&d->q_free[3 * f], &d->q[3 * d->free_vertex[f]], 3 * sizeof(double));
+    int done = 0;
+    double residual = NAN;
     for (int it = 0; it < s->iterations; ++it) {
         pl_timer_start(ctx->timers, s->t_local);
         rc = local_step(s, ctx, err);
@@ -260,8 +337,17 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             }
         if (s->compute_energy)
             pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
-        if (s->tolerance > 0 && change < s->tolerance * scale) break;
+        done = it + 1;
+        residual = NAN;
+        if (s->force_tolerance > 0 && (rc = pl_lg_residual(s, ctx, cs, &residual, err))) return rc;
+        if (!(s->tolerance > 0 || s->force_tolerance > 0)) continue;
+        if ((s->tolerance <= 0 || change < s->tolerance * scale) &&
+            (s->force_tolerance <= 0 || residual < s->force_tolerance))
+            break;
     }
+    if (s->report_residual && isnan(residual) && (rc = pl_lg_residual(s, ctx, cs, &residual, err)))
+        return rc;
+    pl_lg_record_residual(s, ctx, residual, done);
     if (cs)
         pl_lg_end_constraints(s, ctx);
     else if (s->nconstraints)
