@@ -32,8 +32,9 @@ static const pl_field FIELDS[] = {
              "tolerance times the bounding-box diagonal (0: always run `iterations`)",
              PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, force_tolerance, "forceTolerance", PL_F_DOUBLE, "0",
-             "run to equilibrium: stop when the force residual max_i |m_i (q_i - s_i) / h^2 - "
-             "f_int,i(q) - (H^T lambda)_i| over free vertices is below it [N] (0: not used; with "
+             "run to equilibrium: stop when the force residual (the largest norm over free "
+             "vertices of m_i (q_i - s_i) / h^2 - f_int,i(q) - (H^T lambda)_i) is below it [N] "
+             "(0: not used; with "
              "tolerance > 0 too, both must hold); costs one gradient evaluation per iteration; "
              "the iterations then run on the CPU",
              PL_FIELD_RUNTIME),
