@@ -397,7 +397,9 @@ static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     if (s->first_iteration && s->stick_start) {
         /* contacts without force start from the forces holding them still */
         pl_ncp_operator op = pl_ncpc_delassus_operator(&s->D);
-        int got = pl_ncpc_stick_start(&s->rows, &op, s->h, s->delta_free, s->lambda, s->cr_iterations, err);
+        s->D.status = PL_OK;
+        int got = pl_ncpc_stick_start(&s->rows, &op, s->h, s->delta_free, s->lambda,
+                                      s->cr_iterations, err);
         st = got < 0 ? -got : s->D.status;
         if (st != PL_OK && s->D.status != PL_OK) *err = s->D.err;
     }
