@@ -10,6 +10,8 @@
 #include "solver/solver.h"
 #include "state/mechanical_object.h"
 
+extern const pl_type pl_work_limits_type; /* core/src/work_limits.c */
+
 static const pl_type *const BUILTIN[] = {
     &pl_mechanical_object_type,
     &pl_uniform_mass_type,
@@ -26,7 +28,9 @@ static const pl_type *const BUILTIN[] = {
     &pl_write_state_type,
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
+    &pl_jacobi_solver_type,
     &pl_keyframes_type,
+    &pl_work_limits_type,
 };
 
 int pl_register_builtin_components(pl_registry *r, pl_error *err)

@@ -1,11 +1,19 @@
-/* model.c - state slots of the model, and pl_data: create, copy, save, load. */
+/* model.c - state slots of the model, and pl_data: create, copy, save,
+ * load, and the per-component workspaces. */
 #include "pliant/model.h"
+#include "model_internal.h"
+#include "walk.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes)
+#include "pliant/checked.h"
+
+static int add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes,
+                    size_t elem_size, size_t max_elems)
 {
     char path[192], full[256];
     if (m->nslots == m->cap_slots) {
@@ -17,12 +25,58 @@ int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t
     }
     snprintf(full, sizeof full, "%s.%s", owner ? pl_component_path(owner, path, sizeof path) : "",
              name);
+    if (pl_model_find_slot(m, full) >= 0) return -1; /* two slots of one name */
     pl_slot_info *s = &m->slots[m->nslots];
+    memset(s, 0, sizeof *s);
     if (!(s->name = strdup(full))) return -1;
     s->owner = owner;
     s->initial_bytes = bytes;
+    s->elem_size = elem_size;
+    s->max_elems = max_elems;
+    s->field = NULL;
     return m->nslots++;
 }
+
+int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes)
+{
+    return add_slot(m, owner, name, bytes, 0, 0);
+}
+
+int pl_model_add_var_slot(pl_model *m, pl_component *owner, const char *name, size_t elem_size,
+                          size_t max_elems)
+{
+    size_t most;
+    if (elem_size == 0 || pl_mul_size(elem_size, max_elems, &most)) return -1;
+    return add_slot(m, owner, name, 0, elem_size, max_elems);
+}
+
+void pl_model_set_slot_check(pl_model *m, int slot, pl_slot_check check)
+{
+    if (slot >= 0 && slot < m->nslots) m->slots[slot].check = check;
+}
+
+int pl_slot_check_finite(const pl_component *owner, const void *data, size_t bytes,
+                         pl_error *err)
+{
+    const double *v = data;
+    if (bytes % sizeof(double))
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "%zu bytes are not whole numbers",
+                            bytes);
+    for (size_t i = 0; i < bytes / sizeof(double); ++i)
+        if (!isfinite(v[i]))
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "value %zu is %g: expected a "
+                                "finite number", i, v[i]);
+    return PL_OK;
+}
+
+/* Whether `bytes` is a size slot k may have. */
+static int size_allowed(const pl_slot_info *s, size_t bytes)
+{
+    if (!s->elem_size) return bytes == s->initial_bytes;
+    return bytes % s->elem_size == 0 && bytes / s->elem_size <= s->max_elems;
+}
+
+static int resize(pl_data *d, int slot, size_t bytes);
 
 int pl_model_find_slot(const pl_model *m, const char *fullname)
 {
@@ -43,7 +97,8 @@ pl_data *pl_data_create(const pl_model *m)
         return NULL;
     }
     for (int k = 0; k < m->nslots; ++k)
-        if (pl_data_resize_slot(d, k, m->slots[k].initial_bytes) != 0) {
+        if (resize(d, k, m->slots[k].initial_bytes) != 0 ||
+            (m->slots[k].field && pl_input_fill(d, k) != PL_OK)) {
             pl_data_free(d);
             return NULL;
         }
@@ -53,12 +108,74 @@ pl_data *pl_data_create(const pl_model *m)
 void pl_data_free(pl_data *d)
 {
     if (!d) return;
+    pl_data_free_workspaces(d);
+    free(d->workspaces);
     for (int k = 0; k < d->nslots; ++k) free(d->slots[k].ptr);
     free(d->slots);
     free(d);
 }
 
-int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
+/* ---- workspaces ---------------------------------------------------------- */
+
+static int by_address(const void *a, const void *b)
+{
+    uintptr_t x = (uintptr_t) * (pl_component *const *)a, y = (uintptr_t) * (pl_component *const *)b;
+    return (x > y) - (x < y);
+}
+
+static int collect(pl_component *c, void *user)
+{
+    pl_model *m = user;
+    pl_component **all = realloc(m->components, (size_t)(m->ncomponents + 1) * sizeof *all);
+    if (!all) return 1;
+    m->components = all;
+    m->components[m->ncomponents++] = c;
+    return 0;
+}
+
+int pl_model_index_components(pl_model *m)
+{
+    free(m->components);
+    m->components = NULL;
+    m->ncomponents = 0;
+    if (m->root && walk_pre(m->root, collect, m)) return PL_EINTERNAL;
+    if (m->ncomponents)
+        qsort(m->components, (size_t)m->ncomponents, sizeof *m->components, by_address);
+    return PL_OK;
+}
+
+void pl_data_free_workspaces(pl_data *d)
+{
+    const pl_model *m = d->model;
+    if (!d->workspaces) return;
+    for (int k = 0; k < m->ncomponents; ++k) {
+        void *ws = d->workspaces[k];
+        const pl_component *c = m->components[k];
+        if (!ws) continue;
+        if (c->type->ops.workspace_free) c->type->ops.workspace_free(c, ws);
+        free(ws);
+        d->workspaces[k] = NULL;
+    }
+}
+
+void *pl_data_workspace(pl_data *d, const pl_component *c)
+{
+    const pl_model *m = d->model;
+    if (!c || !c->type->workspace_size || !m->ncomponents) return NULL;
+    pl_component *const *hit =
+        bsearch(&c, m->components, (size_t)m->ncomponents, sizeof *m->components, by_address);
+    if (!hit) return NULL;
+    if (d->workspaces && d->ws_generation != m->generation) pl_data_free_workspaces(d);
+    if (!d->workspaces && !(d->workspaces = calloc((size_t)m->ncomponents, sizeof(void *))))
+        return NULL;
+    d->ws_generation = m->generation;
+    size_t k = (size_t)(hit - m->components);
+    if (!d->workspaces[k]) d->workspaces[k] = calloc(1, c->type->workspace_size);
+    return d->workspaces[k];
+}
+
+/* Resizes without asking whether the size is allowed. */
+static int resize(pl_data *d, int slot, size_t bytes)
 {
     pl_slot *s = &d->slots[slot];
     if (bytes == s->bytes) return 0;
@@ -69,6 +186,12 @@ int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
     s->ptr = p;
     s->bytes = bytes;
     return 0;
+}
+
+int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
+{
+    if (slot < d->model->nslots && !size_allowed(&d->model->slots[slot], bytes)) return -1;
+    return resize(d, slot, bytes);
 }
 
 int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes)
@@ -82,7 +205,7 @@ int pl_data_copy(pl_data *dst, const pl_data *src)
 {
     if (dst->nslots != src->nslots) return -1;
     for (int k = 0; k < src->nslots; ++k) {
-        if (pl_data_resize_slot(dst, k, src->slots[k].bytes) != 0) return -1;
+        if (resize(dst, k, src->slots[k].bytes) != 0) return -1;
         if (src->slots[k].bytes) memcpy(dst->slots[k].ptr, src->slots[k].ptr, src->slots[k].bytes);
     }
     dst->time = src->time;
@@ -125,9 +248,69 @@ fail:
     return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "cannot write the state file");
 }
 
+/* Reads a slot's `bytes` bytes into tmp's slot k.  A fixed slot has been
+ * checked to have its declared size; a variable one grows chunk by chunk
+ * as the bytes arrive, so a file that announces 384 GiB and holds 10 bytes
+ * costs 1 MiB, not a 384 GiB allocation. */
+static int read_slot(pl_data *tmp, int k, uint64_t bytes, FILE *f)
+{
+    const size_t chunk = (size_t)1 << 20;
+    size_t got = 0;
+    while (got < bytes) {
+        size_t n = bytes - got < chunk ? (size_t)(bytes - got) : chunk;
+        if (resize(tmp, k, got + n) != 0 || fread((char *)tmp->slots[k].ptr + got, 1, n, f) != n)
+            return -1;
+        got += n;
+    }
+    return resize(tmp, k, (size_t)bytes);
+}
+
+static int load_slots(pl_data *tmp, FILE *f, pl_error *err)
+{
+    char name[512];
+    const pl_model *m = tmp->model;
+    for (int k = 0; k < tmp->nslots; ++k) {
+        const pl_slot_info *s = &m->slots[k];
+        uint64_t len, bytes;
+        if (fread(&len, sizeof len, 1, f) != 1 || len >= sizeof name ||
+            fread(name, 1, len, f) != len || fread(&bytes, sizeof bytes, 1, f) != 1)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated or corrupt state file "
+                                "(in the header of slot %d)", k);
+        name[len] = '\0';
+        if (strcmp(name, s->name) != 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "the state file's slot %d is '%s', this scene's is '%s'", k,
+                                name, s->name);
+        /* the size is checked against the declaration before anything is allocated */
+        if (bytes > SIZE_MAX || !size_allowed(s, (size_t)bytes)) {
+            if (!s->elem_size)
+                return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                    "slot '%s' holds %llu bytes in the state file; this scene's "
+                                    "has %zu: the file belongs to another scene or is corrupt",
+                                    s->name, (unsigned long long)bytes, s->initial_bytes);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "slot '%s' holds %llu bytes in the state file: expected a "
+                                "multiple of %zu, at most %zu elements",
+                                s->name, (unsigned long long)bytes, s->elem_size, s->max_elems);
+        }
+        if (read_slot(tmp, k, bytes, f) != 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated state file: slot '%s' "
+                                "announces %llu bytes", s->name, (unsigned long long)bytes);
+        if (s->check && s->check(s->owner, tmp->slots[k].ptr, tmp->slots[k].bytes, err)) {
+            char msg[sizeof err->msg];
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "slot '%s': %s", s->name, msg);
+        }
+    }
+    if (fgetc(f) != EOF)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file goes on after its last slot: corrupt");
+    return PL_OK;
+}
+
 int pl_data_load(pl_data *d, FILE *f, pl_error *err)
 {
-    char magic[8], name[512];
+    char magic[8];
     uint64_t n;
     int64_t step;
     double time;
@@ -136,6 +319,12 @@ int pl_data_load(pl_data *d, FILE *f, pl_error *err)
     if (fread(&time, sizeof time, 1, f) != 1 || fread(&step, sizeof step, 1, f) != 1 ||
         fread(&n, sizeof n, 1, f) != 1)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated state file");
+    if (!isfinite(time))
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file's time is %g: expected a finite time [s]", time);
+    if (step < 0 || (uint64_t)step > (uint64_t)LONG_MAX)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file's step count %lld is negative", (long long)step);
     if (n != (uint64_t)d->nslots)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "the state file has %llu slots, this scene has %d: it belongs to "
@@ -144,28 +333,13 @@ int pl_data_load(pl_data *d, FILE *f, pl_error *err)
     /* read into a scratch copy first so a bad file leaves d untouched */
     pl_data *tmp = pl_data_create(d->model);
     if (!tmp) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    for (int k = 0; k < d->nslots; ++k) {
-        uint64_t len, bytes;
-        if (fread(&len, sizeof len, 1, f) != 1 || len >= sizeof name ||
-            fread(name, 1, len, f) != len || fread(&bytes, sizeof bytes, 1, f) != 1)
-            goto truncated;
-        name[len] = '\0';
-        if (strcmp(name, d->model->slots[k].name) != 0) {
-            pl_data_free(tmp);
-            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
-                                "the state file's slot %d is '%s', this scene's is '%s'", k,
-                                name, d->model->slots[k].name);
-        }
-        if (bytes > ((uint64_t)1 << 40) || pl_data_resize_slot(tmp, k, (size_t)bytes) != 0 ||
-            (bytes && fread(tmp->slots[k].ptr, 1, (size_t)bytes, f) != bytes))
-            goto truncated;
+    int rc = load_slots(tmp, f, err);
+    if (rc == PL_OK) {
+        tmp->time = time;
+        tmp->step = (long)step;
+        if (pl_data_copy(d, tmp) != 0)
+            rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     }
-    tmp->time = time;
-    tmp->step = (long)step;
-    pl_data_copy(d, tmp);
     pl_data_free(tmp);
-    return PL_OK;
-truncated:
-    pl_data_free(tmp);
-    return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated or corrupt state file");
+    return rc;
 }

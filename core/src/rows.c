@@ -53,7 +53,7 @@ static int grow_rows(pl_rows *r)
     return 0;
 }
 
-int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner)
+int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
 {
     if (r->n == r->cap && grow_rows(r) != 0) return -1;
     int k = r->n++;
@@ -111,29 +111,4 @@ void pl_rows_add_transpose(const pl_rows *r, const double *lambda, double alpha,
             x[2] += l * c[2];
         }
     }
-}
-
-void pl_contacts_init(pl_contacts *c)
-{
-    memset(c, 0, sizeof *c);
-}
-
-void pl_contacts_free(pl_contacts *c)
-{
-    free(c->items);
-    memset(c, 0, sizeof *c);
-}
-
-pl_contact *pl_contacts_push(pl_contacts *c)
-{
-    if (c->n == c->cap) {
-        int cap = c->cap ? 2 * c->cap : 64;
-        pl_contact *items = realloc(c->items, (size_t)cap * sizeof *items);
-        if (!items) return NULL;
-        c->items = items;
-        c->cap = cap;
-    }
-    pl_contact *k = &c->items[c->n++];
-    memset(k, 0, sizeof *k);
-    return k;
 }

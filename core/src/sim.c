@@ -3,6 +3,8 @@
 #include "pliant/sim.h"
 #include "pliant/log.h"
 #include "pliant/roles.h"
+#include "model_internal.h"
+#include "pliant/work_limits.h"
 #include "scene.h"
 #include "walk.h"
 
@@ -21,14 +23,24 @@ struct pl_sim {
     char *out_dir;
     int export_every;
     pl_component *loop;      /* the animation loop, or NULL */
+    pl_work_limits ceiling;  /* pl_sim_options.max_limits, model.ceiling points here */
     pl_sim_callback callback;
     void *callback_user;
+    pl_data *stepping;       /* the data whose step runs the callback, or NULL */
     int frame_timer;
 };
 
+/* A step's context: the model read-only. */
 static pl_ctx make_ctx(pl_sim *s, pl_data *d, pl_diag *diag)
 {
-    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag};
+    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag, NULL};
+    return ctx;
+}
+
+/* The context of init, bind and reinit: the model may be built. */
+static pl_ctx build_ctx(pl_sim *s, pl_data *d, pl_diag *diag)
+{
+    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag, &s->model};
     return ctx;
 }
 
@@ -52,17 +64,41 @@ static int resolve_links(pl_component *c, void *user)
     return 0;
 }
 
+/* A load-time callback's status is the plugin's word: a failure stops the
+ * load even when the callback recorded nothing (then a generic error names
+ * the component), and a recorded error stops it even with PL_OK. */
+static int honour(pl_component *c, pl_ctx *ctx, const char *what, int rc, int errors_before)
+{
+    if (rc == PL_OK) return 0;
+    if (ctx->diag->nerrors == errors_before)
+        pl_component_error(c, ctx, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                           "%s failed (status %d) without saying why", what, rc);
+    return 0; /* go on: the user sees every component's errors at once */
+}
+
 static int call_init(pl_component *c, void *user)
 {
-    return c->type->ops.init ? (c->type->ops.init(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    pl_error err;
+    /* the slots of its input fields first: init may look them up */
+    if (pl_input_declare(ctx->build, c, &err) != PL_OK) {
+        pl_component_error(c, ctx, err.code, "%s", err.msg);
+        return 0;
+    }
+    int before = ctx->diag->nerrors;
+    return c->type->ops.init ? honour(c, ctx, "init", c->type->ops.init(c, ctx), before) : 0;
 }
 static int call_bind(pl_component *c, void *user)
 {
-    return c->type->ops.bind ? (c->type->ops.bind(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.bind ? honour(c, ctx, "bind", c->type->ops.bind(c, ctx), before) : 0;
 }
 static int call_reinit(pl_component *c, void *user)
 {
-    return c->type->ops.reinit ? (c->type->ops.reinit(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.reinit ? honour(c, ctx, "reinit", c->type->ops.reinit(c, ctx), before) : 0;
 }
 
 static int apply_override(pl_sim *s, const char *text, pl_diag *diag)
@@ -93,8 +129,10 @@ static int find_loop(pl_component *c, void *user)
 static int load_tree(pl_sim *s, pl_diag *diag)
 {
     pl_node *root = s->model.root;
-    pl_ctx ctx = make_ctx(s, NULL, diag);
+    pl_ctx ctx = build_ctx(s, NULL, diag);
     if (diag->nerrors) return PL_EINPUT;
+    if (pl_model_index_components(&s->model) != PL_OK)
+        return pl_diag_error(diag, PL_EINTERNAL, s->model.file, 0, NULL, "out of memory");
     /* links first: init may follow them to components above it in the scene */
     walk_pre(root, resolve_links, &ctx);
     if (diag->nerrors) return pl_diag_status(diag);
@@ -106,6 +144,7 @@ static int load_tree(pl_sim *s, pl_diag *diag)
     walk_pre(root, call_bind, &ctx);
     if (diag->nerrors) return pl_diag_status(diag);
     walk_post(root, call_reinit, &ctx);
+    s->model.generation++;
     if (diag->nerrors) return pl_diag_status(diag);
     if (pl_node_count_role(root, PL_ROLE_ANIMATION_LOOP) > 1)
         return pl_diag_error(diag, PL_EINPUT, s->model.file, 0, NULL,
@@ -119,6 +158,24 @@ static int load_tree(pl_sim *s, pl_diag *diag)
 }
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err);
+
+/* A time step is the one number of a node that scales everything (dt^2 in
+ * every update): above the cap, positions overflow to NaN a step later, so
+ * it is refused here as bad input, with the node's file:line. */
+static void check_time_steps(const pl_model *m, const pl_node *n, pl_diag *diag)
+{
+    if (n->has_dt) {
+        pl_work_limits lim;
+        pl_work_limits_of(m, n, &lim);
+        char np[160];
+        if (!(n->dt <= lim.max_dt))
+            pl_diag_error(diag, PL_EINPUT, n->file, n->line, pl_node_path(n, np, sizeof np),
+                          "dt = %g s is above the cap of %g s (it guards against steps that "
+                          "overflow; a scene that needs more sets <WorkLimits maxTimeStep=\"...\"/>)",
+                          n->dt, lim.max_dt);
+    }
+    for (int k = 0; k < n->nchildren; ++k) check_time_steps(m, n->children[k], diag);
+}
 
 static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_options *opt,
                     pl_diag *diag)
@@ -139,11 +196,17 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
         }
     }
     if (opt && opt->out_dir && !(s->out_dir = strdup(opt->out_dir))) goto fail;
+    if (opt && opt->max_limits) {
+        s->ceiling = *opt->max_limits;
+        s->model.ceiling = &s->ceiling;
+    }
     s->export_every = opt ? opt->export_every : 0;
-    s->model.root = pl_scene_build(xml, len, file, s->registry, diag);
+    int flags = opt && opt->allow_plugin_path ? PL_SCENE_ALLOW_PLUGIN_PATH : 0;
+    s->model.root = pl_scene_build(xml, len, file, s->registry, flags, diag);
     if (!s->model.root || diag->nerrors) goto fail;
     pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
+    check_time_steps(&s->model, s->model.root, diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
     if (load_tree(s, diag) != PL_OK) goto fail;
@@ -198,11 +261,13 @@ void pl_sim_free(pl_sim *s)
 {
     if (!s) return;
     if (s->data && s->model.root) pl_sim_finish(s, NULL);
+    /* the data first: their workspaces are freed by the components */
+    pl_data_free(s->model.initial);
+    pl_data_free(s->data);
     pl_scene_free(s->model.root);
     for (int k = 0; k < s->model.nslots; ++k) free(s->model.slots[k].name);
     free(s->model.slots);
-    pl_data_free(s->model.initial);
-    pl_data_free(s->data);
+    free(s->model.components);
     free(s->model.file);
     if (s->own_registry) pl_registry_free(s->registry);
     pl_timers_free(s->timers);
@@ -221,34 +286,46 @@ typedef struct step_walk {
     int finish;
 } step_walk;
 
+/* A step-time callback's status: a failure without a message in err gets
+ * a generic one naming the component. */
+static int step_status(step_walk *w, pl_component *c, const char *what, int rc)
+{
+    if (rc != PL_OK && w->err->code == PL_OK)
+        pl_component_fail(c, w->err, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                          "%s failed (status %d) without saying why", what, rc);
+    return (w->rc = rc == PL_OK ? PL_OK : w->err->code);
+}
+
 static int call_begin(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.begin_step) return 0;
-    return (w->rc = c->type->ops.begin_step(c, &w->ctx, w->err));
+    return step_status(w, c, "begin_step", c->type->ops.begin_step(c, &w->ctx, w->err));
 }
 static int call_end(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.end_step) return 0;
-    return (w->rc = c->type->ops.end_step(c, &w->ctx, w->err));
+    return step_status(w, c, "end_step", c->type->ops.end_step(c, &w->ctx, w->err));
 }
 static int call_controller(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_controller_ops *ops = pl_component_role(c, PL_ROLE_CONTROLLER);
-    return ops->apply ? (w->rc = ops->apply(c, &w->ctx, w->t, w->err)) : 0;
+    return ops->apply ? step_status(w, c, "apply", ops->apply(c, &w->ctx, w->t, w->err)) : 0;
 }
 static int call_exporter(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_exporter_ops *ops = pl_component_role(c, PL_ROLE_EXPORTER);
-    if (w->finish) return ops->finish ? (w->rc = ops->finish(c, &w->ctx, w->info, w->err)) : 0;
-    return ops->write ? (w->rc = ops->write(c, &w->ctx, w->info, w->err)) : 0;
+    if (w->finish)
+        return ops->finish ? step_status(w, c, "finish", ops->finish(c, &w->ctx, w->info, w->err)) : 0;
+    return ops->write ? step_status(w, c, "write", ops->write(c, &w->ctx, w->info, w->err)) : 0;
 }
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err)
 {
+    pl_error_clear(err);
     pl_export_info info = {s->out_dir, s->export_every, d->step, d->time};
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, &info, finish};
     pl_node_visit_role(s->model.root, PL_ROLE_EXPORTER, call_exporter, &w);
@@ -259,15 +336,19 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
 {
     double dt = pl_node_dt(s->model.root);
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, NULL, 0};
+    pl_error_clear(err);
     pl_timer_start(s->timers, s->frame_timer);
-    if (s->callback && s->callback(s, d->time, s->callback_user) != 0)
+    s->stepping = d; /* pl_sim_set/get in the callback address this data */
+    int cb = s->callback ? s->callback(s, d->time, s->callback_user) : 0;
+    s->stepping = NULL;
+    if (cb != 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "callback",
                             "the embedding program's step callback failed at t = %g s", d->time);
     if (walk_pre(s->model.root, call_begin, &w)) return w.rc;
     if (pl_node_visit_role(s->model.root, PL_ROLE_CONTROLLER, call_controller, &w)) return w.rc;
     if (s->loop) {
         const pl_animation_loop_ops *ops = pl_component_role(s->loop, PL_ROLE_ANIMATION_LOOP);
-        int rc = ops->step(s->loop, &w.ctx, dt, err);
+        int rc = step_status(&w, s->loop, "step", ops->step(s->loop, &w.ctx, dt, err));
         if (rc) return rc;
     }
     d->time += dt;
@@ -275,7 +356,8 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
     if (walk_pre(s->model.root, call_end, &w)) return w.rc;
     pl_timer_stop(s->timers, s->frame_timer);
     pl_timers_end_frame(s->timers);
-    return export_all(s, d, 0, err);
+    /* exporters write the sim's own data: another data would mix its frames in */
+    return d == s->data ? export_all(s, d, 0, err) : PL_OK;
 }
 
 int pl_sim_step_data(pl_sim *s, pl_data *d, int nsteps, pl_error *err)
@@ -305,25 +387,44 @@ int pl_sim_finish(pl_sim *s, pl_error *err)
 
 /* ---- access ------------------------------------------------------------- */
 
-int pl_sim_set(pl_sim *s, const char *path, const char *value, pl_error *err)
+int pl_sim_set_data(pl_sim *s, pl_data *d, const char *path, const char *value, pl_error *err)
 {
     int runtime = 0;
-    int rc = pl_walk_set_runtime(s->model.root, path, value, &runtime, err);
+    pl_error local;
+    if (!err) err = &local;
+    if (d && d->model != &s->model)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "this state belongs to another model");
+    int rc = pl_walk_set_runtime(s->model.root, d, path, value, &runtime, err);
     if (rc != PL_OK || runtime) return rc;
-    /* a model field changed: rebuild derived data (weights, factors) */
+    /* a model field changed: rebuild derived data (weights, factors); every
+     * data's workspaces are remade when next used */
     pl_diag diag;
     pl_diag_init(&diag);
-    pl_ctx ctx = make_ctx(s, s->data, &diag);
+    pl_ctx ctx = build_ctx(s, s->data, &diag);
     walk_post(s->model.root, call_reinit, &ctx);
+    s->model.generation++;
     rc = pl_diag_status(&diag);
     if (rc != PL_OK && diag.count) *err = diag.items[0];
     pl_diag_free(&diag);
     return rc;
 }
 
+int pl_sim_set(pl_sim *s, const char *path, const char *value, pl_error *err)
+{
+    return pl_sim_set_data(s, s->stepping ? s->stepping : s->data, path, value, err);
+}
+
+int pl_sim_get_data(const pl_sim *s, const pl_data *d, const char *path, char *buf, size_t size,
+                    pl_error *err)
+{
+    if (d->model != &s->model)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "this state belongs to another model");
+    return pl_walk_get(s->model.root, d, path, buf, size, err);
+}
+
 int pl_sim_get(const pl_sim *s, const char *path, char *buf, size_t size, pl_error *err)
 {
-    return pl_walk_get(s->model.root, s->data, path, buf, size, err);
+    return pl_walk_get(s->model.root, s->stepping ? s->stepping : s->data, path, buf, size, err);
 }
 
 pl_component *pl_sim_component(const pl_sim *s, const char *path)

@@ -9,7 +9,9 @@
  * that path at contactDistance, so that fast bodies are stopped at the
  * surface instead of tunnelling.  Contacts are recorded in the pl_data slot
  * "contacts" and receive their forces after the step. */
+#include <limits.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,11 +85,6 @@ static int find_models(coll_obstacle *o, pl_ctx *ctx)
     }
     o->models = l.items;
     o->nmodels = l.n;
-    free(o->geo);
-    free(o->reach);
-    o->geo = calloc((size_t)(l.n ? l.n : 1), sizeof *o->geo);
-    o->reach = calloc((size_t)(l.n ? l.n : 1), sizeof *o->reach);
-    if (!o->geo || !o->reach) return pl_component_error(&o->base, ctx, PL_EINTERNAL, "out of memory");
     if (o->nmodels == 0)
         pl_component_warn(&o->base, ctx,
                           "the scene has no collision model (e.g. <SurfaceCollisionModel/> next "
@@ -95,12 +92,34 @@ static int find_models(coll_obstacle *o, pl_ctx *ctx)
     return PL_OK;
 }
 
+/* Restored contacts (a saved state is input): models in range, finite values. */
+_Static_assert(offsetof(pl_obstacle_contact, point) == 0, "the doubles come first");
+static int check_restored(const pl_component *c, const void *data, size_t bytes, pl_error *err)
+{
+    const coll_obstacle *o = (const coll_obstacle *)c;
+    const pl_obstacle_contact *r = data;
+    for (size_t k = 0; k < bytes / sizeof *r; ++k) {
+        if (r[k].model < 0 || r[k].model >= o->nmodels || r[k].vertex < 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "contact %zu names model %d, "
+                                "vertex %d: expected a model in 0..%d", k, r[k].model,
+                                r[k].vertex, o->nmodels - 1);
+        const double *v = (const double *)(const void *)&r[k]; /* point .. force */
+        for (size_t i = 0; i < offsetof(pl_obstacle_contact, vertex) / sizeof(double); ++i)
+            if (!isfinite(v[i]))
+                return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "contact %zu holds a "
+                                    "non-finite value", k);
+    }
+    return PL_OK;
+}
+
 int coll_obstacle_init(pl_component *c, pl_ctx *ctx, coll_shape_fn make_shape)
 {
     coll_obstacle *o = (coll_obstacle *)c;
     o->make_shape = make_shape;
-    o->slot = pl_model_add_slot(ctx->model, c, "contacts", 0);
+    o->slot = pl_model_add_var_slot(ctx->build, c, "contacts", sizeof(pl_obstacle_contact),
+                                    INT_MAX);
     if (o->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->build, o->slot, check_restored);
     pl_shape s;
     pl_motion m;
     pl_error err;
@@ -129,16 +148,32 @@ void coll_obstacle_destroy(pl_component *c)
 {
     coll_obstacle *o = (coll_obstacle *)c;
     free(o->models);
-    free(o->work);
-    free(o->geo);
-    free(o->reach);
     o->models = NULL;
-    o->work = NULL;
-    o->geo = NULL;
-    o->reach = NULL;
 }
 
-static pl_obstacle_contact *push_record(coll_obstacle *o)
+void coll_obstacle_workspace_free(const pl_component *c, void *ws)
+{
+    (void)c;
+    coll_obstacle_ws *w = ws;
+    free(w->work);
+    free(w->geo);
+    free(w->reach);
+}
+
+/* The workspace's per-model arrays, sized for the scene's models. */
+static int fit_models(const coll_obstacle *o, coll_obstacle_ws *ws)
+{
+    if (ws->geo && ws->nmodels == o->nmodels) return PL_OK;
+    free(ws->geo);
+    free(ws->reach);
+    size_t n = (size_t)(o->nmodels ? o->nmodels : 1);
+    ws->geo = calloc(n, sizeof *ws->geo);
+    ws->reach = calloc(n, sizeof *ws->reach);
+    ws->nmodels = o->nmodels;
+    return ws->geo && ws->reach ? PL_OK : PL_EINTERNAL;
+}
+
+static pl_obstacle_contact *push_record(coll_obstacle_ws *o)
 {
     if (o->nwork == o->capwork) {
         int cap = o->capwork ? 2 * o->capwork : 64;
@@ -207,9 +242,9 @@ static double find_contact(const coll_obstacle *o, const posed *ps,
 }
 
 /* Contacts of one collision model's points against the posed shape. */
-static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *g,
-                          const posed *ps, const pl_motion *m, const pl_system *sys,
-                          pl_rows *rows, pl_error *err)
+static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
+                          const pl_collision_geometry *g, const posed *ps, const pl_motion *m,
+                          const pl_system *sys, pl_rows *rows, pl_error *err)
 {
     double mu = g->mu >= 0.0 ? g->mu : o->mu;
     for (int i = 0; i < g->nverts; ++i) {
@@ -226,7 +261,7 @@ static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *
                                      "the system (%d vertices)",
                                      o->models[k]->name, i, sys->nverts);
         if (nv == 0) continue;
-        pl_obstacle_contact *r = push_record(o);
+        pl_obstacle_contact *r = push_record(ws);
         if (!r) return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
         memcpy(r->point, p, sizeof r->point);
         memcpy(r->normal, n, sizeof r->normal);
@@ -242,10 +277,13 @@ static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *
     return PL_OK;
 }
 
-static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                         pl_rows *rows, pl_error *err)
+static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                         const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    coll_obstacle *o = (coll_obstacle *)c;
+    const coll_obstacle *o = (const coll_obstacle *)c;
+    coll_obstacle_ws *ws = pl_data_workspace(ctx->data, c);
+    if (!ws || fit_models(o, ws))
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     pl_shape s0;
     pl_motion m;
     pl_error e;
@@ -263,30 +301,30 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     unsigned groups;
     if (pl_collision_groups(&o->group, &groups, &e) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
-    o->nwork = 0;
+    ws->nwork = 0;
     /* every model first: a body struck by another in this step may move
      * beyond its prediction (impact.c) */
     for (int k = 0; k < o->nmodels; ++k) {
         pl_component *mc = o->models[k];
         const pl_collision_model_ops *ops = pl_component_role(mc, PL_ROLE_COLLISION_MODEL);
-        pl_collision_geometry *g = &o->geo[k];
+        pl_collision_geometry *g = &ws->geo[k];
         memset(g, 0, sizeof *g);
         int rc = ops->update(mc, ctx, q, g, err);
         if (rc) return rc;
         double grav[3] = {0.0, 0.0, 0.0};
         if (!g->is_obstacle) pl_node_gravity(mc->node, grav);
-        pl_reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &o->reach[k]);
+        pl_reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &ws->reach[k]);
     }
     for (int k = 0; k < o->nmodels; ++k) {
-        const pl_collision_geometry *g = &o->geo[k];
+        const pl_collision_geometry *g = &ws->geo[k];
         /* geometry without DOFs cannot respond; groups opt out */
         if (g->is_obstacle || (groups & g->groups)) continue;
         pl_node_gravity(o->models[k]->node, ps.g);
-        ps.margin = sys->h * pl_hit_speed(o->reach, o->nmodels, k, -1, o->alarm_distance);
-        int rc = model_contacts(o, k, g, &ps, &m, sys, rows, err);
+        ps.margin = sys->h * pl_hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance);
+        int rc = model_contacts(o, ws, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }
-    if (pl_data_store(ctx->data, o->slot, o->work, (size_t)o->nwork * sizeof *o->work))
+    if (pl_data_store(ctx->data, o->slot, ws->work, (size_t)ws->nwork * sizeof *ws->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     return PL_OK;
 }
@@ -299,10 +337,10 @@ int coll_obstacle_contacts(const pl_component *c, const pl_data *d,
     return (int)(pl_data_slot_bytes(d, o->slot) / sizeof(pl_obstacle_contact));
 }
 
-static void ob_accept_multipliers(pl_component *c, pl_data *d, const pl_rows *rows,
+static void ob_accept_multipliers(const pl_component *c, pl_data *d, const pl_rows *rows,
                                   const double *lambda, int first, int count)
 {
-    coll_obstacle *o = (coll_obstacle *)c;
+    const coll_obstacle *o = (const coll_obstacle *)c;
     pl_obstacle_contact *items = pl_data_slot(d, o->slot);
     int n = (int)(pl_data_slot_bytes(d, o->slot) / sizeof *items);
     /* our rows are 3 per contact in emission order, starting at first */

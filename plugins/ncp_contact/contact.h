@@ -122,6 +122,10 @@ typedef struct pl_ncpc_key {
     double lambda;            /* the multiplier at the end of the step [N] */
 } pl_ncpc_key;
 
+/* The check of restored warm-start records (a pl_slot_check): kinds known,
+ * friction pairs in range, directions and multipliers finite. */
+int pl_ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err);
+
 /* Keys of the active rows (lambda left 0). */
 int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys,
                        pl_error *err);
@@ -130,5 +134,16 @@ int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *
  * -(error code) (err filled). */
 int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
                        double *lambda, pl_error *err);
+
+/* ---- first iteration: contacts without force -----------------------------
+ * contact_stick_start.c: lambda of the contacts that start the step with
+ * lambda = 0 and that the free motion closes (delta_n < 0 at delta_free +
+ * h^2 W lambda) <- the forces holding them still (normal and friction rows
+ * as equalities, conjugate residual, cr_iterations products), projected on
+ * the cone.  delta_free: row values at q_free = A^-1 b^0.  Returns the rows
+ * started, or -(error code). */
+int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
+                        const double *delta_free, double *lambda, int cr_iterations,
+                        pl_error *err);
 
 #endif
