@@ -18,6 +18,7 @@
 #define PLIANT_COLLISION_H
 
 #include "pliant/error.h"
+#include "pliant/mesh.h"
 #include "pliant/rows.h"
 #include "detect.h"
 
@@ -157,6 +158,25 @@ void pl_reach_of(const double *x, const double *v, int n, int is_obstacle, unsig
  * this step: their boxes come within alarm of each other.  Model k's
  * points may move that speed times h beyond their prediction. */
 double pl_hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
+
+/* ---- messy obstacle meshes (mesh_clean.c) ------------------------------- */
+
+/* What coll_mesh_clean changed and found. */
+typedef struct coll_clean_report {
+    int degenerate;        /* triangles removed: a repeated vertex or no area */
+    int duplicate;         /* triangles removed: a second one on the same three vertices */
+    int border_edges;      /* edges of one triangle (left as they are) */
+    int nonmanifold_edges; /* edges of three or more triangles (left as they are) */
+    int misoriented_edges; /* edges of two triangles that run them the same way */
+    int edges;             /* distinct edges */
+} coll_clean_report;
+/* Removes degenerate and duplicate triangles from m (vertices untouched)
+ * and counts the border and non-manifold edges left.  PL_OK or
+ * PL_EINTERNAL (out of memory). */
+int coll_mesh_clean(pl_mesh *m, coll_clean_report *r);
+/* Whether the cleaned surface encloses a volume: at most 1 % of its edges
+ * are borders or misoriented (non-manifold fins do not count). */
+int coll_mesh_encloses(const coll_clean_report *r);
 
 /* ---- collision groups (groups.c) ----------------------------------------- */
 #define PL_COLLISION_MAX_GROUP 32
