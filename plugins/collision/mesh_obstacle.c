@@ -135,6 +135,8 @@ static int clean(mesh_obstacle *o, pl_ctx *ctx)
     if (!r.border_edges && !r.nonmanifold_edges && !r.misoriented_edges) return PL_OK;
     int one = o->sides == PL_SIDES_AUTO && coll_mesh_encloses(&r);
     if (one) o->use_sides = PL_SIDES_ONE;
+    /* a plain open sheet (a blade, a plate) is what two sides are for */
+    if (!one && !r.nonmanifold_edges && !r.misoriented_edges) return PL_OK;
     pl_component_warn(c, ctx,
                       "the surface is not closed: %d border edge(s), %d edge(s) shared by more "
                       "than two triangles, %d misoriented edge(s) of %d; %s",
