@@ -143,6 +143,7 @@ static void cp_workspace_free(const pl_component *c, void *ws)
         free(w->models[k].active);
     }
     free(w->models);
+    free(w->reach);
     pl_proximities_free(&w->prox);
     pl_side_hints_free(&w->hints);
     free(w->prev);
@@ -157,7 +158,8 @@ static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
     coll_ws *w = pl_data_workspace(d, &p->base);
     if (!w || w->models) return w;
     w->models = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->models);
-    if (!w->models) return NULL;
+    w->reach = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->reach);
+    if (!w->models || !w->reach) return NULL;
     for (int k = 0; k < p->nmodels; ++k) {
         w->models[k].c = p->models[k];
         pl_coll_mesh_init(&w->models[k].mesh);
@@ -219,7 +221,7 @@ static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     pl_timer_start(ctx->timers, p->t_detect);
     w->nwork = 0;
     int rc = coll_pipeline_update_models(p, w, ctx, sys, q, err);
-    if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, err);
+    if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, sys->h, err);
     if (rc == PL_OK) rc = coll_pipeline_emit(p, w, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;
