@@ -3,8 +3,12 @@
 # Uses sudo when not root.  Safe to run again: it installs nothing when all
 # packages are present.
 set -eu
+# The viewer (pliant view, pliant render, make pictures): OpenGL, EGL with
+# Mesa's software renderer for machines without a GPU, GLFW, libpng, ffmpeg;
+# xvfb and xauth run the window tests without a screen.
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
-zlib1g-dev libsiconos-numerics-dev"
+zlib1g-dev libsiconos-numerics-dev \
+libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth"
 missing=""
 for p in $PKGS; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -1,6 +1,7 @@
 /* builtin.c - registers the built-in components with a registry. */
 #include "pliant/registry.h"
 
+#include "constraint/pick.h"
 #include "constraint/prescribed.h"
 #include "controller/controller.h"
 #include "export/export.h"
@@ -9,6 +10,7 @@
 #include "mass/mass.h"
 #include "solver/solver.h"
 #include "state/mechanical_object.h"
+#include "visual/visual.h"
 
 static const pl_type *const BUILTIN[] = {
     &pl_mechanical_object_type,
@@ -27,6 +29,9 @@ static const pl_type *const BUILTIN[] = {
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
     &pl_keyframes_type,
+    &pl_keyboard_controller_type,
+    &pl_pick_spring_type,
+    &pl_interactive_camera_type,
 };
 
 int pl_register_builtin_components(pl_registry *r, pl_error *err)

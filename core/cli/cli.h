@@ -7,5 +7,7 @@ int cli_run(int argc, char **argv);
 int cli_list(int argc, char **argv);
 int cli_doc(int argc, char **argv);
 int cli_regress(int argc, char **argv);
+int cli_view(int argc, char **argv);
+int cli_render(int argc, char **argv);
 
 #endif

@@ -11,7 +11,7 @@
 static const char *ROLE_NAMES[PL_ROLE_COUNT] = {
     "state", "mass", "topology", "local term", "global solver", "constraint",
     "contact solver", "collision model", "detector", "exporter", "controller",
-    "prescribed DOFs", "animation loop", "device"};
+    "prescribed DOFs", "animation loop", "device", "visual", "event"};
 
 static pl_registry *full_registry(void)
 {

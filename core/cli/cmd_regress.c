@@ -63,7 +63,7 @@ static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const 
     pl_diag diag;
     pl_diag_init(&diag);
     /* the references are CPU results: a GPU would differ by rounding */
-    pl_sim_options opt = {NULL, out_dir, 0, NULL, 0, "cpu"};
+    pl_sim_options opt = {.out_dir = out_dir, .device = "cpu"};
     pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
     if (!sim) {
         pl_diag_print(&diag, stderr);

@@ -110,7 +110,8 @@ int cli_run(int argc, char **argv)
         return rc;
     }
     if (a.quiet) pl_log_set_level(PL_LOG_WARN);
-    pl_sim_options opt = {NULL, a.out, a.export_every, a.sets, a.nsets, a.device};
+    pl_sim_options opt = {.out_dir = a.out, .export_every = a.export_every, .overrides = a.sets,
+                          .noverrides = a.nsets, .device = a.device};
     pl_diag diag;
     pl_diag_init(&diag);
     double t0 = pl_now();

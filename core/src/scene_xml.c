@@ -324,6 +324,23 @@ static void build_node(pl_node *n, xmlNode *x, const char *file, pl_registry *re
     }
 }
 
+pl_component *pl_node_add_component(pl_node *n, const pl_registry *reg, const char *type,
+                                    const char *name, pl_diag *diag)
+{
+    const pl_type *t = pl_registry_find(reg, type);
+    if (!t) {
+        char np[160];
+        pl_diag_error(diag, PL_EINPUT, n->file ? n->file : "<scene>", 0,
+                      pl_node_path(n, np, sizeof np), "no component type '%s' is registered",
+                      type);
+        return NULL;
+    }
+    pl_component *c = pl_scene_new_component(n, t, name, n->file ? n->file : "<scene>", 0, diag);
+    if (!c && !diag->nerrors)
+        pl_diag_error(diag, PL_EINTERNAL, n->file ? n->file : "<scene>", 0, type, "out of memory");
+    return c;
+}
+
 /* Refuses DTDs and entity declarations by looking at the raw text. */
 static int has_doctype(const char *xml, size_t len)
 {

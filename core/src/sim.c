@@ -146,6 +146,11 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
+    if (opt && opt->prepare && opt->prepare(s->model.root, s->registry, diag, opt->prepare_user)) {
+        if (!diag->nerrors)
+            pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the program's prepare step failed");
+        goto fail;
+    }
     if (load_tree(s, diag) != PL_OK) goto fail;
     s->frame_timer = pl_timer_id(s->timers, "Frame");
     pl_error e;
@@ -368,6 +373,35 @@ void pl_sim_set_callback(pl_sim *s, pl_sim_callback fn, void *user)
 {
     s->callback = fn;
     s->callback_user = user;
+}
+
+typedef struct event_walk {
+    pl_ctx ctx;
+    const pl_event *ev;
+    pl_error *err;
+    int used, rc;
+} event_walk;
+
+static int call_event(pl_component *c, void *user)
+{
+    event_walk *w = user;
+    const pl_event_ops *ops = pl_component_role(c, PL_ROLE_EVENT);
+    if (!ops || ops->version < 1 || !ops->handle) return 0;
+    int used = 0;
+    w->rc = ops->handle(c, &w->ctx, w->ev, &used, w->err);
+    if (used) w->used = 1;
+    return w->rc;
+}
+
+int pl_sim_send_event(pl_sim *s, const pl_event *ev, int *used, pl_error *err)
+{
+    pl_error local;
+    if (!err) err = &local;
+    pl_error_clear(err);
+    event_walk w = {make_ctx(s, s->data, NULL), ev, err, 0, PL_OK};
+    pl_node_visit_role(s->model.root, PL_ROLE_EVENT, call_event, &w);
+    if (used) *used = w.used;
+    return w.rc;
 }
 
 typedef struct outputs_walk {

@@ -20,7 +20,8 @@
                 .reinit = coll_obstacle_reinit,                                                 \
                 .destroy = coll_obstacle_destroy,                                               \
                 .get = coll_obstacle_get},                                                      \
-        .roles = {[PL_ROLE_CONSTRAINT] = &coll_obstacle_constraint_ops},                        \
+        .roles = {[PL_ROLE_CONSTRAINT] = &coll_obstacle_constraint_ops,                         \
+                  [PL_ROLE_VISUAL] = &coll_obstacle_visual_ops},                                \
     }
 
 /* ---- PlaneObstacle -------------------------------------------------------- */

@@ -277,7 +277,7 @@ START_TEST(vtk_exporter_writes_a_series_into_the_output_folder)
 {
     char dir[] = "/tmp/pliant_out_XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
-    pl_sim_options opt = {NULL, dir, 0, NULL, 0, NULL};
+    pl_sim_options opt = {.out_dir = dir};
     pl_sim *s = pl_sim_load_string("<Node name=\"root\">\n"
                                    "  <MeshLoader filename=\"meshes/liver.msh\"/>\n"
                                    "  <MechanicalObject/>\n"

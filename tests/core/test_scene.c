@@ -157,7 +157,7 @@ END_TEST
 START_TEST(overrides_apply_before_init_and_bad_ones_fail)
 {
     const char *sets[] = {"dofs.velocity=2 0 0", "root.dt=0.005"};
-    pl_sim_options opt = {NULL, NULL, 0, sets, 2, NULL};
+    pl_sim_options opt = {.overrides = sets, .noverrides = 2};
     pl_sim *s = pl_sim_load_string(GOOD, "scene.xml", &opt, &diag);
     ck_assert_ptr_nonnull(s);
     char buf[256];
@@ -180,7 +180,7 @@ END_TEST
 static pl_sim *load_with_device(const char *xml, const char *policy)
 {
     setenv("PLIANT_PLUGIN_PATH", PL_FAKE_DEVICE_DIR ":" PL_TEST_PLUGIN_DIR, 1);
-    pl_sim_options opt = {NULL, NULL, 0, NULL, 0, policy};
+    pl_sim_options opt = {.device = policy};
     return pl_sim_load_string(xml, "scene.xml", &opt, &diag);
 }
 
@@ -198,7 +198,7 @@ START_TEST(a_scene_without_a_device_gets_one_when_a_gpu_answers)
     pl_sim_free(s);
     /* overrides reach it (applied before its trial init) */
     const char *sets[] = {"cudaDevice.device=1"};
-    pl_sim_options opt = {NULL, NULL, 0, sets, 1, "auto"};
+    pl_sim_options opt = {.overrides = sets, .noverrides = 1, .device = "auto"};
     s = pl_sim_load_string(GOOD, "scene.xml", &opt, &diag);
     ck_assert_ptr_nonnull(s);
     char buf[64];

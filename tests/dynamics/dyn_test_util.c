@@ -28,7 +28,8 @@ pl_sim *dyn_load_file(const char *rel_path, const char **sets, int nsets)
     pl_diag diag;
     pl_diag_init(&diag);
     snprintf(path, sizeof path, "%s/%s", PL_SOURCE_DIR, rel_path);
-    pl_sim_options opt = {NULL, "/tmp/pliant_test_out", 0, sets, nsets, NULL};
+    pl_sim_options opt = {.out_dir = "/tmp/pliant_test_out", .overrides = sets,
+                          .noverrides = nsets};
     return finish_load(pl_sim_load_file(path, &opt, &diag), &diag);
 }
 

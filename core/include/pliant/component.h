@@ -38,6 +38,8 @@ typedef enum pl_role {
     PL_ROLE_PRESCRIBED,      /* pl_prescribed_ops: fixed or moving DOFs */
     PL_ROLE_ANIMATION_LOOP,  /* pl_animation_loop_ops: advances one step */
     PL_ROLE_DEVICE,          /* pl_device_ops: device memory, copies, a stream (CudaDevice) */
+    PL_ROLE_VISUAL,          /* pl_visual_ops: draws obstacles, cables, contacts (draw.h) */
+    PL_ROLE_EVENT,           /* pl_event_ops: receives key events from an interactive program */
     PL_ROLE_COUNT
 } pl_role;
 

@@ -47,6 +47,13 @@ int pl_mesh_drop_unused(pl_mesh *m);
 void pl_mesh_transform(pl_mesh *m, const double scale[3], const double rotation_deg[3],
                        const double translation[3]);
 
+/* The faces used by exactly one tetrahedron, oriented outward (counter-
+ * clockwise seen from outside) when the tetrahedra are positively oriented:
+ * *tris (ntris x 3, malloc'ed, the caller frees; NULL when empty).  PL_OK;
+ * PL_EINPUT if an index is out of range or a face is shared by more than two
+ * tetrahedra; PL_EINTERNAL if out of memory. */
+int pl_mesh_boundary_triangles(const pl_mesh *m, int **tris, int *ntris);
+
 #ifdef __cplusplus
 }
 #endif

@@ -50,6 +50,15 @@ int pl_node_count_role(const pl_node *n, pl_role role);
  * component of the same node).  Returns NULL if not found. */
 pl_component *pl_node_resolve(const pl_component *from, const char *path);
 
+/* Adds a component of the registered type `type` at the end of n, with its
+ * defaults (name NULL: SOFA's default name, the type's with a lower-case
+ * initial).  For programs that add tools to a parsed scene before it is
+ * initialised (pl_sim_options.prepare); set fields with pl_field_parse.
+ * NULL with the reason in diag (unknown type, name taken, out of memory). */
+struct pl_registry;
+pl_component *pl_node_add_component(pl_node *n, const struct pl_registry *reg, const char *type,
+                                    const char *name, pl_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

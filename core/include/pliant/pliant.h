@@ -4,6 +4,7 @@
 
 #include "buffer.h"
 #include "component.h"
+#include "draw.h"
 #include "error.h"
 #include "field.h"
 #include "log.h"

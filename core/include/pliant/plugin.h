@@ -25,7 +25,8 @@ extern "C" {
 
 /* Bumped whenever a public struct layout or a role table changes
  * incompatibly.  Plugins of another version are refused. */
-#define PL_ABI_VERSION 3 /* 2: PL_ROLE_DEVICE (pl_type.roles grew); 3: collision groups as sets */
+#define PL_ABI_VERSION 4 /* 2: PL_ROLE_DEVICE (pl_type.roles grew); 3: collision groups as sets;
+                            4: PL_ROLE_VISUAL, PL_ROLE_EVENT */
 
 #define PL_PLUGIN_ENTRY_NAME "pl_plugin_register"
 typedef int (*pl_plugin_entry)(pl_registry *reg, int host_abi);

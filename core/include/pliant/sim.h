@@ -16,6 +16,7 @@
 #include "error.h"
 #include "model.h"
 #include "registry.h"
+#include "roles.h"
 #include "timer.h"
 
 #ifdef __cplusplus
@@ -29,6 +30,12 @@ typedef struct pl_sim pl_sim;
  * it may call pl_sim_set.  Returning non-zero stops the step with an error. */
 typedef int (*pl_sim_callback)(pl_sim *sim, double t, void *user);
 
+/* Called on the parsed scene before it is initialised (after the --set
+ * overrides): an interactive program adds its tools there, e.g. the
+ * viewer's PickSpring (pl_node_add_component).  Non-zero stops the load;
+ * the reason goes to diag. */
+typedef int (*pl_sim_prepare)(pl_node *root, pl_registry *reg, pl_diag *diag, void *user);
+
 typedef struct pl_sim_options {
     pl_registry *registry;    /* NULL: a private one with the built-ins */
     const char *out_dir;      /* directory exporters write into; NULL = as the scene says */
@@ -39,6 +46,8 @@ typedef struct pl_sim_options {
      * device service gets a CudaDevice when the cuda plugin loads and a GPU
      * answers (components with device="auto" then run on it); "cpu": never. */
     const char *device;
+    pl_sim_prepare prepare;   /* NULL: none */
+    void *prepare_user;
 } pl_sim_options;
 
 /* Loads and initialises a scene.  On any error returns NULL with every
@@ -77,6 +86,11 @@ int pl_sim_restore_state(pl_sim *sim, const char *path, pl_error *err);
 
 /* Installs a per-step callback (NULL removes it). */
 void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
+
+/* Hands an event (a key pressed in a viewer) to every component playing the
+ * event role (KeyboardController, Python controllers), in scene order, for
+ * the current state.  *used (may be NULL) tells whether one of them used it. */
+int pl_sim_send_event(pl_sim *sim, const pl_event *ev, int *used, pl_error *err);
 
 /* Paths of the main files exporters wrote (for "output went to ..."). */
 int pl_sim_outputs(const pl_sim *sim, const char **paths, int max);

@@ -1,0 +1,236 @@
+/* cmd_render.c - `pliant render`: a scene's pictures without a display
+ * (EGL), as PNG files and/or an MP4 film, with the viewer's camera and
+ * drawing: every K-th step from step S to step N. */
+#include <stdio.h>
+
+#include "cli.h"
+
+#ifndef PLIANT_HAVE_VIEWER
+int cli_render(int argc, char **argv)
+{
+    (void)argc, (void)argv;
+    fprintf(stderr, "pliant render: this pliant was built without the viewer (it needs "
+                    "OpenGL, EGL and libpng: make deps, then build again)\n");
+    return 2;
+}
+#else
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "app.h"
+#include "image.h"
+#include "offscreen.h"
+#include "view_common.h"
+
+typedef struct render_args {
+    view_args v;
+    int steps, every, from, fps;
+    const char *png, *mp4;
+} render_args;
+
+static void usage(FILE *f)
+{
+    fputs("usage: pliant render SCENE.xml -n STEPS (--png DIR | --mp4 FILE) [options]\n"
+          "Draws the scene without a display (EGL: the GPU, else Mesa's software renderer)\n"
+          "at steps 0, K, 2K, ... up to STEPS, as pliant view shows it.\n"
+          "  -n, --steps N       time steps to simulate\n"
+          "  --every K           a picture every K steps (default 1)\n"
+          "  --from S            no pictures before step S (default 0)\n"
+          "  --png DIR           DIR/<scene>_0000.png, ... (frame numbers)\n"
+          "  --mp4 FILE          an H.264 film (ffmpeg)\n"
+          "  --fps F             film frames per second (default: real time)\n" VIEW_COMMON_HELP
+          "exit codes: 0 ok, 2 bad input or no way to draw, 1 internal error\n",
+          f);
+}
+
+static int parse_count(const char *s, int min, int *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || v < min || v > 100000000) return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int parse(int argc, char **argv, render_args *a)
+{
+    static const struct option LONG[] = {
+        {"steps", required_argument, 0, 'n'}, {"every", required_argument, 0, 'e'},
+        {"from", required_argument, 0, 'f'},  {"png", required_argument, 0, 'p'},
+        {"mp4", required_argument, 0, 'm'},   {"fps", required_argument, 0, 'r'},
+        {"help", no_argument, 0, 'h'},        VIEW_COMMON_LONGOPTS, {0, 0, 0, 0}};
+    memset(a, 0, sizeof *a);
+    view_args_init(&a->v, argc, 640, 480);
+    a->steps = -1, a->every = 1;
+    int opt;
+    optind = 1;
+    while ((opt = getopt_long(argc, argv, "n:h", LONG, NULL)) != -1) {
+        int bad = 0;
+        switch (opt) {
+        case 'n': bad = parse_count(optarg, 0, &a->steps); break;
+        case 'e': bad = parse_count(optarg, 1, &a->every); break;
+        case 'f': bad = parse_count(optarg, 0, &a->from); break;
+        case 'r': bad = parse_count(optarg, 1, &a->fps); break;
+        case 'p': a->png = optarg; break;
+        case 'm': a->mp4 = optarg; break;
+        case 'h': usage(stdout); return -1;
+        default: {
+            int rc = view_common_option(&a->v, "render", opt, optarg);
+            if (rc == 2) return 2;
+            if (rc == 0) return usage(stderr), 2;
+        }
+        }
+        if (bad) {
+            fprintf(stderr, "pliant render: --%s: '%s' is not a valid count\n",
+                    opt == 'n' ? "steps" : opt == 'e' ? "every" : opt == 'f' ? "from" : "fps",
+                    optarg);
+            return 2;
+        }
+    }
+    if (optind < argc) a->v.scene = argv[optind++];
+    if (optind < argc) return fprintf(stderr, "pliant render: one scene only\n"), 2;
+    int rc = view_args_finish(&a->v, "render");
+    if (rc) return rc;
+    if (a->steps < 0) return fprintf(stderr, "pliant render: give the steps (-n N)\n"), 2;
+    if (!a->png && !a->mp4)
+        return fprintf(stderr, "pliant render: nothing to write: give --png DIR or --mp4 FILE\n"), 2;
+    if (a->mp4 && (a->v.w % 2 || a->v.h % 2))
+        return fprintf(stderr, "pliant render: an MP4 needs an even width and height\n"), 2;
+    return 0;
+}
+
+/* The scene's file name without folder and .xml. */
+static void scene_name(const char *scene, char *out, size_t size)
+{
+    const char *b = strrchr(scene, '/');
+    b = b ? b + 1 : scene;
+    size_t n = strlen(b);
+    if (n > 4 && !strcmp(b + n - 4, ".xml")) n -= 4;
+    snprintf(out, size, "%.*s", (int)n, b);
+}
+
+typedef struct renderer_out {
+    vw_offscreen *off;
+    vw_renderer *r;
+    vw_video *video;
+    unsigned char *rgb;
+    int frames;
+} renderer_out;
+
+static int one_frame(render_args *a, vw_app *app, renderer_out *o, pl_error *err)
+{
+    vw_offscreen_bind(o->off);
+    int rc = vw_app_render(app, o->r, err);
+    if (rc) return rc;
+    vw_offscreen_read(o->off, o->rgb);
+    if (a->png) {
+        char name[128], path[4096];
+        scene_name(a->v.scene, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s_%04d.png", a->png, name, o->frames);
+        rc = vw_png_write(path, a->v.w, a->v.h, o->rgb, err);
+    }
+    if (!rc && o->video) rc = vw_video_frame(o->video, o->rgb, err);
+    if (!rc) o->frames++;
+    return rc;
+}
+
+static int run(render_args *a, vw_app *app, pl_sim *sim, renderer_out *o, pl_error *err)
+{
+    int rc = PL_OK;
+    for (int step = 0; !rc; ++step) {
+        if (step >= a->from && step % a->every == 0) rc = one_frame(a, app, o, err);
+        if (rc || step == a->steps) break;
+        rc = pl_sim_step(sim, 1, err);
+    }
+    return rc;
+}
+
+/* mkdir -p */
+static int make_dirs(const char *dir)
+{
+    char p[4096];
+    snprintf(p, sizeof p, "%s", dir);
+    for (char *s = p + 1; *s; ++s)
+        if (*s == '/') {
+            *s = '\0';
+            if (mkdir(p, 0777) != 0 && errno != EEXIST) return -1;
+            *s = '/';
+        }
+    return mkdir(p, 0777) != 0 && errno != EEXIST ? -1 : 0;
+}
+
+static int setup(render_args *a, vw_app *app, pl_sim *sim, renderer_out *o, pl_error *err)
+{
+    if (a->png && make_dirs(a->png) != 0)
+        return pl_error_set(err, PL_EINPUT, a->png, 0, NULL, "cannot make the folder: %s",
+                            strerror(errno));
+    o->off = vw_offscreen_create(a->v.w, a->v.h, err);
+    if (!o->off) return err->code;
+    if (!(o->r = vw_renderer_create(err))) return err->code;
+    if (!(o->rgb = malloc((size_t)a->v.w * a->v.h * 3)))
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    int rc = vw_app_init(app, sim, a->v.w, a->v.h, err);
+    if (rc) return rc;
+    app->draw.field = (vw_field)a->v.field;
+    app->draw.wireframe = a->v.wireframe;
+    app->overlay = a->v.overlay;
+    if (a->mp4) {
+        int fps = a->fps;
+        if (!fps) {
+            double dt = pl_node_dt(pl_sim_model(sim)->root) * a->every;
+            fps = dt > 0.0 ? (int)(1.0 / dt + 0.5) : 30;
+            fps = fps < 1 ? 1 : fps > 60 ? 60 : fps;
+        }
+        signal(SIGPIPE, SIG_IGN); /* a dead ffmpeg is an error, not a crash */
+        if (!(o->video = vw_video_open(a->mp4, a->v.w, a->v.h, fps, err))) return err->code;
+    }
+    return PL_OK;
+}
+
+int cli_render(int argc, char **argv)
+{
+    render_args a;
+    int rc = parse(argc, argv, &a);
+    if (rc) {
+        view_args_free(&a.v);
+        return rc < 0 ? 0 : rc;
+    }
+    vw_app app;
+    memset(&app, 0, sizeof app);
+    pl_sim *sim = NULL;
+    renderer_out o = {0};
+    pl_error err;
+    pl_error_clear(&err);
+    double t0 = pl_now();
+    rc = view_load(&a.v, &app, &sim);
+    if (!rc) {
+        int code = setup(&a, &app, sim, &o, &err);
+        if (!code) code = run(&a, &app, sim, &o, &err);
+        int vcode = vw_video_close(o.video, code ? NULL : &err);
+        if (!code) code = vcode;
+        if (code) {
+            char msg[1600];
+            fprintf(stderr, "pliant render: %s\n", pl_error_format(&err, msg, sizeof msg));
+            rc = code == PL_EINPUT ? 2 : 1;
+        } else {
+            printf("%s: %d frame%s of %dx%d in %.1f s (%s; %s)", a.v.scene, o.frames,
+                   o.frames == 1 ? "" : "s", a.v.w, a.v.h, pl_now() - t0,
+                   vw_renderer_gl_name(), vw_offscreen_platform(o.off));
+            if (a.png) printf("; PNG: %s/", a.png);
+            if (a.mp4) printf("; MP4: %s", a.mp4);
+            printf("\n");
+        }
+    }
+    vw_app_free(&app);
+    vw_renderer_free(o.r);
+    vw_offscreen_free(o.off);
+    free(o.rgb);
+    pl_sim_free(sim);
+    view_args_free(&a.v);
+    return rc;
+}
+#endif
