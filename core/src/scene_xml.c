@@ -16,8 +16,8 @@
 /* Visual and GUI components of SOFA scenes: skipped with a warning. */
 static const char *const IGNORED[] = {"VisualStyle", "OglModel", "OglSceneFrame",
                                       "BackgroundSetting", "ConstraintAttachButtonSetting",
-                                      "DefaultVisualManagerLoop", "InteractiveCamera",
-                                      "LightManager", "DirectionalLight", NULL};
+                                      "DefaultVisualManagerLoop", "LightManager",
+                                      "DirectionalLight", NULL};
 
 static const char *const NODE_ATTRS[] = {"name", "dt", "gravity", "animate", NULL};
 
