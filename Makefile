@@ -8,7 +8,7 @@ CMAKE_FLAGS ?=
 DEMO_SCENE ?= scenes/twisting_bar_small.xml
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build demo test test-fast test-asan bench docs clean
+.PHONY: all deps configure build demo test test-fast test-asan bench docs pictures clean
 
 all: build
 
@@ -45,6 +45,10 @@ bench: build
 
 docs: build
 	$(BUILD)/bin/pliant doc docs/components.md
+
+# one picture of every scene (pliant render, off screen) for docs/scenes.md
+pictures: build
+	sh docs/make_pictures.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) out

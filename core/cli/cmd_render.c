@@ -39,7 +39,8 @@ static void usage(FILE *f)
           "at steps 0, K, 2K, ... up to STEPS, as pliant view shows it.\n"
           "  -n, --steps N       time steps to simulate\n"
           "  --every K           a picture every K steps (default 1)\n"
-          "  --from S            no pictures before step S (default 0)\n"
+          "  --from S            no pictures before step S (default 0); the camera is\n"
+          "                      framed on the scene at step S\n"
           "  --png DIR           DIR/<scene>_0000.png, ... (frame numbers)\n"
           "  --mp4 FILE          an H.264 film (ffmpeg)\n"
           "  --fps F             film frames per second (default: real time)\n" VIEW_COMMON_HELP
@@ -142,7 +143,10 @@ static int run(render_args *a, vw_app *app, pl_sim *sim, renderer_out *o, pl_err
 {
     int rc = PL_OK;
     for (int step = 0; !rc; ++step) {
-        if (step >= a->from && step % a->every == 0) rc = one_frame(a, app, o, err);
+        /* the camera frames the scene as it is when the pictures begin */
+        if (step == a->from && step > 0 && !(rc = vw_scene_update(&app->scene, app->draw.field, err)))
+            vw_app_frame_camera(app);
+        if (!rc && step >= a->from && step % a->every == 0) rc = one_frame(a, app, o, err);
         if (rc || step == a->steps) break;
         rc = pl_sim_step(sim, 1, err);
     }
