@@ -4,6 +4,8 @@
  *    the left roller has turned by -0.4 rad (angularVelocity -4 rad/s) about
  *    the roller's axis, at the same radius and height, and the contacts part
  *    carries a force per point;
+ *  - the cable of scenes/cable_finger_small.xml is part 1 of the finger's
+ *    series: a polyline (line cells) from the pull point through its 14 points;
  *  - a VTKExporter next to a plane obstacle writes the plane as a finite
  *    patch in the plane (the error "no state in this node to export" of
  *    before is gone);
@@ -81,6 +83,31 @@ START_TEST(test_roller_turns)
 }
 END_TEST
 
+START_TEST(test_cable_path)
+{
+    char *dir = tu_tmpdir(), scene[512];
+    snprintf(scene, sizeof scene, "%s/scenes/cable_finger_small.xml", PL_SOURCE_DIR);
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim *s = load(scene, 1, dir, &diag);
+    ck_assert_ptr_nonnull(s);
+    pl_sim_free(s); /* frame 0 only */
+    char *vtu = tu_read_file(tu_path(dir, "cable_finger_small_finger_cable_0000.vtu"), NULL);
+    ck_assert_ptr_nonnull(vtu);
+    /* the pull point and 14 cable points, 14 segments of VTK type 3 */
+    ck_assert_ptr_nonnull(strstr(vtu, "NumberOfPoints=\"15\" NumberOfCells=\"14\""));
+    ck_assert_ptr_nonnull(strstr(vtu, "3 3 3 3"));
+    free(vtu);
+    char *pvd = tu_read_file(tu_path(dir, "cable_finger_small.pvd"), NULL);
+    ck_assert_ptr_nonnull(pvd);
+    ck_assert_ptr_nonnull(strstr(pvd, "part=\"1\" file=\"cable_finger_small_finger_cable_0000.vtu\""));
+    free(pvd);
+    pl_diag_free(&diag);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 START_TEST(test_plane_patch)
 {
     char *dir = tu_tmpdir();
@@ -129,6 +156,7 @@ int main(void)
     TCase *tc = tcase_create("scene");
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_roller_turns);
+    tcase_add_test(tc, test_cable_path);
     tcase_add_test(tc, test_plane_patch);
     tcase_add_test(tc, test_nothing_to_export);
     suite_add_tcase(s, tc);
