@@ -3,7 +3,7 @@
 # scene of scenes/ (the small variant of the heavy ones: a picture stands for
 # its family, the finer meshes look the same) with pliant render, off screen,
 # into docs/pictures/<scene>.png (480 x 360, no overlay), shown by
-# docs/scenes.md.  About 10 minutes on 2 cores.
+# docs/scenes.md.  Each line it prints gives the seconds the picture took.
 set -eu
 BUILD=${1:-build}
 PLIANT=$BUILD/bin/pliant
