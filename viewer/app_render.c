@@ -6,6 +6,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Insertion sort (a handful of phases): Frame first, then slowest first. */
+static void sort_phases(pl_timers *t, int *order, double *ms, int m)
+{
+    for (int i = 1; i < m; ++i)
+        for (int j = i; j > 0; --j) {
+            int frame = !strcmp(pl_timers_name(t, order[j]), "Frame");
+            if (!frame && ms[j] <= ms[j - 1]) break;
+            int o = order[j];
+            double v = ms[j];
+            order[j] = order[j - 1], ms[j] = ms[j - 1];
+            order[j - 1] = o, ms[j - 1] = v;
+        }
+}
+
 /* Per-phase milliseconds per step since the previous frame, as text. */
 static void update_timings(vw_app *a)
 {
@@ -22,14 +36,21 @@ static void update_timings(vw_app *a)
         if (step < a->steps_at_frame) a->steps_at_frame = step; /* after a reset */
         return;
     }
+    /* Frame first, then the other phases, slowest first, at most 6 */
+    int order[64], m = 0;
+    double ms[64];
+    for (int k = 0; k < n && m < 64; ++k) {
+        double total = pl_timers_total_ms(t, k);
+        ms[m] = (total - a->phase_total[k]) / steps;
+        a->phase_total[k] = total;
+        if (ms[m] > 0.0) order[m] = k, m++;
+    }
+    sort_phases(t, order, ms, m);
     size_t w = 0;
     a->phase_text[0] = '\0';
-    for (int k = 0; k < n; ++k) {
-        double total = pl_timers_total_ms(t, k), ms = (total - a->phase_total[k]) / steps;
-        a->phase_total[k] = total;
-        if (ms <= 0.0 || w >= sizeof a->phase_text) continue;
+    for (int k = 0; k < m && k < 6 && w < sizeof a->phase_text; ++k) {
         int len = snprintf(a->phase_text + w, sizeof a->phase_text - w, "%s%s %.2f", w ? "  " : "",
-                           pl_timers_name(t, k), ms);
+                           pl_timers_name(t, order[k]), ms[k]);
         if (len > 0) w += (size_t)len;
     }
     a->steps_at_frame = step;
