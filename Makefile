@@ -1,6 +1,7 @@
 # Thin wrapper over CMake/CTest.  The two commands of the quick start:
 #   make demo   install what is missing, build, run the default scene
-#   make test   build, run the whole suite, then again under ASan+UBSan
+#   make test   build, run the whole suite, then again under ASan+UBSan (that
+#               build has no CUDA and no MPI: the MPI tests run in the first pass)
 BUILD ?= build
 ASAN_BUILD ?= build-asan
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -31,7 +32,8 @@ test-fast: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 $(ASAN_BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLIANT_SANITIZE=ON -DPLIANT_CUDA=OFF $(CMAKE_FLAGS)
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLIANT_SANITIZE=ON -DPLIANT_CUDA=OFF \
+	  -DPLIANT_MPI=OFF $(CMAKE_FLAGS)
 
 test-asan: $(ASAN_BUILD)/CMakeCache.txt
 	cmake --build $(ASAN_BUILD) -j $(JOBS)

@@ -6,6 +6,7 @@ function(pliant_add_test name)
   cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
   target_link_libraries(${name} PRIVATE PkgConfig::CHECK ${T_LIBS} m)
+  target_include_directories(${name} PRIVATE ${CMAKE_SOURCE_DIR}/tests) # test_tmp.h
   target_compile_definitions(${name} PRIVATE
     PL_SOURCE_DIR="${CMAKE_SOURCE_DIR}" PL_BINARY_DIR="${CMAKE_BINARY_DIR}")
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)

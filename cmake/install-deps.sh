@@ -7,7 +7,7 @@ set -eu
 # Mesa's software renderer for machines without a GPU, GLFW, libpng, ffmpeg;
 # xvfb and xauth run the window tests without a screen.
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
-zlib1g-dev libsiconos-numerics-dev \
+zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin \
 libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth"
 missing=""
 for p in $PKGS; do

@@ -4,9 +4,13 @@
  * with the stored reference files <refs>/<scene>.reference_<k>_<name>_mstate.txt.gz
  * using SOFA's measure (per compared step ||x - x_ref|| / nDoF, summed,
  * averaged over states, against epsilon).  --update rewrites the references.
- * Exit: 0 all passed, 1 some failed, 2 bad input. */
+ * Each entry runs in a child process (regress_entry.c), one after the other
+ * or over the ranks of `mpirun` (cli_dispatch.h); a crash or time-out is the
+ * entry's ERROR row, the others go on.  Rows print in list order.
+ * Exit: 0 all passed, 1 some failed, 2 bad input or an entry that did not run. */
 #include <pliant/pliant.h>
 
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,19 +18,8 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "export/export.h"
-
-typedef struct states {
-    pl_component *items[64];
-    int n;
-} states;
-
-static int add_state(pl_component *c, void *user)
-{
-    states *s = user;
-    if (s->n < 64) s->items[s->n++] = c;
-    return 0;
-}
+#include "cli_dispatch.h"
+#include "regress.h"
 
 static void dir_of(const char *path, char *out, size_t size)
 {
@@ -37,184 +30,164 @@ static void dir_of(const char *path, char *out, size_t size)
         snprintf(out, size, ".");
 }
 
-static const char *base_of(const char *path)
+static const char USAGE[] =
+    "usage: pliant regress LIST [OPTIONS]\n"
+    "Runs every scene of LIST (lines \"scene steps epsilon [mapped] [lastonly]\", paths\n"
+    "relative to LIST) and compares each MechanicalObject's positions with the stored\n"
+    "references (SOFA's measure: per compared step ||x - x_ref|| / nDoF, against epsilon).\n"
+    "Each scene runs in its own process; under mpirun the scenes are spread over the ranks.\n\n"
+    "  -u, --update        rewrite the references instead of comparing\n"
+    "  -r, --refs DIR      reference folder (default: as LIST says, else LIST's folder/references)\n"
+    "  -j, --threads N     OpenMP threads per scene\n"
+    "  -t, --timeout S     stop a scene that runs longer than S seconds (default: no limit)\n"
+    "  -q, --quiet         only warnings and errors from the scenes\n"
+    "  -h, --help          this text\n"
+    "Temporary outputs go to $TMPDIR (default /tmp) and are removed.\n"
+    "exit codes: 0 all passed, 1 some failed, 2 bad input or a scene that did not run\n";
+
+typedef struct regress_opts {
+    const char *list_path, *refs;
+    int update, threads, quiet;
+    double timeout;
+} regress_opts;
+
+/* Returns 0, 2 on a bad command line, -1 after --help. */
+static int parse_args(int argc, char **argv, regress_opts *o)
 {
-    const char *slash = strrchr(path, '/');
-    return slash ? slash + 1 : path;
+    static const struct option opts[] = {
+        {"update", no_argument, NULL, 'u'}, {"refs", required_argument, NULL, 'r'},
+        {"threads", required_argument, NULL, 'j'}, {"timeout", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {0, 0, 0, 0}};
+    memset(o, 0, sizeof *o);
+    int c, rc = 0;
+    opterr = 0;
+    while (!rc && (c = getopt_long(argc, argv, "ur:j:t:qh", opts, NULL)) != -1) {
+        switch (c) {
+        case 'u': o->update = 1; break;
+        case 'r': o->refs = optarg; break;
+        case 'j': rc = cli_parse_int("regress", "--threads", optarg, 1, &o->threads); break;
+        case 't': rc = cli_parse_double("regress", "--timeout", optarg, &o->timeout); break;
+        case 'q': o->quiet = 1; break;
+        case 'h': return fputs(USAGE, stdout), -1;
+        default: rc = cli_bad_option("regress", argv, optind, optopt);
+        }
+    }
+    if (rc) return rc;
+    if (optind >= argc) return cli_usage_error("regress", "no regression LIST given");
+    if (optind + 1 < argc) return cli_usage_error("regress", "more than one LIST given");
+    o->list_path = argv[optind];
+    return 0;
 }
 
-static int record(pl_sim *sim, const states *st, pl_state_records *rec, pl_error *err)
+/* Rank 0's table: rows arrive in any order and print in list order. */
+typedef struct table {
+    const regress_ctx *x;
+    double timeout;
+    char **rows;
+    int printed, failed, bad;
+} table;
+
+static char *format_row(table *t, const cli_job_result *r)
 {
-    for (int k = 0; k < st->n; ++k) {
-        const pl_state_ops *ops = pl_component_role(st->items[k], PL_ROLE_STATE);
-        pl_buffer x = ops->positions(st->items[k], pl_sim_data(sim));
-        int rc = pl_state_records_add(&rec[k], pl_sim_time(sim), pl_buffer_f64(&x), (int)x.rows * 3,
-                                      NULL, 0, err);
-        if (rc) return rc;
+    const pl_regression_entry *e = &t->x->list->items[r->job];
+    char result[32], val[1600], cell[1700];
+    const char *res = cli_report_get(r->text, "result", result, sizeof result);
+    if (res && (!strcmp(res, "pass") || !strcmp(res, "FAIL"))) {
+        double err = atof(cli_report_get(r->text, "error", val, sizeof val) ? val : "nan");
+        snprintf(cell, sizeof cell, "%12.3e  %s", err, res);
+        t->failed += !strcmp(res, "FAIL");
+    } else if (res && !strcmp(res, "written")) {
+        snprintf(cell, sizeof cell, "%12s  reference written (%s states)", "-",
+                 cli_report_get(r->text, "states", val, sizeof val) ? val : "?");
+    } else {
+        /* the child reported an error (msg), or ended without a report */
+        if (!cli_report_get(r->text, "msg", val, sizeof val)) {
+            char how[160], where[160];
+            cli_job_describe(r, t->timeout, how, sizeof how);
+            cli_dispatch_where(r, where, sizeof where);
+            snprintf(val, sizeof val, "the run %s", how);
+            fprintf(stderr, "pliant regress: %s: the run %s (%s)\n", e->scene, how, where);
+        }
+        snprintf(cell, sizeof cell, "%12s  ERROR: %s", "-", val);
+        t->bad++;
     }
-    return PL_OK;
+    char line[2048];
+    snprintf(line, sizeof line, "%-52s %6d %10.3g %s", e->scene, e->steps, e->epsilon, cell);
+    return strdup(line);
 }
 
-/* Runs one entry and returns the sim (the caller frees it: the state
- * components' names are needed for the reference files), NULL on error. */
-static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *out_dir,
-                         states *st, pl_state_records *rec, pl_error *err)
+static void row_done(const cli_job_result *r, void *user)
 {
-    pl_diag diag;
-    pl_diag_init(&diag);
-    /* the references are CPU results: a GPU would differ by rounding */
-    pl_sim_options opt = {.out_dir = out_dir, .device = "cpu"};
-    pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
-    if (!sim) {
-        pl_diag_print(&diag, stderr);
-        pl_diag_free(&diag);
-        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load");
-        return NULL;
+    table *t = user;
+    t->rows[r->job] = format_row(t, r);
+    while (t->printed < t->x->list->count && t->rows[t->printed]) {
+        printf("%s\n", t->rows[t->printed++]);
+        fflush(stdout);
     }
-    pl_diag_free(&diag);
-    st->n = 0;
-    pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, add_state, st);
-    for (int k = 0; k < st->n; ++k) pl_state_records_init(&rec[k]);
-    int rc = record(sim, st, rec, err);
-    for (int s = 0; rc == PL_OK && s < e->steps; ++s) {
-        rc = pl_sim_step(sim, 1, err);
-        if (rc == PL_OK && (!e->last_only || s == e->steps - 1)) rc = record(sim, st, rec, err);
-    }
-    if (rc != PL_OK) {
-        pl_sim_free(sim);
-        return NULL;
-    }
-    return sim;
 }
 
-static int reference_path(char *buf, size_t size, const char *refs, const char *scene, int k,
-                          const char *name)
+static void refs_dir(const regress_opts *o, const pl_regression_list *list, const char *list_dir,
+                     char *refs, size_t size)
 {
-    char base[4096];
-    snprintf(base, sizeof base, "%s/%s", refs, base_of(scene));
-    return pl_regression_reference_path(buf, size, base, k, name) >= (int)size ? -1 : 0;
+    if (o->refs)
+        snprintf(refs, size, "%s", o->refs);
+    else if (list->ref_dir)
+        snprintf(refs, size, "%s/%s", list_dir, list->ref_dir);
+    else
+        snprintf(refs, size, "%s/references", list_dir);
 }
 
-static int write_refs(const char *refs, const char *scene, const states *st,
-                      const pl_state_records *rec, pl_error *err)
+/* Every rank: runs the list (rank 0 prints the table); returns the exit code. */
+static int run_list(const regress_opts *o, const pl_regression_list *list)
 {
-    for (int k = 0; k < st->n; ++k) {
-        char path[2048];
-        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
-            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
-        pl_state_writer *w = pl_state_writer_open(path, 0, err);
-        if (!w) return err->code;
-        for (int r = 0; r < rec[k].count; ++r)
-            if (pl_state_writer_write(w, rec[k].items[r].time, rec[k].items[r].x,
-                                      rec[k].items[r].nx, NULL, 0, err)) {
-                pl_state_writer_close(w, NULL);
-                return err->code;
-            }
-        if (pl_state_writer_close(w, err)) return err->code;
+    char list_dir[1024], refs[2048];
+    dir_of(o->list_path, list_dir, sizeof list_dir);
+    refs_dir(o, list, list_dir, refs, sizeof refs);
+    if (o->update) mkdir(refs, 0755);
+    char *out_dir = cli_tmpdir_create("regress");
+    if (!out_dir) {
+        fprintf(stderr, "pliant regress: cannot create a temporary folder in $TMPDIR\n");
+        return 1;
     }
-    return PL_OK;
-}
-
-static int compare_refs(const char *refs, const char *scene, const states *st,
-                        const pl_state_records *rec, double dt, double epsilon,
-                        pl_regression_result *res, pl_error *err)
-{
-    pl_state_records ref[64];
-    int rc = PL_OK;
-    for (int k = 0; k < st->n; ++k) pl_state_records_init(&ref[k]);
-    for (int k = 0; k < st->n && rc == PL_OK; ++k) {
-        char path[2048];
-        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
-            rc = pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
-        else if (access(path, R_OK) != 0)
-            rc = pl_error_set(err, PL_EINPUT, path, 0, NULL,
-                              "no reference file (run with --update to create it)");
-        else
-            rc = pl_state_file_read(path, &ref[k], err);
-    }
-    if (rc == PL_OK) rc = pl_regression_compare(ref, rec, st->n, 0.5 * dt, epsilon, res, err);
-    for (int k = 0; k < st->n; ++k) pl_state_records_free(&ref[k]);
-    return rc;
+    regress_ctx x = {list, list_dir, refs, out_dir, o->update, o->quiet};
+    table t = {&x, o->timeout, calloc((size_t)list->count + 1, sizeof(char *)), 0, 0, 0};
+    int *todo = malloc(((size_t)list->count + 1) * sizeof *todo);
+    int root = cli_dispatch_rank() == 0;
+    for (int i = 0; todo && i < list->count; ++i) todo[i] = i;
+    cli_dispatch d = {"regress", todo, todo && t.rows ? list->count : 0, regress_entry_job, &x,
+                      o->timeout, row_done, &t};
+    if (root) printf("%-52s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
+    cli_dispatch_run(&d);
+    if (root)
+        printf("%d scenes: %d passed, %d failed, %d errors\n", list->count,
+               list->count - t.failed - t.bad, t.failed, t.bad);
+    for (int i = 0; t.rows && i < list->count; ++i) free(t.rows[i]);
+    free(t.rows);
+    free(todo);
+    cli_remove_tree(out_dir);
+    free(out_dir);
+    if (!root) return 0;
+    return (!todo || !t.rows) ? 1 : t.bad ? 2 : t.failed ? 1 : 0;
 }
 
 int cli_regress(int argc, char **argv)
 {
-    const char *list_path = NULL, *refs_opt = NULL;
-    int update = 0;
-    for (int k = 0; k < argc; ++k) {
-        if (!strcmp(argv[k], "--update"))
-            update = 1;
-        else if (!strcmp(argv[k], "--refs") && k + 1 < argc)
-            refs_opt = argv[++k];
-        else if (argv[k][0] != '-' && !list_path)
-            list_path = argv[k];
-        else {
-            fprintf(stderr, "pliant regress: unexpected argument '%s'\n", argv[k]);
-            return 2;
-        }
-    }
-    if (!list_path) {
-        fprintf(stderr, "usage: pliant regress LIST [--update] [--refs DIR]\n");
-        return 2;
-    }
+    regress_opts o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc) return rc < 0 ? 0 : rc;
+    if ((rc = cli_dispatch_init("regress", &argc, &argv)) != 0) return rc;
+    cli_threads_set(o.threads ? o.threads : cli_dispatch_default_threads());
     pl_regression_list list = {0};
     pl_diag diag;
     pl_diag_init(&diag);
-    if (pl_regression_list_load(list_path, &list, &diag) != PL_OK) {
-        pl_diag_print(&diag, stderr);
+    if (pl_regression_list_load(o.list_path, &list, &diag) != PL_OK) {
+        if (cli_dispatch_rank() == 0) pl_diag_print(&diag, stderr);
         pl_diag_free(&diag);
         pl_regression_list_free(&list);
-        return 2;
+        return cli_dispatch_finish(2);
     }
     pl_diag_free(&diag);
-    char list_dir[1024], refs[2048], out_dir[] = "/tmp/pliant_regress_XXXXXX";
-    dir_of(list_path, list_dir, sizeof list_dir);
-    if (refs_opt)
-        snprintf(refs, sizeof refs, "%s", refs_opt);
-    else if (list.ref_dir)
-        snprintf(refs, sizeof refs, "%s/%s", list_dir, list.ref_dir);
-    else
-        snprintf(refs, sizeof refs, "%s/references", list_dir);
-    if (update) mkdir(refs, 0755);
-    if (!mkdtemp(out_dir)) {
-        fprintf(stderr, "pliant regress: cannot create a temporary folder\n");
-        pl_regression_list_free(&list);
-        return 1;
-    }
-    printf("%-52s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
-    int failed = 0, bad = 0;
-    for (int i = 0; i < list.count; ++i) {
-        const pl_regression_entry *e = &list.items[i];
-        char scene[2048];
-        snprintf(scene, sizeof scene, "%s/%s", list_dir, e->scene);
-        states st = {{0}, 0};
-        pl_state_records rec[64];
-        pl_error err;
-        pl_regression_result res = {0};
-        pl_sim *sim = run_entry(scene, e, out_dir, &st, rec, &err);
-        int rc = sim ? PL_OK : err.code;
-        double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
-        if (rc == PL_OK)
-            rc = update ? write_refs(refs, e->scene, &st, rec, &err)
-                        : compare_refs(refs, e->scene, &st, rec, dt, e->epsilon, &res, &err);
-        if (rc != PL_OK) {
-            char msg[1600];
-            printf("%-52s %6d %10.3g %12s  ERROR: %s\n", e->scene, e->steps, e->epsilon, "-",
-                   pl_error_format(&err, msg, sizeof msg));
-            bad++;
-        } else if (update) {
-            printf("%-52s %6d %10.3g %12s  reference written (%d states)\n", e->scene, e->steps,
-                   e->epsilon, "-", st.n);
-        } else {
-            printf("%-52s %6d %10.3g %12.3e  %s\n", e->scene, e->steps, e->epsilon,
-                   res.error_by_dof, res.passed ? "pass" : "FAIL");
-            if (!res.passed) failed++;
-        }
-        for (int k = 0; k < st.n; ++k) pl_state_records_free(&rec[k]);
-        pl_sim_free(sim);
-    }
-    printf("%d scenes: %d passed, %d failed, %d errors\n", list.count,
-           list.count - failed - bad, failed, bad);
+    rc = run_list(&o, &list);
     pl_regression_list_free(&list);
-    return bad ? 2 : failed ? 1 : 0;
+    return cli_dispatch_finish(rc);
 }

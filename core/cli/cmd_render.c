@@ -2,13 +2,32 @@
  * (EGL), as PNG files and/or an MP4 film, with the viewer's camera and
  * drawing: every K-th step from step S to step N. */
 #include <stdio.h>
+#include <string.h>
 
 #include "cli.h"
+#include "view_common.h"
+
+static const char USAGE[] =
+    "usage: pliant render SCENE.xml -n STEPS (--png DIR | --mp4 FILE) [OPTIONS]\n"
+    "Draws the scene without a display (EGL: the GPU, else Mesa's software renderer)\n"
+    "at steps 0, K, 2K, ... up to STEPS, as pliant view shows it.\n\n"
+    "  -n, --steps N          time steps to simulate\n"
+    "      --every K          a picture every K steps (default 1)\n"
+    "      --from S           no pictures before step S (default 0); the camera is\n"
+    "                         framed on the scene at step S\n"
+    "      --png DIR          DIR/<scene>_0000.png, ... (frame numbers)\n"
+    "      --mp4 FILE         an H.264 film (ffmpeg)\n"
+    "      --fps F            film frames per second (default: real time)\n"
+    "      --progress S       in a log (stderr not a terminal) a progress line every S\n"
+    "                         seconds (default 5; 0 = none)\n"
+    VIEW_COMMON_HELP
+    "exit codes: 0 ok, 1 internal error, 2 bad input (scene, arguments) or no way to draw\n";
 
 #ifndef PLIANT_HAVE_VIEWER
 int cli_render(int argc, char **argv)
 {
-    (void)argc, (void)argv;
+    for (int k = 1; k < argc && strcmp(argv[k], "--"); ++k)
+        if (!strcmp(argv[k], "-h") || !strcmp(argv[k], "--help")) return fputs(USAGE, stdout), 0;
     fprintf(stderr, "pliant render: this pliant was built without the viewer (it needs "
                     "OpenGL, EGL and libpng: make deps, then build again)\n");
     return 2;
@@ -18,100 +37,62 @@ int cli_render(int argc, char **argv)
 #include <getopt.h>
 #include <signal.h>
 #include <stdlib.h>
-#include <string.h>
 #include <sys/stat.h>
 
 #include "app.h"
 #include "image.h"
 #include "offscreen.h"
-#include "view_common.h"
 
 typedef struct render_args {
     view_args v;
     int steps, every, from, fps;
+    double progress;
     const char *png, *mp4;
 } render_args;
 
-static void usage(FILE *f)
+enum { OPT_EVERY = 256, OPT_FROM, OPT_PNG, OPT_MP4, OPT_FPS, OPT_PROGRESS };
+
+static int render_option(render_args *a, int c, const char *arg)
 {
-    fputs("usage: pliant render SCENE.xml -n STEPS (--png DIR | --mp4 FILE) [options]\n"
-          "Draws the scene without a display (EGL: the GPU, else Mesa's software renderer)\n"
-          "at steps 0, K, 2K, ... up to STEPS, as pliant view shows it.\n"
-          "  -n, --steps N       time steps to simulate\n"
-          "  --every K           a picture every K steps (default 1)\n"
-          "  --from S            no pictures before step S (default 0); the camera is\n"
-          "                      framed on the scene at step S\n"
-          "  --png DIR           DIR/<scene>_0000.png, ... (frame numbers)\n"
-          "  --mp4 FILE          an H.264 film (ffmpeg)\n"
-          "  --fps F             film frames per second (default: real time)\n" VIEW_COMMON_HELP
-          "exit codes: 0 ok, 2 bad input or no way to draw, 1 internal error\n",
-          f);
+    switch (c) {
+    case 'n': return cli_parse_int("render", "--steps", arg, 0, &a->steps);
+    case OPT_EVERY: return cli_parse_int("render", "--every", arg, 1, &a->every);
+    case OPT_FROM: return cli_parse_int("render", "--from", arg, 0, &a->from);
+    case OPT_FPS: return cli_parse_int("render", "--fps", arg, 1, &a->fps);
+    case OPT_PROGRESS: return cli_parse_double("render", "--progress", arg, &a->progress);
+    case OPT_PNG: a->png = arg; return 0;
+    case OPT_MP4: a->mp4 = arg; return 0;
+    }
+    int rc = view_common_option(&a->v, "render", c, arg);
+    return rc == 1 ? 0 : rc == 2 ? 2 : -1;
 }
 
-static int parse_count(const char *s, int min, int *out)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || v < min || v > 100000000) return -1;
-    *out = (int)v;
-    return 0;
-}
-
+/* Returns 0, 2 on a bad command line, or -1 when --help was printed. */
 static int parse(int argc, char **argv, render_args *a)
 {
     static const struct option LONG[] = {
-        {"steps", required_argument, 0, 'n'}, {"every", required_argument, 0, 'e'},
-        {"from", required_argument, 0, 'f'},  {"png", required_argument, 0, 'p'},
-        {"mp4", required_argument, 0, 'm'},   {"fps", required_argument, 0, 'r'},
-        {"help", no_argument, 0, 'h'},        VIEW_COMMON_LONGOPTS, {0, 0, 0, 0}};
+        {"steps", required_argument, 0, 'n'},     {"every", required_argument, 0, OPT_EVERY},
+        {"from", required_argument, 0, OPT_FROM}, {"png", required_argument, 0, OPT_PNG},
+        {"mp4", required_argument, 0, OPT_MP4},   {"fps", required_argument, 0, OPT_FPS},
+        {"progress", required_argument, 0, OPT_PROGRESS}, VIEW_COMMON_LONGOPTS, {0, 0, 0, 0}};
     memset(a, 0, sizeof *a);
-    view_args_init(&a->v, argc, 640, 480);
-    a->steps = -1, a->every = 1;
-    int opt;
-    optind = 1;
-    while ((opt = getopt_long(argc, argv, "n:h", LONG, NULL)) != -1) {
-        int bad = 0;
-        switch (opt) {
-        case 'n': bad = parse_count(optarg, 0, &a->steps); break;
-        case 'e': bad = parse_count(optarg, 1, &a->every); break;
-        case 'f': bad = parse_count(optarg, 0, &a->from); break;
-        case 'r': bad = parse_count(optarg, 1, &a->fps); break;
-        case 'p': a->png = optarg; break;
-        case 'm': a->mp4 = optarg; break;
-        case 'h': usage(stdout); return -1;
-        default: {
-            int rc = view_common_option(&a->v, "render", opt, optarg);
-            if (rc == 2) return 2;
-            if (rc == 0) return usage(stderr), 2;
-        }
-        }
-        if (bad) {
-            fprintf(stderr, "pliant render: --%s: '%s' is not a valid count\n",
-                    opt == 'n' ? "steps" : opt == 'e' ? "every" : opt == 'f' ? "from" : "fps",
-                    optarg);
-            return 2;
-        }
+    if (view_args_init(&a->v, argc, 640, 480)) return 1;
+    a->steps = -1, a->every = 1, a->progress = 5.0;
+    opterr = 0;
+    int c, rc = 0;
+    while (!rc && (c = getopt_long(argc, argv, "n:" VIEW_COMMON_SHORT, LONG, NULL)) != -1) {
+        if (c == 'h') return fputs(USAGE, stdout), -1;
+        rc = render_option(a, c, optarg);
+        if (rc < 0) rc = cli_bad_option("render", argv, optind, optopt);
     }
-    if (optind < argc) a->v.scene = argv[optind++];
-    if (optind < argc) return fprintf(stderr, "pliant render: one scene only\n"), 2;
-    int rc = view_args_finish(&a->v, "render");
+    if (!rc) rc = view_args_finish(&a->v, "render", argc, argv);
     if (rc) return rc;
-    if (a->steps < 0) return fprintf(stderr, "pliant render: give the steps (-n N)\n"), 2;
+    if (a->steps < 0) return cli_usage_error("render", "give the steps (-n N)");
     if (!a->png && !a->mp4)
-        return fprintf(stderr, "pliant render: nothing to write: give --png DIR or --mp4 FILE\n"), 2;
+        return cli_usage_error("render", "nothing to write: give --png DIR or --mp4 FILE");
     if (a->mp4 && (a->v.w % 2 || a->v.h % 2))
-        return fprintf(stderr, "pliant render: an MP4 needs an even width and height\n"), 2;
+        return cli_usage_error("render", "an MP4 needs an even width and height (--size)");
     return 0;
-}
-
-/* The scene's file name without folder and .xml. */
-static void scene_name(const char *scene, char *out, size_t size)
-{
-    const char *b = strrchr(scene, '/');
-    b = b ? b + 1 : scene;
-    size_t n = strlen(b);
-    if (n > 4 && !strcmp(b + n - 4, ".xml")) n -= 4;
-    snprintf(out, size, "%.*s", (int)n, b);
 }
 
 typedef struct renderer_out {
@@ -130,7 +111,7 @@ static int one_frame(render_args *a, vw_app *app, renderer_out *o, pl_error *err
     vw_offscreen_read(o->off, o->rgb);
     if (a->png) {
         char name[128], path[4096];
-        scene_name(a->v.scene, name, sizeof name);
+        cli_scene_name(a->v.scene, name, sizeof name);
         snprintf(path, sizeof path, "%s/%s_%04d.png", a->png, name, o->frames);
         rc = vw_png_write(path, a->v.w, a->v.h, o->rgb, err);
     }
@@ -141,35 +122,25 @@ static int one_frame(render_args *a, vw_app *app, renderer_out *o, pl_error *err
 
 static int run(render_args *a, vw_app *app, pl_sim *sim, renderer_out *o, pl_error *err)
 {
-    int rc = PL_OK;
-    for (int step = 0; !rc; ++step) {
+    int rc = PL_OK, step = 0;
+    cli_progress prog;
+    cli_progress_start(&prog, a->steps, a->v.quiet, a->progress);
+    for (; !rc; ++step) {
         /* the camera frames the scene as it is when the pictures begin */
         if (step == a->from && step > 0 && !(rc = vw_scene_update(&app->scene, app->draw.field, err)))
             vw_app_frame_camera(app);
         if (!rc && step >= a->from && step % a->every == 0) rc = one_frame(a, app, o, err);
         if (rc || step == a->steps) break;
+        cli_progress_update(&prog, step, pl_sim_time(sim));
         rc = pl_sim_step(sim, 1, err);
     }
+    cli_progress_finish(&prog, step, pl_sim_time(sim));
     return rc;
-}
-
-/* mkdir -p */
-static int make_dirs(const char *dir)
-{
-    char p[4096];
-    snprintf(p, sizeof p, "%s", dir);
-    for (char *s = p + 1; *s; ++s)
-        if (*s == '/') {
-            *s = '\0';
-            if (mkdir(p, 0777) != 0 && errno != EEXIST) return -1;
-            *s = '/';
-        }
-    return mkdir(p, 0777) != 0 && errno != EEXIST ? -1 : 0;
 }
 
 static int setup(render_args *a, vw_app *app, pl_sim *sim, renderer_out *o, pl_error *err)
 {
-    if (a->png && make_dirs(a->png) != 0)
+    if (a->png && cli_make_dirs(a->png) != 0)
         return pl_error_set(err, PL_EINPUT, a->png, 0, NULL, "cannot make the folder: %s",
                             strerror(errno));
     o->off = vw_offscreen_create(a->v.w, a->v.h, err);
@@ -221,9 +192,10 @@ int cli_render(int argc, char **argv)
             fprintf(stderr, "pliant render: %s\n", pl_error_format(&err, msg, sizeof msg));
             rc = code == PL_EINPUT ? 2 : 1;
         } else {
-            printf("%s: %d frame%s of %dx%d in %.1f s (%s; %s)", a.v.scene, o.frames,
-                   o.frames == 1 ? "" : "s", a.v.w, a.v.h, pl_now() - t0,
-                   vw_renderer_gl_name(), vw_offscreen_platform(o.off));
+            printf("%s: %d frame%s of %dx%d in %.1f s (%s; %s), %d thread%s", a.v.scene,
+                   o.frames, o.frames == 1 ? "" : "s", a.v.w, a.v.h, pl_now() - t0,
+                   vw_renderer_gl_name(), vw_offscreen_platform(o.off), a.v.threads,
+                   a.v.threads == 1 ? "" : "s");
             if (a.png) printf("; PNG: %s/", a.png);
             if (a.mp4) printf("; MP4: %s", a.mp4);
             printf("\n");

@@ -1,12 +1,31 @@
 /* cmd_run.c - `pliant run`: load a scene, step it, report. */
 #include <pliant/pliant.h>
 
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cli.h"
+
+static const char USAGE[] =
+    "usage: pliant run SCENE.xml [OPTIONS]\n"
+    "Runs a scene headless and writes what its exporters write.\n\n"
+    "  -n, --steps N          time steps to run (default 100)\n"
+    "  -o, --out DIR          folder for the outputs (default out/<scene name>/)\n"
+    "      --export-every K   write every K-th step (default: each exporter's own setting)\n"
+    "      --timings FILE     per-phase timings as JSON\n"
+    "  -s, --set PATH=VALUE   change a field before the run (e.g. bar/arap.youngModulus=1e6);\n"
+    "                         repeatable\n"
+    "      --device cpu|auto  auto: the GPU when the scene declares no device and one is\n"
+    "                         usable (default PLIANT_DEVICE, else auto)\n"
+    "  -j, --threads N        OpenMP threads (default OMP_NUM_THREADS, else the cores this\n"
+    "                         process may use; never more than those)\n"
+    "      --progress S       in a log (stderr not a terminal) a progress line every S\n"
+    "                         seconds (default 5; 0 = none)\n"
+    "  -q, --quiet            only warnings and errors\n"
+    "  -h, --help             this text\n"
+    "exit codes: 0 ok, 1 internal error, 2 bad input (scene, arguments)\n";
 
 typedef struct run_args {
     const char *scene;
@@ -17,76 +36,64 @@ typedef struct run_args {
     const char **sets;
     int nsets;
     int quiet;
+    int threads;
+    double progress;
     const char *device;
 } run_args;
 
-static int parse_int_arg(const char *s, int *out)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || v < 0 || v > 100000000) return -1;
-    *out = (int)v;
-    return 0;
-}
+enum { OPT_EXPORT_EVERY = 256, OPT_TIMINGS, OPT_DEVICE, OPT_PROGRESS };
 
+static const struct option OPTIONS[] = {
+    {"steps", required_argument, NULL, 'n'},
+    {"out", required_argument, NULL, 'o'},
+    {"export-every", required_argument, NULL, OPT_EXPORT_EVERY},
+    {"timings", required_argument, NULL, OPT_TIMINGS},
+    {"set", required_argument, NULL, 's'},
+    {"device", required_argument, NULL, OPT_DEVICE},
+    {"threads", required_argument, NULL, 'j'},
+    {"progress", required_argument, NULL, OPT_PROGRESS},
+    {"quiet", no_argument, NULL, 'q'},
+    {"help", no_argument, NULL, 'h'},
+    {0, 0, 0, 0}};
+
+/* Returns 0, 2 on a bad command line, or -1 when --help was printed. */
 static int parse_args(int argc, char **argv, run_args *a)
 {
     memset(a, 0, sizeof *a);
     a->steps = 100;
+    a->progress = 5.0;
     a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
     if (!a->sets) return 1;
-    for (int k = 0; k < argc; ++k) {
-        const char *s = argv[k];
-        int more = k + 1 < argc;
-        if ((!strcmp(s, "-n") || !strcmp(s, "--steps")) && more) {
-            if (parse_int_arg(argv[++k], &a->steps)) {
-                fprintf(stderr, "pliant run: -n expects a number of steps, got '%s'\n", argv[k]);
-                return 2;
-            }
-        } else if (!strcmp(s, "--out") && more) {
-            a->out = argv[++k];
-        } else if (!strcmp(s, "--export-every") && more) {
-            if (parse_int_arg(argv[++k], &a->export_every) || a->export_every == 0) {
-                fprintf(stderr, "pliant run: --export-every expects a positive number\n");
-                return 2;
-            }
-        } else if (!strcmp(s, "--timings") && more) {
-            a->timings = argv[++k];
-        } else if (!strcmp(s, "--set") && more) {
-            a->sets[a->nsets++] = argv[++k];
-        } else if (!strcmp(s, "--device") && more) {
-            a->device = argv[++k];
-            if (strcmp(a->device, "cpu") && strcmp(a->device, "auto")) {
-                fprintf(stderr, "pliant run: --device expects cpu or auto, got '%s'\n", a->device);
-                return 2;
-            }
-        } else if (!strcmp(s, "--quiet") || !strcmp(s, "-q")) {
-            a->quiet = 1;
-        } else if (s[0] == '-') {
-            fprintf(stderr, "pliant run: unknown or incomplete option '%s'\n", s);
-            return 2;
-        } else if (!a->scene) {
-            a->scene = s;
-        } else {
-            fprintf(stderr, "pliant run: more than one scene given ('%s', '%s')\n", a->scene, s);
-            return 2;
+    opterr = 0;
+    int c, rc = 0;
+    while (!rc && (c = getopt_long(argc, argv, "n:o:s:j:qh", OPTIONS, NULL)) != -1) {
+        switch (c) {
+        case 'n': rc = cli_parse_int("run", "--steps", optarg, 0, &a->steps); break;
+        case 'o': a->out = optarg; break;
+        case OPT_EXPORT_EVERY:
+            rc = cli_parse_int("run", "--export-every", optarg, 1, &a->export_every);
+            break;
+        case OPT_TIMINGS: a->timings = optarg; break;
+        case 's': a->sets[a->nsets++] = optarg; break;
+        case OPT_DEVICE:
+            a->device = optarg;
+            if (strcmp(optarg, "cpu") && strcmp(optarg, "auto"))
+                rc = cli_usage_error("run", "--device expects cpu or auto, got '%s'", optarg);
+            break;
+        case 'j': rc = cli_parse_int("run", "--threads", optarg, 1, &a->threads); break;
+        case OPT_PROGRESS: rc = cli_parse_double("run", "--progress", optarg, &a->progress); break;
+        case 'q': a->quiet = 1; break;
+        case 'h': fputs(USAGE, stdout); return -1;
+        default: rc = cli_bad_option("run", argv, optind, optopt);
         }
     }
-    if (!a->scene) {
-        fprintf(stderr, "pliant run: no scene given (pliant run SCENE.xml)\n");
-        return 2;
-    }
+    if (rc) return rc;
+    if (optind >= argc) return cli_usage_error("run", "no scene given (pliant run SCENE.xml)");
+    if (optind + 1 < argc)
+        return cli_usage_error("run", "more than one scene given ('%s', '%s')", argv[optind],
+                               argv[optind + 1]);
+    a->scene = argv[optind];
     return 0;
-}
-
-static void progress(int done, int total, double elapsed)
-{
-    double ms = done ? 1e3 * elapsed / done : 0.0;
-    double eta = done ? elapsed / done * (total - done) : 0.0;
-    int width = 30, fill = total ? width * done / total : width;
-    fprintf(stderr, "\r[%.*s%*s] frame %d/%d  %.2f ms/frame  ETA %.0f s ", fill,
-            "##############################", width - fill, "", done, total, ms, eta);
-    fflush(stderr);
 }
 
 static int write_timings(pl_sim *sim, const char *path)
@@ -101,57 +108,72 @@ static int write_timings(pl_sim *sim, const char *path)
     return rc ? 1 : 0;
 }
 
+static pl_sim *load(const run_args *a, const char *out_dir, int *status)
+{
+    pl_sim_options opt = {.out_dir = out_dir, .export_every = a->export_every,
+                          .overrides = a->sets, .noverrides = a->nsets, .device = a->device};
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim *sim = pl_sim_load_file(a->scene, &opt, &diag);
+    if (!a->quiet || !sim) pl_diag_print(&diag, stderr);
+    if (!sim)
+        fprintf(stderr, "pliant: %s: %d error%s; the scene was not run\n", a->scene,
+                diag.nerrors, diag.nerrors == 1 ? "" : "s");
+    *status = pl_diag_status(&diag) == PL_EINTERNAL ? 1 : 2;
+    pl_diag_free(&diag);
+    return sim;
+}
+
+/* Steps the scene; returns the status and the steps done. */
+static int step_all(pl_sim *sim, const run_args *a, int *done, double *run_s)
+{
+    pl_error err;
+    pl_error_clear(&err);
+    cli_progress prog;
+    cli_progress_start(&prog, a->steps, a->quiet, a->progress);
+    int rc = PL_OK;
+    for (*done = 0; *done < a->steps; ++*done) {
+        cli_progress_update(&prog, *done, pl_sim_time(sim));
+        if ((rc = pl_sim_step(sim, 1, &err)) != PL_OK) break;
+    }
+    *run_s = pl_now() - prog.t0;
+    cli_progress_finish(&prog, *done, pl_sim_time(sim));
+    if (rc == PL_OK && pl_sim_finish(sim, &err) != PL_OK) rc = err.code;
+    if (rc != PL_OK) {
+        char msg[1600];
+        fprintf(stderr, "pliant: step %d failed: %s\n", *done + 1,
+                pl_error_format(&err, msg, sizeof msg));
+    }
+    return rc;
+}
+
 int cli_run(int argc, char **argv)
 {
     run_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc) {
         free(a.sets);
-        return rc;
+        return rc < 0 ? 0 : rc;
     }
     if (a.quiet) pl_log_set_level(PL_LOG_WARN);
-    pl_sim_options opt = {.out_dir = a.out, .export_every = a.export_every, .overrides = a.sets,
-                          .noverrides = a.nsets, .device = a.device};
-    pl_diag diag;
-    pl_diag_init(&diag);
+    int threads = cli_threads_set(a.threads);
+    char out_dir[1024], name[256];
+    cli_scene_name(a.scene, name, sizeof name);
+    snprintf(out_dir, sizeof out_dir, "%s", a.out ? a.out : "out/");
+    if (!a.out) strncat(out_dir, name, sizeof out_dir - strlen(out_dir) - 1);
     double t0 = pl_now();
-    pl_sim *sim = pl_sim_load_file(a.scene, &opt, &diag);
-    if (!a.quiet || !sim) pl_diag_print(&diag, stderr);
+    pl_sim *sim = load(&a, out_dir, &rc);
     free(a.sets);
-    if (!sim) {
-        int status = pl_diag_status(&diag);
-        fprintf(stderr, "pliant: %s: %d error%s; the scene was not run\n", a.scene, diag.nerrors,
-                diag.nerrors == 1 ? "" : "s");
-        pl_diag_free(&diag);
-        return status == PL_EINTERNAL ? 1 : 2;
-    }
-    pl_diag_free(&diag);
-    double load_s = pl_now() - t0;
-    int tty = isatty(fileno(stderr)) && !a.quiet;
-    pl_error err;
-    pl_error_clear(&err);
-    t0 = pl_now();
-    int done = 0;
-    for (; done < a.steps; ++done) {
-        if (tty && (done % 5 == 0)) progress(done, a.steps, pl_now() - t0);
-        if ((rc = pl_sim_step(sim, 1, &err)) != PL_OK) break;
-    }
-    double run_s = pl_now() - t0;
-    if (tty) {
-        progress(done, a.steps, run_s);
-        fputc('\n', stderr);
-    }
-    if (rc == PL_OK && pl_sim_finish(sim, &err) != PL_OK) rc = err.code;
-    if (rc != PL_OK) {
-        char msg[1600];
-        fprintf(stderr, "pliant: step %d failed: %s\n", done + 1,
-                pl_error_format(&err, msg, sizeof msg));
-    }
+    if (!sim) return rc;
+    double load_s = pl_now() - t0, run_s;
+    int done;
+    rc = step_all(sim, &a, &done, &run_s);
     if (a.timings && write_timings(sim, a.timings) != 0 && rc == PL_OK) rc = PL_EINTERNAL;
     const char *outs[16];
     int nout = pl_sim_outputs(sim, outs, 16);
-    printf("%s: %d steps, t = %.4g s, load %.3f s, %.3f ms/step", a.scene, done,
-           pl_sim_time(sim), load_s, done ? 1e3 * run_s / done : 0.0);
+    printf("%s: %d steps, t = %.4g s, load %.3f s, %.3f ms/step, %d thread%s", a.scene, done,
+           pl_sim_time(sim), load_s, done ? 1e3 * run_s / done : 0.0, threads,
+           threads == 1 ? "" : "s");
     for (int k = 0; k < nout; ++k) printf("%s%s", k ? ", " : "; output: ", outs[k]);
     if (a.timings) printf("; timings: %s", a.timings);
     printf("\n");

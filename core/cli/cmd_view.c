@@ -2,13 +2,29 @@
  * keys and mouse of viewer/app.h; --script feeds the same input from a
  * file (tests, demonstrations). */
 #include <stdio.h>
+#include <string.h>
 
 #include "cli.h"
+#include "view_common.h"
+
+static const char USAGE[] =
+    "usage: pliant view SCENE.xml [OPTIONS]\n"
+    "Runs the scene live in a window.  Keys: space play/pause, n step, r reset,\n"
+    "t real time/fast, w wireframe, c colour field, f contact forces, v camera,\n"
+    "o overlay, p screenshot, h help, q quit; other keys (or Ctrl+key) go to the\n"
+    "scene (KeyboardController).  Mouse: left orbit, right pan, wheel zoom,\n"
+    "Shift+left drag pulls a vertex.\n\n"
+    "      --play             start playing (default: paused)\n"
+    "      --fast             as fast as possible instead of real time\n"
+    "      --script FILE      input from a file (step, key, drag, screenshot, print, quit)\n"
+    VIEW_COMMON_HELP
+    "exit codes: 0 ok, 1 internal error, 2 bad input (scene, arguments) or no display\n";
 
 #if !defined(PLIANT_HAVE_VIEWER) || !defined(PLIANT_HAVE_GLFW)
 int cli_view(int argc, char **argv)
 {
-    (void)argc, (void)argv;
+    for (int k = 1; k < argc && strcmp(argv[k], "--"); ++k)
+        if (!strcmp(argv[k], "-h") || !strcmp(argv[k], "--help")) return fputs(USAGE, stdout), 0;
     fprintf(stderr, "pliant view: this pliant was built without a window library (it needs "
                     "GLFW, OpenGL, EGL and libpng: make deps, then build again); pliant render "
                     "draws without a display when EGL is there\n");
@@ -17,12 +33,10 @@ int cli_view(int argc, char **argv)
 #else
 #include <getopt.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "app.h"
 #include "image.h"
 #include "script.h"
-#include "view_common.h"
 #include "window.h"
 
 typedef struct cmd_args {
@@ -31,49 +45,32 @@ typedef struct cmd_args {
     int play, fast;
 } cmd_args;
 
-static void usage(FILE *f)
-{
-    fputs("usage: pliant view SCENE.xml [options]\n"
-          "Runs the scene live in a window.  Keys: space play/pause, n step, r reset,\n"
-          "t real time/fast, w wireframe, c colour field, f contact forces, v camera,\n"
-          "o overlay, p screenshot, h help, q quit; other keys (or Ctrl+key) go to the\n"
-          "scene (KeyboardController).  Mouse: left orbit, right pan, wheel zoom,\n"
-          "Shift+left drag pulls a vertex.\n"
-          "  --play              start playing (default: paused)\n"
-          "  --fast              as fast as possible instead of real time\n"
-          "  --script FILE       input from a file (step, key, drag, screenshot, print, quit)\n"
-          VIEW_COMMON_HELP "exit codes: 0 ok, 2 bad input or no display, 1 internal error\n",
-          f);
-}
+enum { OPT_SCRIPT = 256, OPT_PLAY, OPT_FAST };
 
+/* Returns 0, 2 on a bad command line, or -1 when --help was printed. */
 static int parse(int argc, char **argv, cmd_args *a)
 {
-    static const struct option LONG[] = {{"script", required_argument, 0, 's'},
-                                         {"play", no_argument, 0, 'p'},
-                                         {"fast", no_argument, 0, 'f'},
-                                         {"help", no_argument, 0, 'h'},
+    static const struct option LONG[] = {{"script", required_argument, 0, OPT_SCRIPT},
+                                         {"play", no_argument, 0, OPT_PLAY},
+                                         {"fast", no_argument, 0, OPT_FAST},
                                          VIEW_COMMON_LONGOPTS,
                                          {0, 0, 0, 0}};
     memset(a, 0, sizeof *a);
-    view_args_init(&a->v, argc, 1024, 768);
-    int opt;
-    optind = 1;
-    while ((opt = getopt_long(argc, argv, "h", LONG, NULL)) != -1) {
-        switch (opt) {
-        case 's': a->script = optarg; break;
-        case 'p': a->play = 1; break;
-        case 'f': a->fast = 1; break;
-        case 'h': usage(stdout); return -1;
-        default: {
-            int rc = view_common_option(&a->v, "view", opt, optarg);
-            if (rc == 2) return 2;
-            if (rc == 0) return usage(stderr), 2;
-        }
+    if (view_args_init(&a->v, argc, 1024, 768)) return 1;
+    opterr = 0;
+    int c, rc = 0;
+    while (!rc && (c = getopt_long(argc, argv, VIEW_COMMON_SHORT, LONG, NULL)) != -1) {
+        switch (c) {
+        case OPT_SCRIPT: a->script = optarg; break;
+        case OPT_PLAY: a->play = 1; break;
+        case OPT_FAST: a->fast = 1; break;
+        case 'h': fputs(USAGE, stdout); return -1;
+        default:
+            rc = view_common_option(&a->v, "view", c, optarg);
+            rc = rc == 1 ? 0 : rc == 2 ? 2 : cli_bad_option("view", argv, optind, optopt);
         }
     }
-    if (optind < argc) a->v.scene = argv[optind++];
-    if (optind < argc) return fprintf(stderr, "pliant view: one scene only\n"), 2;
-    return view_args_finish(&a->v, "view");
+    return rc ? rc : view_args_finish(&a->v, "view", argc, argv);
 }
 
 typedef struct shot_ctx {

@@ -2,85 +2,78 @@
 #ifdef PLIANT_HAVE_VIEWER
 #include "view_common.h"
 
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "app.h"
+#include "cli.h"
 
-void view_args_init(view_args *a, int argc, int w, int h)
+int view_args_init(view_args *a, int argc, int w, int h)
 {
     memset(a, 0, sizeof *a);
     a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
     a->w = w, a->h = h;
     a->field = VW_FIELD_DISPLACEMENT;
     a->overlay = 1;
+    return a->sets ? 0 : 1;
 }
 
 void view_args_free(view_args *a)
 {
     free(a->sets);
-    free((char *)a->out);
     a->sets = NULL;
-    a->out = NULL;
 }
 
 int view_common_option(view_args *a, const char *cmd, int opt, const char *arg)
 {
     switch (opt) {
-    case VOPT_SET: a->sets[a->nsets++] = arg; return 1;
-    case VOPT_DEVICE:
-        if (strcmp(arg, "cpu") && strcmp(arg, "auto")) {
-            fprintf(stderr, "pliant %s: --device expects cpu or auto, got '%s'\n", cmd, arg);
-            return 2;
-        }
-        a->device = arg;
+    case 's': a->sets[a->nsets++] = arg; return 1;
+    case 'o':
+        if (strlen(arg) >= sizeof a->out)
+            return cli_usage_error(cmd, "--out: the folder name is too long");
+        snprintf(a->out, sizeof a->out, "%s", arg);
+        a->has_out = 1;
         return 1;
-    case VOPT_OUT:
-        free((char *)a->out);
-        a->out = strdup(arg);
+    case 'j': return cli_parse_int(cmd, "--threads", arg, 1, &a->threads) ? 2 : 1;
+    case 'q': a->quiet = 1; return 1;
+    case VOPT_DEVICE:
+        if (strcmp(arg, "cpu") && strcmp(arg, "auto"))
+            return cli_usage_error(cmd, "--device expects cpu or auto, got '%s'", arg);
+        a->device = arg;
         return 1;
     case VOPT_SIZE:
         if (sscanf(arg, "%dx%d", &a->w, &a->h) != 2 || a->w < 16 || a->h < 16 || a->w > 8192 ||
-            a->h > 8192) {
-            fprintf(stderr, "pliant %s: --size expects WxH between 16 and 8192 (e.g. 640x480), "
-                            "got '%s'\n", cmd, arg);
-            return 2;
-        }
+            a->h > 8192)
+            return cli_usage_error(cmd, "--size expects WxH between 16 and 8192 (e.g. 640x480), "
+                                        "got '%s'", arg);
         return 1;
     case VOPT_FIELD:
-        if ((a->field = vw_field_parse(arg)) < 0) {
-            fprintf(stderr, "pliant %s: --field expects displacement, velocity, force or none, "
-                            "got '%s'\n", cmd, arg);
-            return 2;
-        }
+        if ((a->field = vw_field_parse(arg)) < 0)
+            return cli_usage_error(cmd, "--field expects displacement, velocity, force or none, "
+                                        "got '%s'", arg);
         return 1;
     case VOPT_WIREFRAME: a->wireframe = 1; return 1;
     case VOPT_NO_OVERLAY: a->overlay = 0; return 1;
-    case VOPT_QUIET: a->quiet = 1; return 1;
     }
     return 0;
 }
 
-int view_args_finish(view_args *a, const char *cmd)
+int view_args_finish(view_args *a, const char *cmd, int argc, char **argv)
 {
-    if (!a->sets) return 1;
-    if (!a->scene) {
-        fprintf(stderr, "pliant %s: no scene given (pliant %s SCENE.xml; --help)\n", cmd, cmd);
-        return 2;
-    }
-    if (!a->out) {
-        /* out/<scene file name without .xml> */
-        const char *b = strrchr(a->scene, '/');
-        b = b ? b + 1 : a->scene;
-        size_t n = strlen(b);
-        if (n > 4 && !strcmp(b + n - 4, ".xml")) n -= 4;
-        char *o = malloc(n + 5);
-        if (!o) return 1;
-        snprintf(o, n + 5, "out/%.*s", (int)n, b);
-        a->out = o;
+    if (optind >= argc) return cli_usage_error(cmd, "no scene given (pliant %s SCENE.xml)", cmd);
+    if (optind + 1 < argc)
+        return cli_usage_error(cmd, "more than one scene given ('%s', '%s')", argv[optind],
+                               argv[optind + 1]);
+    a->scene = argv[optind];
+    if (!a->has_out) {
+        char name[256];
+        cli_scene_name(a->scene, name, sizeof name);
+        snprintf(a->out, sizeof a->out, "out/%s", name);
     }
     if (a->quiet) pl_log_set_level(PL_LOG_WARN);
+    a->threads = cli_threads_set(a->threads);
     return 0;
 }
 

@@ -74,34 +74,52 @@ static pl_node *walk_nodes(pl_node *root, const char *path)
     return n;
 }
 
+static pl_component *in_node(pl_node *root, const char *path, const char *slash, pl_error *err)
+{
+    char nodepath[512], hint[512];
+    size_t len = (size_t)(slash - path);
+    if (len >= sizeof nodepath) len = sizeof nodepath - 1;
+    memcpy(nodepath, path, len);
+    nodepath[len] = '\0';
+    pl_node *n = walk_nodes(root, nodepath);
+    if (!n) {
+        if (pl_walk_suggest_node(root, nodepath, hint, sizeof hint))
+            pl_error_set(err, PL_EINPUT, NULL, 0, path,
+                         "no node '%s' in the scene (did you mean %s/%s?)", nodepath, hint,
+                         slash + 1);
+        else
+            pl_error_set(err, PL_EINPUT, NULL, 0, path, "no node '%s' in the scene", nodepath);
+        return NULL;
+    }
+    for (int k = 0; k < n->ncomponents; ++k)
+        if (!strcmp(n->components[k]->name, slash + 1)) return n->components[k];
+    const char *best = pl_walk_suggest_component(n, slash + 1);
+    if (best)
+        pl_error_set(err, PL_EINPUT, NULL, 0, path,
+                     "node '%s' has no component '%s' (did you mean %s/%s?)", nodepath,
+                     slash + 1, nodepath, best);
+    else
+        pl_error_set(err, PL_EINPUT, NULL, 0, path, "node '%s' has no component '%s'", nodepath,
+                     slash + 1);
+    return NULL;
+}
+
 pl_component *pl_walk_component(pl_node *root, const char *path, pl_error *err)
 {
     if (!root) return NULL;
     const char *slash = strrchr(path, '/');
-    if (slash) {
-        char nodepath[512];
-        size_t len = (size_t)(slash - path);
-        if (len >= sizeof nodepath) len = sizeof nodepath - 1;
-        memcpy(nodepath, path, len);
-        nodepath[len] = '\0';
-        pl_node *n = walk_nodes(root, nodepath);
-        if (!n) {
-            pl_error_set(err, PL_EINPUT, NULL, 0, path, "no node '%s' in the scene", nodepath);
-            return NULL;
-        }
-        for (int k = 0; k < n->ncomponents; ++k)
-            if (!strcmp(n->components[k]->name, slash + 1)) return n->components[k];
-        pl_error_set(err, PL_EINPUT, NULL, 0, path, "node '%s' has no component '%s'", nodepath,
-                     slash + 1);
-        return NULL;
-    }
+    if (slash) return in_node(root, path, slash, err);
     by_name b = {path, NULL, 0};
     walk_pre(root, match_name, &b);
     if (b.count == 1) return b.found;
+    char hint[512];
     if (b.count > 1)
         pl_error_set(err, PL_EINPUT, NULL, 0, path,
                      "%d components are named '%s': give the node path (node/%s)", b.count, path,
                      path);
+    else if (pl_walk_suggest_anywhere(root, path, hint, sizeof hint))
+        pl_error_set(err, PL_EINPUT, NULL, 0, path,
+                     "no component named '%s' in the scene (did you mean %s?)", path, hint);
     else
         pl_error_set(err, PL_EINPUT, NULL, 0, path, "no component named '%s' in the scene", path);
     return NULL;
@@ -140,6 +158,19 @@ static int set_node_field(pl_node *n, const char *field, const char *value, pl_e
     return PL_OK;
 }
 
+/* A path "node.dt" whose node is misspelled: suggest the node, not a component. */
+static pl_component *component_or_node_hint(pl_node *root, const char *obj, const char *field,
+                                            pl_error *err)
+{
+    pl_component *c = pl_walk_component(root, obj, err);
+    char hint[512];
+    if (!c && (!strcmp(field, "dt") || !strcmp(field, "gravity")) &&
+        pl_walk_suggest_node(root, obj, hint, sizeof hint))
+        pl_error_set(err, PL_EINPUT, NULL, 0, obj, "no node '%s' in the scene (did you mean %s?)",
+                     obj, hint);
+    return c;
+}
+
 int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int *runtime,
                         pl_error *err)
 {
@@ -152,7 +183,7 @@ int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int 
     pl_node *n = walk_nodes(root, obj);
     if (n && (!strcmp(field, "dt") || !strcmp(field, "gravity")))
         return set_node_field(n, field, value, err);
-    pl_component *c = pl_walk_component(root, obj, err);
+    pl_component *c = component_or_node_hint(root, obj, field, err);
     if (!c) return PL_EINPUT;
     const pl_field *f = pl_component_field(c, field);
     if (!f) {
@@ -205,7 +236,7 @@ int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, si
         snprintf(buf, size, "%.17g %.17g %.17g", g[0], g[1], g[2]);
         return PL_OK;
     }
-    pl_component *c = pl_walk_component(root, obj, err);
+    pl_component *c = component_or_node_hint(root, obj, field, err);
     if (!c) return PL_EINPUT;
     if (c->type->ops.get && d && c->type->ops.get(c, d, field, buf, size) == PL_OK) return PL_OK;
     const pl_field *f = pl_component_field(c, field);

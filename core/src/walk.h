@@ -15,6 +15,14 @@ int walk_post(pl_node *n, pl_component_visit fn, void *user);
  * unique in the scene).  On failure returns NULL with a message in err. */
 pl_component *pl_walk_component(pl_node *root, const char *path, pl_error *err);
 
+/* walk_suggest.c: the closest existing names, for "did you mean".  The node
+ * path one (whole path corrected segment by segment) and the anywhere one
+ * (a component name, with its node path when the name is not unique) write
+ * into buf and return 1 when there is one; the other returns a name or NULL. */
+int pl_walk_suggest_node(pl_node *root, const char *path, char *buf, size_t size);
+const char *pl_walk_suggest_component(const pl_node *n, const char *name);
+int pl_walk_suggest_anywhere(pl_node *root, const char *name, char *buf, size_t size);
+
 /* Sets "component.field" (or "node.dt", "node.gravity") from text. */
 int pl_walk_set(pl_node *root, const char *path, const char *value, pl_error *err);
 /* Same; *runtime tells whether the field may change without a rebuild. */

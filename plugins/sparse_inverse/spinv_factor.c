@@ -26,6 +26,9 @@ pl_sparse_inverse *pl_sparse_inverse_create(const pl_spinv_options *opt)
     pl_spinv_options defaults = {PL_SPINV_METIS, PL_SPINV_SPARSE, 0};
     s->opt = opt ? *opt : defaults;
     s->nthreads = s->opt.threads > 0 ? s->opt.threads : omp_get_max_threads();
+    /* never more threads than the cores this process may use (its affinity):
+     * the extra ones would only wait at every barrier */
+    if (s->nthreads > omp_get_num_procs()) s->nthreads = omp_get_num_procs();
     if (s->nthreads < 1) s->nthreads = 1;
     if (!cholmod_start(&s->cc)) {
         free(s);

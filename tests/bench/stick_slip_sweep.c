@@ -18,6 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "test_tmp.h"
+
 static const double MU_STAR = 0.17632698070846498;
 
 enum { MAX_SETS = 8 };
@@ -39,7 +41,7 @@ static double run(const sweep *sw, const char *precond, double mu)
     snprintf(set_pc, sizeof set_pc, "contact.preconditioner=%s", precond);
     const char *sets[3 + MAX_SETS] = {set_mu, set_pc, "vtk.every=100000000"};
     for (int k = 0; k < sw->nsets; ++k) sets[3 + k] = sw->sets[k];
-    pl_sim_options opt = {.out_dir = "/tmp", .overrides = sets,
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .overrides = sets,
                           .noverrides = 3 + sw->nsets};
     pl_diag diag;
     pl_diag_init(&diag);

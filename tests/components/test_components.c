@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "test_tmp.h"
 
 #define MESHES PL_SOURCE_DIR "/scenes/meshes"
 
@@ -222,14 +223,14 @@ END_TEST
 
 START_TEST(a_broken_mesh_file_stops_the_scene_naming_the_loader)
 {
-    char path[] = "/tmp/pliant_broken_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "broken");
     ck_assert_int_ge(fd, 0);
     const char *bad = "# vtk DataFile Version 2.0\nbroken\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                       "POINTS 4 double\n0 0 0\n1 0 0\n0 nan 0\n";
     ck_assert_int_eq(write(fd, bad, strlen(bad)), (ssize_t)strlen(bad));
     close(fd);
-    char xml[512];
+    char xml[1600];
     snprintf(xml, sizeof xml,
              "<Node name=\"root\">\n  <MeshLoader name=\"mesh\" filename=\"%s\"/>\n"
              "  <MechanicalObject/>\n</Node>\n",
@@ -275,8 +276,8 @@ END_TEST
 
 START_TEST(vtk_exporter_writes_a_series_into_the_output_folder)
 {
-    char dir[] = "/tmp/pliant_out_XXXXXX";
-    ck_assert_ptr_nonnull(mkdtemp(dir));
+    char *dir = test_tmp_mkdtemp("out");
+    ck_assert_ptr_nonnull(dir);
     pl_sim_options opt = {.out_dir = dir};
     pl_sim *s = pl_sim_load_string("<Node name=\"root\">\n"
                                    "  <MeshLoader filename=\"meshes/liver.msh\"/>\n"
@@ -291,7 +292,7 @@ START_TEST(vtk_exporter_writes_a_series_into_the_output_folder)
     ck_assert_int_eq(pl_sim_outputs(s, outs, 4), 1);
     ck_assert_ptr_nonnull(strstr(outs[0], dir));
     pl_sim_free(s);
-    char path[256];
+    char path[1200];
     struct stat st;
     for (int k = 0; k < 3; ++k) {
         snprintf(path, sizeof path, "%s/liver_%04d.vtu", dir, k);
@@ -302,7 +303,8 @@ START_TEST(vtk_exporter_writes_a_series_into_the_output_folder)
     snprintf(path, sizeof path, "%s/liver.pvd", dir);
     ck_assert_int_eq(stat(path, &st), 0);
     unlink(path);
-    rmdir(dir);
+    test_tmp_rmtree(dir);
+    free(dir);
 }
 END_TEST
 

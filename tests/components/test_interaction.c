@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "pliant/pliant.h"
+#include "test_tmp.h"
 
 static const char *BAR =
     "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
@@ -34,7 +35,7 @@ static pl_sim *load(const char *extra, pl_diag *diag)
 {
     char xml[4096];
     snprintf(xml, sizeof xml, BAR, extra);
-    pl_sim_options opt = {.out_dir = "/tmp", .device = "cpu"};
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .device = "cpu"};
     return pl_sim_load_string(xml, "interaction.xml", &opt, diag);
 }
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "test_tmp.h"
 
 static const char *SCENE =
     "<Node name=\"root\" dt=\"0.01\">\n"
@@ -42,8 +43,8 @@ START_TEST(save_and_restore_round_trip_exactly)
 {
     pl_sim *s = load();
     pl_error err;
-    char path[] = "/tmp/pliant_state_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "state");
     ck_assert_int_ge(fd, 0);
     close(fd);
     double a[12], b[12];
@@ -72,8 +73,8 @@ START_TEST(restoring_a_foreign_or_broken_file_fails_cleanly)
 {
     pl_sim *s = load();
     pl_error err;
-    char path[] = "/tmp/pliant_bad_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "bad");
     ck_assert_int_ge(fd, 0);
     ck_assert_int_eq(write(fd, "PLSTATE1garbage", 15), 15);
     close(fd);

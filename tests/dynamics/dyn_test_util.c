@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "test_tmp.h"
 
 static pl_sim *finish_load(pl_sim *s, pl_diag *diag)
 {
@@ -28,8 +29,7 @@ pl_sim *dyn_load_file(const char *rel_path, const char **sets, int nsets)
     pl_diag diag;
     pl_diag_init(&diag);
     snprintf(path, sizeof path, "%s/%s", PL_SOURCE_DIR, rel_path);
-    pl_sim_options opt = {.out_dir = "/tmp/pliant_test_out", .overrides = sets,
-                          .noverrides = nsets};
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .overrides = sets, .noverrides = nsets};
     return finish_load(pl_sim_load_file(path, &opt, &diag), &diag);
 }
 

@@ -7,16 +7,11 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "test_tmp.h"
 
 char *tu_tmpdir(void)
 {
-    mkdir(PL_BINARY_DIR "/tests", 0777);
-    char *t = strdup(PL_BINARY_DIR "/tests/export-tmp-XXXXXX");
-    if (t && !mkdtemp(t)) {
-        free(t);
-        return NULL;
-    }
-    return t;
+    return test_tmp_mkdtemp("export");
 }
 
 static int rm_one(const char *p, const struct stat *st, int flag, struct FTW *ftw)

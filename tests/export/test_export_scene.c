@@ -138,15 +138,18 @@ START_TEST(test_nothing_to_export)
 {
     pl_diag diag;
     pl_diag_init(&diag);
+    char *dir = tu_tmpdir();
     pl_sim *s = load("<Node name=\"root\">\n<Node name=\"empty\">\n"
                      "<VTKExporter name=\"vtk\"/></Node></Node>",
-                     0, "/tmp", &diag);
+                     0, dir, &diag);
     ck_assert_ptr_null(s);
     ck_assert_int_eq(diag.nerrors, 1);
     ck_assert_int_eq(diag.items[0].line, 3);
     ck_assert_ptr_nonnull(strstr(diag.items[0].msg, "nothing to export"));
     ck_assert_ptr_nonnull(strstr(diag.items[0].where, "empty/vtk"));
     pl_diag_free(&diag);
+    tu_rmtree(dir);
+    free(dir);
 }
 END_TEST
 

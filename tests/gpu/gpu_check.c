@@ -22,6 +22,7 @@
 
 #include "gpu_bar.h"
 #include "gpu_util.h"
+#include "test_tmp.h"
 #include "hyper_cuda.h"
 #include "pliant/pliant.h"
 #include "spinv_cuda.h"
@@ -223,7 +224,7 @@ static int run_scene(const char *path, const char *const *ov, int nov, int nstep
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp";
+    opt.out_dir = test_tmp_dir();
     opt.device = "cpu"; /* a scene without a CudaDevice is the CPU run */
     opt.overrides = ov;
     opt.noverrides = nov;

@@ -39,10 +39,17 @@
 #include <string.h>
 
 #include "gpu_util.h"
+#include "test_tmp.h"
 #include "pliant/pliant.h"
 
 static FILE *md;
-static const char *STATE = "/tmp/gpu_scenes_state.bin";
+/* The checkpoint of the restore checks, in this run's temporary folder. */
+static const char *state_file(void)
+{
+    static char path[1100];
+    if (!path[0]) snprintf(path, sizeof path, "%s/state.bin", test_tmp_dir());
+    return path;
+}
 
 typedef struct config {
     const char *name;
@@ -88,7 +95,7 @@ static pl_sim *load(const char *path, const config *c)
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000; /* the first frame only */
     opt.overrides = c->cuda ? ov : NULL;
     opt.noverrides = c->cuda ? 3 : 0;
@@ -183,7 +190,7 @@ static int take(pl_sim *sim, snap *s)
 static int step_from_state(pl_sim *sim, int frames, snap *s)
 {
     pl_error err;
-    if (pl_sim_restore_state(sim, STATE, &err) != PL_OK ||
+    if (pl_sim_restore_state(sim, state_file(), &err) != PL_OK ||
         pl_sim_step(sim, frames, &err) != PL_OK) {
         printf("restore/step: %s\n", err.msg);
         return -1;
@@ -261,7 +268,7 @@ static void check_scene(const char *path)
     const int contact = has_contact(scene);
     char own[3][64];
     if (!ref || pl_sim_step(ref, run_up(scene), &err) != PL_OK ||
-        pl_sim_save_state(ref, STATE, &err) != PL_OK || (contact && set_converged(ref, own)) ||
+        pl_sim_save_state(ref, state_file(), &err) != PL_OK || (contact && set_converged(ref, own)) ||
         step_from_state(ref, 1, &one) ||
         step_from_state(ref, 10, &ten)) {
         snprintf(what, sizeof what, "%s: CPU reference", scene);
@@ -503,7 +510,7 @@ static void implicit_device_check(void)
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp/gpu_scenes_out";
+    opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000;
     opt.device = "auto";
     pl_sim *sim = pl_sim_load_file(path, &opt, &diag), *ref = load(path, &declared),

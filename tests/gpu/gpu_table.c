@@ -27,6 +27,7 @@
 #include <sys/stat.h>
 
 #include "gpu_util.h"
+#include "test_tmp.h"
 #include "pliant/pliant.h"
 
 typedef struct paper_row {
@@ -85,7 +86,7 @@ static pl_sim *load(const char *path, int f32)
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
-    opt.out_dir = "/tmp/gpu_table_out";
+    opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000;
     opt.overrides = ov;
     opt.noverrides = nov;

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "lg_device_fakes.h"
+#include "test_tmp.h"
 
 /* A bar of springs, its left end fixed, its right end turning, under
  * gravity: prescribed vertices that move make A_fp q_p matter. */
@@ -75,7 +76,7 @@ static pl_sim *load(pl_registry *r, const setup *s, char *msg, size_t size)
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
     opt.registry = r;
-    opt.out_dir = "/tmp";
+    opt.out_dir = test_tmp_dir();
     pl_sim *sim = pl_sim_load_string(xml, "lg_device.xml", &opt, &diag);
     if (msg) snprintf(msg, size, "%s", diag.count ? diag.items[0].msg : "");
     pl_diag_free(&diag);

@@ -12,6 +12,7 @@
 
 #include "pliant/error.h"
 #include "pliant/mesh.h"
+#include "test_tmp.h"
 
 #define MESH_DIR PL_SOURCE_DIR "/scenes/meshes/"
 
@@ -134,14 +135,15 @@ static inline const pl_error *tu_find(const pl_diag *d, int code, const char *ne
 }
 
 /* A private temp folder per process (Check forks one per test). */
-static char tu_dir[64];
+static char tu_dir[1024];
 
 static inline const char *tu_path(const char *name)
 {
-    static char path[256];
+    static char path[1300];
     if (!tu_dir[0]) {
-        snprintf(tu_dir, sizeof tu_dir, "/tmp/pl_loaders_XXXXXX");
-        ck_assert_ptr_nonnull(mkdtemp(tu_dir));
+        const char *d = test_tmp_dir();
+        ck_assert_ptr_nonnull(d);
+        snprintf(tu_dir, sizeof tu_dir, "%s", d);
     }
     snprintf(path, sizeof path, "%s/%s", tu_dir, name);
     return path;
@@ -184,9 +186,7 @@ static inline char *tu_slurp(const char *path, size_t *n)
 static inline void tu_cleanup(void)
 {
     if (!tu_dir[0]) return;
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tu_dir);
-    ck_assert_int_eq(system(cmd), 0);
+    test_tmp_dir_remove();
     tu_dir[0] = '\0';
 }
 

@@ -18,6 +18,7 @@
 
 #include "contact.h"
 #include "contact_test_component.h"
+#include "test_tmp.h"
 
 static const double G = 9.81;
 
@@ -210,7 +211,8 @@ START_TEST(warm_start_records_are_part_of_the_state)
     test_scene t;
     scene(&t, "3.355 -9.218 0", 3, "", "", "0 0 0", "<TestConstraint name=\"plane\" mode=\"plane\" mu=\"0.1\"/>");
     ts_step(&t, 10);
-    const char *path = "/tmp/pliant_test_ncp_component_state.bin";
+    char path[1024];
+    close(test_tmp_file(path, sizeof path, "ncp_state"));
     pl_error err;
     ck_assert_int_eq(pl_sim_save_state(t.sim, path, &err), PL_OK);
     int n;

@@ -18,6 +18,7 @@
 
 #include "offscreen.h"
 #include "script.h"
+#include "test_tmp.h"
 #include "viewer_test_util.h"
 
 enum { W = 320, H = 240 };
@@ -180,8 +181,10 @@ END_TEST
 
 START_TEST(test_script_errors)
 {
-    const char *path = "/tmp/pliant_viewer_bad_script.txt";
-    FILE *f = fopen(path, "w");
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "viewer_script");
+    ck_assert_int_ge(fd, 0);
+    FILE *f = fdopen(fd, "w");
     ck_assert_ptr_nonnull(f);
     fputs("# a script\nstep 2\nkey +\njump 3\n", f);
     fclose(f);

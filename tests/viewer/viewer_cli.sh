@@ -34,6 +34,17 @@ fi
 [ $rc = 2 ] && grep -q -- "--size" "$T/e2" || fail "bad size: rc $rc"
 "$PLIANT" render "$SCENE" -n 2 --png "$T/x" --field stress > "$T/e3" 2>&1; rc=$?
 [ $rc = 2 ] && grep -q -- "--field" "$T/e3" || fail "bad field: rc $rc"
+"$PLIANT" render "$SCENE" -n 2 --png "$T/x" --bogus > "$T/e5" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q "unknown option" "$T/e5" && grep -q "pliant render --help" "$T/e5" \
+  || fail "unknown option: rc $rc"
+"$PLIANT" render "$SCENE" -n 2 --png "$T/x" --every=0 > "$T/e6" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q -- "--every expects" "$T/e6" || fail "bad --every: rc $rc"
+"$PLIANT" render "$SCENE" "$SCENE" -n 2 --png "$T/x" > "$T/e7" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q "more than one scene" "$T/e7" || fail "two scenes: rc $rc"
+"$PLIANT" view > "$T/e8" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q "no scene given" "$T/e8" || fail "view without a scene: rc $rc"
+"$PLIANT" view "$SCENE" --threads=x > "$T/e9" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q -- "--threads expects" "$T/e9" || fail "view --threads=x: rc $rc"
 env -u DISPLAY -u WAYLAND_DISPLAY "$PLIANT" view "$SCENE" --out "$T/out" > "$T/e4" 2>&1; rc=$?
 [ $rc = 2 ] && grep -q "display" "$T/e4" || { cat "$T/e4"; fail "view without a display: rc $rc"; }
 

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "test_tmp.h"
+
 const char *VT_FALLING_BALL =
     "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
     "<RequiredPlugin name=\"hyperelastic\"/><RequiredPlugin name=\"sparse_inverse\"/>\n"
@@ -20,7 +22,7 @@ const char *VT_FALLING_BALL =
 pl_sim *vt_load(const char *xml, int is_file, vw_app *app)
 {
     memset(app, 0, sizeof *app);
-    pl_sim_options opt = {.out_dir = "/tmp/pliant_viewer_test", .device = "cpu",
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .device = "cpu",
                           .prepare = vw_app_prepare, .prepare_user = app};
     pl_diag diag;
     pl_diag_init(&diag);

@@ -1,0 +1,160 @@
+/* regress_entry.c - one line of a regression list, as its child process
+ * runs it: load the scene (outputs into the rank's temporary folder), step
+ * it recording every MechanicalObject's positions, then compare them with
+ * the stored references or rewrite those.  The report, one "key value" per
+ * line, goes back to the parent (cmd_regress.c), which prints the row. */
+#include <pliant/pliant.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "export/export.h"
+#include "regress.h"
+
+typedef struct states {
+    pl_component *items[64];
+    int n;
+} states;
+
+static int add_state(pl_component *c, void *user)
+{
+    states *s = user;
+    if (s->n < 64) s->items[s->n++] = c;
+    return 0;
+}
+
+static const char *base_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+static int record(pl_sim *sim, const states *st, pl_state_records *rec, pl_error *err)
+{
+    for (int k = 0; k < st->n; ++k) {
+        const pl_state_ops *ops = pl_component_role(st->items[k], PL_ROLE_STATE);
+        pl_buffer x = ops->positions(st->items[k], pl_sim_data(sim));
+        int rc = pl_state_records_add(&rec[k], pl_sim_time(sim), pl_buffer_f64(&x), (int)x.rows * 3,
+                                      NULL, 0, err);
+        if (rc) return rc;
+    }
+    return PL_OK;
+}
+
+/* Runs one entry and returns the sim (the caller frees it: the state
+ * components' names are needed for the reference files), NULL on error. */
+static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *out_dir,
+                         states *st, pl_state_records *rec, pl_error *err)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    /* the references are CPU results: a GPU would differ by rounding */
+    pl_sim_options opt = {.out_dir = out_dir, .device = "cpu"};
+    pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
+    if (!sim) {
+        pl_diag_print(&diag, stderr);
+        pl_diag_free(&diag);
+        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load");
+        return NULL;
+    }
+    pl_diag_free(&diag);
+    st->n = 0;
+    pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, add_state, st);
+    for (int k = 0; k < st->n; ++k) pl_state_records_init(&rec[k]);
+    int rc = record(sim, st, rec, err);
+    for (int s = 0; rc == PL_OK && s < e->steps; ++s) {
+        rc = pl_sim_step(sim, 1, err);
+        if (rc == PL_OK && (!e->last_only || s == e->steps - 1)) rc = record(sim, st, rec, err);
+    }
+    if (rc != PL_OK) {
+        pl_sim_free(sim);
+        return NULL;
+    }
+    return sim;
+}
+
+static int reference_path(char *buf, size_t size, const char *refs, const char *scene, int k,
+                          const char *name)
+{
+    char base[4096];
+    snprintf(base, sizeof base, "%s/%s", refs, base_of(scene));
+    return pl_regression_reference_path(buf, size, base, k, name) >= (int)size ? -1 : 0;
+}
+
+static int write_refs(const char *refs, const char *scene, const states *st,
+                      const pl_state_records *rec, pl_error *err)
+{
+    for (int k = 0; k < st->n; ++k) {
+        char path[2048];
+        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
+        pl_state_writer *w = pl_state_writer_open(path, 0, err);
+        if (!w) return err->code;
+        for (int r = 0; r < rec[k].count; ++r)
+            if (pl_state_writer_write(w, rec[k].items[r].time, rec[k].items[r].x,
+                                      rec[k].items[r].nx, NULL, 0, err)) {
+                pl_state_writer_close(w, NULL);
+                return err->code;
+            }
+        if (pl_state_writer_close(w, err)) return err->code;
+    }
+    return PL_OK;
+}
+
+static int compare_refs(const char *refs, const char *scene, const states *st,
+                        const pl_state_records *rec, double dt, double epsilon,
+                        pl_regression_result *res, pl_error *err)
+{
+    pl_state_records ref[64];
+    int rc = PL_OK;
+    for (int k = 0; k < st->n; ++k) pl_state_records_init(&ref[k]);
+    for (int k = 0; k < st->n && rc == PL_OK; ++k) {
+        char path[2048];
+        if (reference_path(path, sizeof path, refs, scene, k, st->items[k]->name))
+            rc = pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "reference path too long");
+        else if (access(path, R_OK) != 0)
+            rc = pl_error_set(err, PL_EINPUT, path, 0, NULL,
+                              "no reference file (run with --update to create it)");
+        else
+            rc = pl_state_file_read(path, &ref[k], err);
+    }
+    if (rc == PL_OK) rc = pl_regression_compare(ref, rec, st->n, 0.5 * dt, epsilon, res, err);
+    for (int k = 0; k < st->n; ++k) pl_state_records_free(&ref[k]);
+    return rc;
+}
+
+/* The run of entry i in its child; writes the report, returns the exit code. */
+int regress_entry_job(int i, void *user, FILE *out)
+{
+    const regress_ctx *x = user;
+    const pl_regression_entry *e = &x->list->items[i];
+    char scene[2048];
+    snprintf(scene, sizeof scene, "%s/%s", x->list_dir, e->scene);
+    if (x->quiet) pl_log_set_level(PL_LOG_WARN);
+    states st = {{0}, 0};
+    pl_state_records rec[64];
+    pl_error err;
+    pl_regression_result res = {0};
+    pl_sim *sim = run_entry(scene, e, x->out_dir, &st, rec, &err);
+    int rc = sim ? PL_OK : err.code;
+    double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
+    if (rc == PL_OK)
+        rc = x->update ? write_refs(x->refs, e->scene, &st, rec, &err)
+                       : compare_refs(x->refs, e->scene, &st, rec, dt, e->epsilon, &res, &err);
+    if (rc != PL_OK) {
+        char msg[1600];
+        pl_error_format(&err, msg, sizeof msg);
+        for (char *p = msg; *p; ++p)
+            if (*p == '\n') *p = ' ';
+        fprintf(out, "result error\nmsg %s\n", msg);
+    } else if (x->update) {
+        fprintf(out, "result written\nstates %d\n", st.n);
+    } else {
+        fprintf(out, "result %s\nerror %.17g\n", res.passed ? "pass" : "FAIL", res.error_by_dof);
+    }
+    for (int k = 0; k < st.n; ++k) pl_state_records_free(&rec[k]);
+    pl_sim_free(sim);
+    return rc == PL_OK ? 0 : rc;
+}
