@@ -1,5 +1,6 @@
 #!/bin/sh
-# Installs the Debian packages Pliant needs, if they are missing.
+# Installs the Debian packages Pliant needs, if they are missing
+# (with the argument `fuzz`: also what the fuzz targets need).
 # Uses sudo when not root.  Safe to run again: it installs nothing when all
 # packages are present.
 set -eu
@@ -9,6 +10,11 @@ set -eu
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
 zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin \
 libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth"
+# `install-deps.sh fuzz` (make fuzz): clang with libFuzzer, LLVM's coverage
+# tools and clang's OpenMP runtime, only for the fuzz targets.
+if [ "${1:-}" = fuzz ]; then
+  PKGS="$PKGS clang llvm libclang-rt-dev libomp-dev"
+fi
 missing=""
 for p in $PKGS; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -60,7 +60,7 @@ typedef struct vw_app {
     int screenshots, want_screenshot;
 } vw_app;
 
-/* The prepare hook for pl_sim_options (pass a vw_app as user): adds a
+/* The prepare hook of pl_sim_load_file_prepared (user: the vw_app): adds a
  * PickSpring named viewerPick next to the animation loop, and a
  * NonSmoothNewtonContactSolver when the loop has none (the spring is a
  * constraint), so that vertices can be dragged in any scene. */

@@ -12,6 +12,8 @@
 #include "state/mechanical_object.h"
 #include "visual/visual.h"
 
+extern const pl_type pl_work_limits_type; /* core/src/work_limits.c */
+
 static const pl_type *const BUILTIN[] = {
     &pl_mechanical_object_type,
     &pl_uniform_mass_type,
@@ -32,6 +34,7 @@ static const pl_type *const BUILTIN[] = {
     &pl_keyboard_controller_type,
     &pl_pick_spring_type,
     &pl_interactive_camera_type,
+    &pl_work_limits_type,
 };
 
 int pl_register_builtin_components(pl_registry *r, pl_error *err)

@@ -8,7 +8,7 @@
  * is the spring force, solved implicitly with the rest of the constrained
  * step: a stiff spring cannot make the step unstable, as an explicit force
  * would.  The viewer adds one to the animation loop's node of the scene it
- * shows (pl_sim_options.prepare) and sets vertex and target through the
+ * shows (its prepare hook, pl_sim_load_file_prepared) and sets vertex and target through the
  * embedding API (pl_sim_set) while the mouse drags. */
 #include <math.h>
 

@@ -144,6 +144,10 @@ int pl_regression_list_parse(const char *text, const char *name, pl_regression_l
         return PL_EINPUT;
     }
     memset(out, 0, sizeof *out);
+    if (!strncmp(text, "\xEF\xBB\xBF", 3)) /* else it would become part of a folder name */
+        return pl_diag_error(diag, PL_EINPUT, name, 1, NULL,
+                             "the list starts with a UTF-8 byte order mark: save it as plain "
+                             "text (ASCII or UTF-8 without BOM)");
     int status = PL_OK, lineno = 0, seen_content = 0;
     const char *p = text;
     char *line = NULL;
@@ -195,6 +199,14 @@ int pl_regression_list_load(const char *path, pl_regression_list *out, pl_diag *
     if (!text || ferror(f)) {
         rc = pl_diag_error(diag, text ? PL_EINPUT : PL_EINTERNAL, path, 0, NULL,
                            text ? "reading the regression list failed" : "out of memory");
+        memset(out, 0, sizeof *out);
+    } else if (memchr(text, '\0', n)) { /* else what follows it would be silently ignored */
+        const char *nul = memchr(text, '\0', n);
+        int line = 1;
+        for (const char *p = text; p < nul; ++p) line += *p == '\n';
+        rc = pl_diag_error(diag, PL_EINPUT, path, line, NULL,
+                           "the list holds a NUL byte (at byte %zu): expected text",
+                           (size_t)(nul - text));
         memset(out, 0, sizeof *out);
     } else {
         text[n] = '\0';

@@ -10,6 +10,7 @@
  * both. */
 #include <ctype.h>
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
@@ -129,6 +130,12 @@ static int parse_numbers(const char *p, double **out, int *count, const char *pa
             free(v);
             return pl_error_set(err, PL_EINPUT, path, line, NULL,
                                 "expected a number, found '%.*s'", len, p);
+        }
+        if (!isfinite(d)) { /* a reference must be a state, not a NaN to compare with */
+            free(v);
+            return pl_error_set(err, PL_EINPUT, path, line, NULL,
+                                "value %zu is '%.*s': expected a finite number", n + 1,
+                                (int)(end - p < 40 ? end - p : 40), p);
         }
         if (n == cap) {
             cap = cap ? 2 * cap : 64;

@@ -1,17 +1,23 @@
 /* gmsh_nodes.c - node-tag map, element kinds and section skipping shared by
  * the Gmsh readers. */
-#include <stdio.h>
 #include "gmsh.h"
 
+#include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
+#include "pliant/checked.h"
+
 int pl_io_gmsh_add_node(gmsh_nodes *g, long long tag)
 {
     if (g->n == g->cap) {
+        if (g->cap > INT_MAX / 2) return PL_EINTERNAL;
         int cap = g->cap ? 2 * g->cap : 256;
-        long long *t = realloc(g->tags, (size_t)cap * sizeof *t);
+        size_t bytes;
+        long long *t = pl_array_bytes((uint64_t)cap, sizeof *t, 0, &bytes) ? NULL
+                                                                           : realloc(g->tags, bytes);
         if (!t) return PL_EINTERNAL;
         g->tags = t;
         g->cap = cap;
@@ -35,8 +41,11 @@ static int cmp_tag(const void *a, const void *b)
 int pl_io_gmsh_index(pl_text *t, gmsh_nodes *g, int line)
 {
     free(g->order);
-    g->order = malloc((size_t)g->n * sizeof *g->order + 1);
-    tag_index *p = malloc((size_t)g->n * sizeof *p + 1);
+    size_t ob, pb;
+    int bad = pl_array_bytes((uint64_t)g->n, sizeof *g->order, 1, &ob) ||
+              pl_array_bytes((uint64_t)g->n, sizeof(tag_index), 1, &pb);
+    g->order = bad ? NULL : malloc(ob);
+    tag_index *p = bad ? NULL : malloc(pb);
     if (!g->order || !p) {
         free(p);
         return pl_io_nomem(t);

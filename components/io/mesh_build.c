@@ -2,6 +2,8 @@
  * that lists the cell kinds a loader skipped. */
 #include "mesh_io.h"
 
+#include "pliant/checked.h"
+
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,7 +24,8 @@ static int grow(void **arr, int *cap, long long need, size_t item)
     long long c = *cap ? *cap : 64;
     while (c < need) c *= 2;
     if (c > INT_MAX / 4) c = INT_MAX / 4;
-    void *p = realloc(*arr, (size_t)c * item);
+    size_t bytes;
+    void *p = pl_array_bytes((uint64_t)c, item, 0, &bytes) ? NULL : realloc(*arr, bytes);
     if (!p) return PL_EINTERNAL;
     *arr = p;
     *cap = (int)c;

@@ -15,6 +15,9 @@
 #include "pliant/error.h"
 #include "pliant/mesh.h"
 
+/* Files larger than this are refused: no mesh we simulate comes close. */
+#define PL_IO_MAX_FILE ((size_t)1 << 30)
+
 /* Cross-file helpers of this folder stay out of libpliant's exported ABI. */
 #define PL_IO_HIDDEN __attribute__((visibility("hidden")))
 

@@ -10,14 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The same numbers as pl_mesh_format (FMT_UNKNOWN = PL_MESH_AUTO). */
 typedef enum {
-    FMT_UNKNOWN,
-    FMT_VTK_LEGACY,
-    FMT_VTU,
-    FMT_GMSH,
-    FMT_OBJ,
-    FMT_STL_ASCII,
-    FMT_STL_BINARY
+    FMT_UNKNOWN = PL_MESH_AUTO,
+    FMT_VTK_LEGACY = PL_MESH_VTK_LEGACY,
+    FMT_VTU = PL_MESH_VTU,
+    FMT_GMSH = PL_MESH_GMSH,
+    FMT_OBJ = PL_MESH_OBJ,
+    FMT_STL_ASCII = PL_MESH_STL_ASCII,
+    FMT_STL_BINARY = PL_MESH_STL_BINARY
 } mesh_format;
 
 static int starts_with(const char *p, size_t n, const char *word)
@@ -83,16 +84,18 @@ static mesh_format sniff(const char *buf, size_t size)
     return FMT_UNKNOWN;
 }
 
-/* Shows the first bytes of an unrecognised file, escaping non-printables. */
-static void preview(const char *buf, size_t size, char *out, size_t cap)
+/* Says what kind of bytes an unrecognised file starts with, without
+ * quoting them: the name of a file that is not a mesh (a scene's
+ * filename="/etc/passwd") must not turn the error message into a way to
+ * read it. */
+static const char *describe(const char *buf, size_t size)
 {
-    size_t o = 0;
-    for (size_t i = 0; i < size && i < 24 && o + 5 < cap; ++i) {
+    size_t probe = size < 512 ? size : 512;
+    for (size_t i = 0; i < probe; ++i) {
         unsigned char c = (unsigned char)buf[i];
-        if (isprint(c) && c != '\\') out[o++] = (char)c;
-        else o += (size_t)snprintf(out + o, cap - o, "\\x%02x", c);
+        if (c < 0x20 && c != '\n' && c != '\r' && c != '\t') return "binary data";
     }
-    out[o] = '\0';
+    return "text";
 }
 
 static int dispatch(mesh_format f, pl_text *t, pl_mesh *out)
@@ -106,19 +109,18 @@ static int dispatch(mesh_format f, pl_text *t, pl_mesh *out)
     case FMT_STL_BINARY: return pl_io_load_stl_binary(t, out);
     default: break;
     }
-    char shown[160], stl[160] = "";
-    preview(t->buf, t->size, shown, sizeof shown);
+    char stl[160] = "";
     if (t->size >= 84) { /* a truncated binary STL lands here: give the numbers */
         unsigned long long n = pl_io_u32((const unsigned char *)t->buf + 80, 0);
         snprintf(stl, sizeof stl, " (read as a binary STL it declares %llu triangles, which "
                  "need %llu bytes; the file has %zu)", n, 84 + 50 * n, t->size);
     }
     return pl_io_fail_at(t, 1,
-                         "unrecognised mesh format (starts with \"%s\"): expected legacy VTK "
+                         "unrecognised mesh format (the file holds %s): expected legacy VTK "
                          "('# vtk DataFile'), VTU XML ('<VTKFile'), Gmsh ('$MeshFormat' or "
                          "'$NOD'), STL ('solid ...' or binary of 84+50n bytes) or OBJ "
                          "('v x y z' / 'f i j k' lines)%s",
-                         shown, stl);
+                         describe(t->buf, t->size), stl);
 }
 
 /* Counts tetrahedra whose volume is negligible against the mesh size:
@@ -201,6 +203,31 @@ static int finish(const char *path, const pl_mesh_load_options *opt, pl_mesh *m,
     return PL_OK;
 }
 
+/* Reads buf (size bytes, buf[size] == '\0') as a mesh named `name`. */
+static int load_text(const char *name, const char *buf, size_t size,
+                     const pl_mesh_load_options *opt, pl_mesh *out, pl_diag *diag)
+{
+    if (size == 0)
+        return pl_diag_error(diag, PL_EINPUT, name, 0, NULL,
+                             "empty file: expected a mesh (VTK, VTU, Gmsh, OBJ or STL)");
+    pl_text t;
+    pl_io_text_init(&t, name, buf, size, 1, diag);
+    pl_mesh m;
+    pl_mesh_init(&m);
+    if (opt && (opt->format < PL_MESH_AUTO || opt->format > PL_MESH_STL_BINARY))
+        return pl_diag_error(diag, PL_EINTERNAL, name, 0, NULL, "unknown mesh format %d",
+                             (int)opt->format);
+    mesh_format f = opt && opt->format ? (mesh_format)opt->format : sniff(buf, size);
+    int rc = dispatch(f, &t, &m);
+    if (rc == PL_OK) rc = finish(name, opt, &m, diag);
+    if (rc) {
+        pl_mesh_free(&m);
+        return rc;
+    }
+    *out = m;
+    return PL_OK;
+}
+
 int pl_mesh_load(const char *path, const pl_mesh_load_options *opt, pl_mesh *out, pl_diag *diag)
 {
     if (!out) return pl_diag_error(diag, PL_EINTERNAL, path, 0, NULL, "no output mesh given");
@@ -211,22 +238,25 @@ int pl_mesh_load(const char *path, const pl_mesh_load_options *opt, pl_mesh *out
     size_t size;
     int rc = pl_io_read_file(path, &buf, &size, diag);
     if (rc) return rc;
-    if (size == 0) {
-        free(buf);
-        return pl_diag_error(diag, PL_EINPUT, path, 0, NULL,
-                             "empty file: expected a mesh (VTK, VTU, Gmsh, OBJ or STL)");
-    }
-    pl_text t;
-    pl_io_text_init(&t, path, buf, size, 1, diag);
-    pl_mesh m;
-    pl_mesh_init(&m);
-    rc = dispatch(sniff(buf, size), &t, &m);
+    rc = load_text(path, buf, size, opt, out, diag);
     free(buf);
-    if (rc == PL_OK) rc = finish(path, opt, &m, diag);
-    if (rc) {
-        pl_mesh_free(&m);
-        return rc;
-    }
-    *out = m;
-    return PL_OK;
+    return rc;
+}
+
+int pl_mesh_load_buffer(const char *name, const void *buf, size_t size,
+                        const pl_mesh_load_options *opt, pl_mesh *out, pl_diag *diag)
+{
+    if (!out) return pl_diag_error(diag, PL_EINTERNAL, name, 0, NULL, "no output mesh given");
+    pl_mesh_init(out);
+    if (!buf && size) return pl_diag_error(diag, PL_EINTERNAL, name, 0, NULL, "no buffer given");
+    if (size > PL_IO_MAX_FILE)
+        return pl_diag_error(diag, PL_EINPUT, name, 0, NULL, "mesh of %zu bytes is too large: "
+                             "meshes up to %zu bytes are read", size, (size_t)PL_IO_MAX_FILE);
+    char *copy = malloc(size + 1); /* the readers rely on a terminating NUL */
+    if (!copy) return pl_diag_error(diag, PL_EINTERNAL, name, 0, NULL, "out of memory");
+    if (size) memcpy(copy, buf, size);
+    copy[size] = '\0';
+    int rc = load_text(name ? name : "<buffer>", copy, size, opt, out, diag);
+    free(copy);
+    return rc;
 }

@@ -10,8 +10,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-/* Files larger than this are refused: no mesh we simulate comes close. */
-#define PL_IO_MAX_FILE ((size_t)1 << 30)
 
 void pl_io_text_init(pl_text *t, const char *path, const char *buf, size_t size, int first_line,
                      pl_diag *diag)

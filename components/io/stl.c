@@ -7,6 +7,8 @@
  * reported. */
 #include "mesh_io.h"
 
+#include "pliant/checked.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -78,14 +80,19 @@ static int weld(pl_text *t, double *corners, long long ntri, pl_mesh *out)
 int pl_io_load_stl_binary(pl_text *t, pl_mesh *out)
 {
     const unsigned char *p = (const unsigned char *)t->buf;
-    long long ntri = pl_io_u32(p + 80, 0);
-    if (t->size < 84 || (unsigned long long)t->size != 84 + 50ULL * (unsigned long long)ntri)
-        return pl_io_fail_at(t, 0, "binary STL of %zu bytes declares %lld triangles: expected "
-                             "84 + 50 * count bytes", t->size, ntri);
-    if (ntri > INT_MAX / 12) return pl_io_fail_at(t, 0, "too many triangles (%lld)", ntri);
-    double *corners = malloc((size_t)ntri * 9 * sizeof *corners + 1);
+    if (t->size < 84) /* the count sits at bytes 80..83 */
+        return pl_io_fail_at(t, 0, "binary STL of %zu bytes: expected at least the 84-byte "
+                             "header", t->size);
+    uint64_t ntri = pl_io_u32(p + 80, 0), want;
+    if (pl_muladd_u64(50, ntri, 84, &want) || want != (uint64_t)t->size)
+        return pl_io_fail_at(t, 0, "binary STL of %zu bytes declares %llu triangles: expected "
+                             "84 + 50 * count bytes", t->size, (unsigned long long)ntri);
+    size_t bytes;
+    if (ntri > INT_MAX / 12 || pl_array_bytes(ntri, 9 * sizeof(double), 1, &bytes))
+        return pl_io_fail_at(t, 0, "too many triangles (%llu)", (unsigned long long)ntri);
+    double *corners = malloc(bytes);
     if (!corners) return pl_io_nomem(t);
-    for (long long f = 0; f < ntri; ++f) {
+    for (long long f = 0; f < (long long)ntri; ++f) {
         const unsigned char *q = p + 84 + 50 * f + 12; /* skip the facet normal */
         for (int k = 0; k < 9; ++k) {
             double x = pl_io_f32(q + 4 * k, 0);
@@ -97,7 +104,7 @@ int pl_io_load_stl_binary(pl_text *t, pl_mesh *out)
             corners[9 * f + k] = x;
         }
     }
-    int rc = weld(t, corners, ntri, out);
+    int rc = weld(t, corners, (long long)ntri, out);
     free(corners);
     return rc;
 }

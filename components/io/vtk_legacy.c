@@ -8,6 +8,8 @@
  * Attribute data (POINT_DATA, CELL_DATA) is not needed and ends the read. */
 #include "mesh_io.h"
 
+#include "pliant/checked.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -63,9 +65,12 @@ static int read_ints(vtk_reader *r, long long n, int width, int *out, const char
         }
         return PL_OK;
     }
-    const unsigned char *p;
+    const unsigned char *p = NULL;
     int line = t->line;
-    if (take_binary(t, (size_t)n * (size_t)width, what, &p)) return PL_EINPUT;
+    size_t bytes;
+    if (pl_array_bytes((uint64_t)n, (size_t)width, 0, &bytes))
+        return pl_io_fail(t, "%s: %lld values of %d bytes overflow", what, n, width);
+    if (take_binary(t, bytes, what, &p)) return PL_EINPUT;
     for (long long i = 0; i < n; ++i) {
         long long v = width == 8 ? (long long)pl_io_u64(p + 8 * i, 1)
                                  : (long long)(int32_t)pl_io_u32(p + 4 * i, 1);
@@ -105,7 +110,10 @@ static int read_points(vtk_reader *r)
     if (pl_io_reserve(&r->b, n, 0, 0)) return pl_io_nomem(t);
     r->have_points = 1;
     const unsigned char *p = NULL;
-    if (r->binary && take_binary(t, (size_t)(3 * n * width), "POINTS", &p)) return PL_EINPUT;
+    size_t bytes = 0;
+    if (r->binary && pl_array_bytes((uint64_t)n, 3 * (size_t)width, 0, &bytes))
+        return pl_io_fail_at(t, line, "POINTS count %lld is too large", n);
+    if (r->binary && take_binary(t, bytes, "POINTS", &p)) return PL_EINPUT;
     for (long long i = 0; i < n; ++i) {
         double x[3];
         for (int a = 0; a < 3; ++a) {
@@ -164,8 +172,12 @@ static int read_cell_lists(vtk_reader *r, const char *kw, long long *ncells, int
         return pl_io_fail_at(t, header, "%s counts %lld %lld are inconsistent", kw, n, size);
     if (check_values(r, size, 4, "cell integers", header) || check_values(r, n, 4, "cells", header))
         return PL_EINPUT;
-    *off = malloc((size_t)(nc + 1) * sizeof(int));
-    *conn = malloc((size_t)size * sizeof(int) + 1);
+    size_t off_bytes, conn_bytes;
+    if (pl_array_bytes((uint64_t)nc + 1, sizeof(int), 0, &off_bytes) ||
+        pl_array_bytes((uint64_t)size, sizeof(int), 1, &conn_bytes))
+        return pl_io_fail_at(t, header, "%s counts %lld %lld are too large", kw, n, size);
+    *off = malloc(off_bytes);
+    *conn = malloc(conn_bytes);
     if (!*off || !*conn) return pl_io_nomem(t);
     *ncells = nc;
     if (v5) {
@@ -235,7 +247,8 @@ static int read_cell_types(vtk_reader *r)
     if (end_header_line(t, "CELL_TYPES") || check_values(r, n, 4, "cell types", line))
         return PL_EINPUT;
     r->have_types = 1;
-    int *types = malloc((size_t)n * sizeof(int) + 1);
+    size_t bytes;
+    int *types = pl_array_bytes((uint64_t)n, sizeof(int), 1, &bytes) ? NULL : malloc(bytes);
     if (!types) return pl_io_nomem(t);
     int rc = read_ints(r, n, 4, types, "a cell type");
     for (long long c = 0; c < n && rc == PL_OK; ++c)
@@ -296,14 +309,18 @@ static int skip_field(vtk_reader *r)
             pl_io_token(t, type, sizeof type, PL_IO_SAME_LINE) <= 0 ||
             end_header_line(t, "FIELD array"))
             return pl_io_fail(t, "expected a FIELD array header 'name ncomp ntuples type'");
-        long long n = ncomp * ntup;
+        long long n;
+        if (pl_mul_i64(ncomp, ntup, &n))
+            return pl_io_fail(t, "FIELD array of %lld x %lld values is too large", ncomp, ntup);
         int width = strstr(type, "double") || strstr(type, "long") ? 8
                     : strstr(type, "short") ? 2 : strstr(type, "char") || strstr(type, "bit") ? 1
                     : 4;
         if (check_values(r, n, width, "FIELD values", 0)) return PL_EINPUT;
         const unsigned char *p;
-        if (r->binary && take_binary(t, (size_t)(n * width), "a FIELD array", &p))
-            return PL_EINPUT;
+        size_t bytes = 0;
+        if (r->binary && pl_array_bytes((uint64_t)n, (size_t)width, 0, &bytes))
+            return pl_io_fail(t, "FIELD array of %lld values is too large", n);
+        if (r->binary && take_binary(t, bytes, "a FIELD array", &p)) return PL_EINPUT;
         for (long long i = 0; !r->binary && i < n; ++i)
             if (pl_io_token(t, tok, sizeof tok, PL_IO_ANY_LINE) <= 0)
                 return pl_io_fail(t, "FIELD array ends early: expected %lld values", n);

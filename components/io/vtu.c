@@ -1,11 +1,12 @@
 /* vtu.c - VTK XML unstructured grids (<VTKFile type="UnstructuredGrid">).
  *
- * Parsed with libxml2 with network access off and no entity substitution,
- * DTD loading or DTD attributes.  A file with a <!DOCTYPE> is refused before
- * libxml2 sees it: VTU never needs one, and refusing it is the sure way to
- * stop entity-expansion bombs ("billion laughs").  Every <Piece> is read
- * and appended (vertex indices offset). */
+ * Parsed by core/src/xml_guard.c: network access off, no entity
+ * substitution, and a <!DOCTYPE> refused as soon as the parser meets it
+ * (VTU never needs one; refusing it stops entity-expansion bombs and
+ * external entities in any encoding).  Every <Piece> is read and appended
+ * (vertex indices offset). */
 #include "vtu_data.h"
+#include "xml_guard.h"
 
 #include <libxml/parser.h>
 #include <limits.h>
@@ -208,30 +209,12 @@ static int read_document(pl_text *t, xmlDoc *doc, pl_mesh *out, pl_io_skipped *s
 
 int pl_io_load_vtu(pl_text *t, pl_mesh *out)
 {
-    /* a DTD is the only way to declare entities: refuse it unparsed */
-    const char *dtd = memmem(t->buf, t->size, "<!DOCTYPE", 9);
-    if (!dtd) dtd = memmem(t->buf, t->size, "<!ENTITY", 8);
-    if (dtd) {
-        int line = 1;
-        for (const char *p = t->buf; p < dtd; ++p) line += *p == '\n';
-        return pl_io_fail_at(t, line, "document type declarations (<!DOCTYPE>, <!ENTITY>) are "
-                             "refused in VTU files: they are never needed and can hide "
-                             "entity-expansion bombs");
-    }
-    if (t->size > INT_MAX) return pl_io_fail(t, "XML file too large");
-    xmlParserCtxtPtr ctx = xmlNewParserCtxt();
-    if (!ctx) return pl_io_nomem(t);
-    int options = XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING |
-                  XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA;
-    xmlDoc *doc = xmlCtxtReadMemory(ctx, t->buf, (int)t->size, t->path, NULL, options);
+    pl_error e;
+    xmlDoc *doc = pl_xml_read_untrusted(t->buf, t->size, t->path, "VTU files",
+                                        XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA, &e);
     int rc;
     if (!doc) {
-        const xmlError *e = xmlCtxtGetLastError(ctx);
-        char msg[256];
-        snprintf(msg, sizeof msg, "%s", e && e->message ? e->message : "unknown error");
-        size_t n = strlen(msg);
-        while (n && (msg[n - 1] == '\n' || msg[n - 1] == ' ')) msg[--n] = '\0';
-        rc = pl_io_fail_at(t, e ? e->line : 0, "malformed XML: %s", msg);
+        rc = e.code == PL_EINPUT ? pl_io_fail_at(t, e.line, "%s", e.msg) : pl_io_nomem(t);
     } else {
         pl_io_skipped *skipped = calloc(1, sizeof *skipped);
         rc = skipped ? read_document(t, doc, out, skipped) : pl_io_nomem(t);
@@ -239,6 +222,5 @@ int pl_io_load_vtu(pl_text *t, pl_mesh *out)
         free(skipped);
         xmlFreeDoc(doc);
     }
-    xmlFreeParserCtxt(ctx);
     return rc;
 }

@@ -10,6 +10,8 @@
  * bomb. */
 #include "vtu_data.h"
 
+#include "pliant/checked.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -105,7 +107,8 @@ static void convert(const unsigned char *p, const vtu_type *ty, int big, int as_
 /* Allocates room for n doubles or long longs (same size). */
 static int alloc_values(pl_text *t, long long n, void **out)
 {
-    *out = malloc((size_t)n * sizeof(double) + 1);
+    size_t bytes;
+    *out = n < 0 || pl_array_bytes((uint64_t)n, sizeof(double), 1, &bytes) ? NULL : malloc(bytes);
     return *out ? PL_OK : pl_io_nomem(t);
 }
 
@@ -134,52 +137,72 @@ static int read_ascii(pl_text *t, const char *text, int line, const char *label,
     return PL_OK;
 }
 
+/* Reads header word k (0: block count, 1: block size, 2: last block size,
+ * 3 + b: compressed size of block b). */
+static uint64_t header_word(const vtu_format *f, const unsigned char *d, uint64_t k)
+{
+    int hs = f->header64 ? 8 : 4;
+    const unsigned char *p = d + k * (uint64_t)hs;
+    return f->header64 ? pl_io_u64(p, f->big_endian) : pl_io_u32(p, f->big_endian);
+}
+
+/* Checks a compressed array's header against the `need` bytes expected and
+ * the `len` bytes decoded; sets *nb, the block count.  Every sum and product
+ * of header values is checked (pliant/checked.h): with 64-bit headers,
+ * (nb - 1) * bs + last could otherwise wrap around to exactly `need` while
+ * each block claims 2^63 bytes, and uncompress() would write past the
+ * buffer. */
+static int check_blocks(pl_text *t, int line, const char *label, const vtu_format *f,
+                        const unsigned char *d, long long len, long long need, uint64_t *nbp)
+{
+    int hs = f->header64 ? 8 : 4;
+    if (len < 3 * hs)
+        return pl_io_fail_at(t, line, "DataArray %s: compressed header is truncated", label);
+    uint64_t nb = header_word(f, d, 0), bs = header_word(f, d, 1), last = header_word(f, d, 2);
+    if (nb > (uint64_t)(len / hs) - 3 || (nb > 0 && bs == 0) || last > bs)
+        return pl_io_fail_at(t, line, "DataArray %s: corrupt compressed header", label);
+    uint64_t total = 0, sum = 0, bound;
+    if (nb && pl_muladd_u64(nb - 1, bs, last ? last : bs, &total))
+        return pl_io_fail_at(t, line, "DataArray %s: corrupt compressed header (%llu blocks of "
+                             "%llu bytes overflow)", label, (unsigned long long)nb,
+                             (unsigned long long)bs);
+    if (total != (uint64_t)need)
+        return pl_io_fail_at(t, line, "DataArray %s: compressed blocks hold %llu bytes, expected "
+                             "%lld", label, (unsigned long long)total, need);
+    uint64_t left = (uint64_t)len - (3 + nb) * (uint64_t)hs; /* nb <= len / hs - 3 */
+    for (uint64_t b = 0; b < nb; ++b)
+        if (pl_add_u64(sum, header_word(f, d, 3 + b), &sum) || sum > left)
+            return pl_io_fail_at(t, line, "DataArray %s: the compressed blocks announce more "
+                                 "than the %llu bytes present", label, (unsigned long long)left);
+    if (pl_muladd_u64(ZLIB_MAX_RATIO, sum, 64, &bound) || (uint64_t)need > bound)
+        return pl_io_fail_at(t, line, "DataArray %s: the compressed blocks (%llu bytes) cannot "
+                             "hold %lld bytes", label, (unsigned long long)sum, need);
+    *nbp = nb;
+    return PL_OK;
+}
+
 /* Inflates the blocks of a compressed array into *out (need bytes, which
  * this allocates once the header has been checked). */
 static int inflate_blocks(pl_text *t, int line, const char *label, const vtu_format *f,
                           const unsigned char *d, long long len, unsigned char **out,
                           long long need)
 {
+    uint64_t nb = 0;
+    if (check_blocks(t, line, label, f, d, len, need, &nb)) return PL_EINPUT;
     int hs = f->header64 ? 8 : 4;
-    if (len < 3 * hs)
-        return pl_io_fail_at(t, line, "DataArray %s: compressed header is truncated", label);
-    unsigned long long nb = f->header64 ? pl_io_u64(d, f->big_endian) : pl_io_u32(d, f->big_endian);
-    unsigned long long bs = f->header64 ? pl_io_u64(d + hs, f->big_endian)
-                                        : pl_io_u32(d + hs, f->big_endian);
-    unsigned long long last = f->header64 ? pl_io_u64(d + 2 * hs, f->big_endian)
-                                          : pl_io_u32(d + 2 * hs, f->big_endian);
-    if (nb > (unsigned long long)(len / hs) || (nb > 0 && bs == 0) || last > bs)
-        return pl_io_fail_at(t, line, "DataArray %s: corrupt compressed header", label);
-    unsigned long long total = nb ? (nb - 1) * bs + (last ? last : bs) : 0;
-    if (total != (unsigned long long)need)
-        return pl_io_fail_at(t, line, "DataArray %s: compressed blocks hold %llu bytes, expected "
-                             "%lld", label, total, need);
-    const unsigned char *c = d + (3 + nb) * hs;
-    long long left = len - (long long)((3 + nb) * hs);
-    if (left < 0) return pl_io_fail_at(t, line, "DataArray %s: truncated block sizes", label);
-    unsigned long long sum = 0;
-    for (unsigned long long b = 0; b < nb; ++b)
-        sum += f->header64 ? pl_io_u64(d + (3 + b) * hs, f->big_endian)
-                           : pl_io_u32(d + (3 + b) * hs, f->big_endian);
-    if (sum > (unsigned long long)left || (unsigned long long)need > ZLIB_MAX_RATIO * sum + 64)
-        return pl_io_fail_at(t, line, "DataArray %s: the compressed blocks (%llu bytes announced, "
-                             "%lld present) cannot hold %lld bytes", label, sum, left, need);
+    uint64_t bs = header_word(f, d, 1), last = header_word(f, d, 2);
     unsigned char *raw = malloc((size_t)need + 1);
     if (!raw) return pl_io_nomem(t);
     *out = raw;
-    for (unsigned long long b = 0; b < nb; ++b) {
-        const unsigned char *h = d + (3 + b) * hs;
-        unsigned long long cs = f->header64 ? pl_io_u64(h, f->big_endian)
-                                            : pl_io_u32(h, f->big_endian);
-        if (cs > (unsigned long long)left)
-            return pl_io_fail_at(t, line, "DataArray %s: compressed block %llu is truncated",
-                                 label, b);
+    const unsigned char *c = d + (3 + nb) * (uint64_t)hs;
+    for (uint64_t b = 0; b < nb; ++b) {
+        uint64_t cs = header_word(f, d, 3 + b); /* their sum fits in what is left */
         uLongf want = (uLongf)(b + 1 < nb || !last ? bs : last), got = want;
         if (uncompress(raw, &got, c, (uLong)cs) != Z_OK || got != want)
-            return pl_io_fail_at(t, line, "DataArray %s: zlib block %llu is corrupt", label, b);
+            return pl_io_fail_at(t, line, "DataArray %s: zlib block %llu is corrupt", label,
+                                 (unsigned long long)b);
         raw += want;
         c += cs;
-        left -= (long long)cs;
     }
     return PL_OK;
 }
@@ -190,13 +213,13 @@ static int read_binary(pl_text *t, const vtu_format *f, const char *text, int li
                        void **out)
 {
     size_t len = strlen(text);
-    long long need = n * ty->size;
     int hs = f->header64 ? 8 : 4;
     /* refuse sizes the text cannot possibly hold before allocating them */
-    long long cap = (long long)(len / 4 * 3 + 3);
-    if (need > (f->zlib ? cap * ZLIB_MAX_RATIO : cap))
+    long long need, cap = (long long)(len / 4 * 3 + 3), most = LLONG_MAX;
+    if (pl_mul_i64(cap, f->zlib ? ZLIB_MAX_RATIO : 1, &most) || pl_mul_i64(n, ty->size, &need) ||
+        need > most)
         return pl_io_fail_at(t, line, "DataArray %s declares %lld values but holds at most %lld "
-                             "bytes of data", label, n, f->zlib ? cap * ZLIB_MAX_RATIO : cap);
+                             "bytes of data", label, n, most);
     unsigned char *d = malloc((size_t)cap + 1), *raw = NULL;
     int rc = PL_OK;
     if (!d) rc = pl_io_nomem(t);

@@ -1,6 +1,7 @@
 /* generator_components.c - scene components that generate meshes: a box of
  * tetrahedra (bars), a triangle grid (cloths), spheres and cylinders.  Each
  * provides its mesh through the topology role, like MeshLoader. */
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 
@@ -40,11 +41,25 @@ static int finish(pl_component *c, pl_ctx *ctx, pl_mesh *m, int rc, pl_error *er
     return PL_OK;
 }
 
+/* Refuses a mesh of `elements` (estimated before it is made) above the cap;
+ * a NaN estimate (arguments the generator itself refuses) passes. */
+static int check_size(pl_component *c, pl_ctx *ctx, double elements)
+{
+    if (!(elements >= 0)) return PL_OK;
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    return pl_work_limit_check(c, ctx, elements, lim.max_elements,
+                               "the number of elements it would generate", "maxElements");
+}
+
 static int grid_tets_init(pl_component *c, pl_ctx *ctx)
 {
     grid_tets *g = (grid_tets *)c;
     pl_error err;
     if (g->n.n != 3) return pl_component_error(c, ctx, PL_EINPUT, "n: expected 3 integers (nx ny nz)");
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) cells *= g->n.v[a] >= 2 ? g->n.v[a] - 1.0 : NAN;
+    if (check_size(c, ctx, 6.0 * cells)) return PL_EINPUT;
     int rc = pl_generate_box_tets(g->n.v, g->min, g->max, &g->mesh, &err);
     return finish(c, ctx, &g->mesh, rc, &err, g->rotation, g->translation);
 }
@@ -97,6 +112,9 @@ static int grid_tris_init(pl_component *c, pl_ctx *ctx)
     double eu[3] = {0, 0, 0}, ev[3] = {0, 0, 0};
     eu[u] = g->max[u] - g->min[u];
     ev[v] = g->max[v] - g->min[v];
+    if (g->n.v[u] >= 2 && g->n.v[v] >= 2 &&
+        check_size(c, ctx, 2.0 * (g->n.v[u] - 1.0) * (g->n.v[v] - 1.0)))
+        return PL_EINPUT;
     int rc = pl_generate_triangle_grid(g->n.v[u], g->n.v[v], g->min, eu, ev, &g->mesh, &err);
     return finish(c, ctx, &g->mesh, rc, &err, g->rotation, g->translation);
 }
@@ -139,6 +157,10 @@ static int sphere_init(pl_component *c, pl_ctx *ctx)
     shape_mesh *s = (shape_mesh *)c;
     pl_error err;
     static const double zero[3] = {0, 0, 0};
+    /* a ball of about `vertices` vertices has 6 tetrahedra per vertex at most;
+     * an icosphere of level L has 20 4^L triangles */
+    if (check_size(c, ctx, s->volume ? 6.0 * s->vertices : 20.0 * pow(4, s->level)))
+        return PL_EINPUT;
     int rc = s->volume ? pl_generate_sphere_tets(s->center, s->radius, s->vertices, &s->mesh, &err)
                        : pl_generate_sphere_surface(s->center, s->radius, s->level, &s->mesh, &err);
     return finish(c, ctx, &s->mesh, rc, &err, zero, zero);
@@ -172,6 +194,14 @@ static int cylinder_init(pl_component *c, pl_ctx *ctx)
     shape_mesh *s = (shape_mesh *)c;
     pl_error err;
     static const double zero[3] = {0, 0, 0};
+    /* solid: 3 tetrahedra per disk triangle (6 rings^2) per layer (0 layers:
+     * about height rings / radius); surface: 2 triangles per side quad per
+     * layer plus the caps */
+    double layers = s->layers > 0 ? s->layers
+                    : s->radius > 0 ? fmax(1.0, s->height * s->rings / s->radius) : NAN;
+    if (check_size(c, ctx, s->volume ? 18.0 * s->rings * s->rings * layers
+                                     : 2.0 * s->sides * (layers + 1)))
+        return PL_EINPUT;
     int rc = s->volume ? pl_generate_cylinder_tets(s->center, s->radius, s->height, s->rings,
                                                    s->layers, &s->mesh, &err)
                        : pl_generate_cylinder_surface(s->center, s->radius, s->height, s->sides,

@@ -1,5 +1,6 @@
 /* mesh_loader.c - MeshLoader: reads a mesh file (any supported format,
  * detected from the content) and provides it to the node. */
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include "io/mesh_subdivide.h"
 #include "loader.h"
+#include "pliant/work_limits.h"
 
 typedef struct mesh_loader {
     pl_component base;
@@ -45,54 +47,18 @@ static const pl_field FIELDS[] = {
              0),
 };
 
-int pl_resolve_data_file(const char *scene_file, const char *name, char *out, size_t size,
-                         char *tried, size_t tried_size)
-{
-    size_t n = 0;
-    tried[0] = '\0';
-    if (name[0] == '/') {
-        snprintf(out, size, "%s", name);
-        if (access(out, R_OK) == 0) return 0;
-        snprintf(tried, tried_size, "%s", name);
-        return -1;
-    }
-    const char *slash = scene_file ? strrchr(scene_file, '/') : NULL;
-    if (slash)
-        snprintf(out, size, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
-    else
-        snprintf(out, size, "%s", name);
-    if (access(out, R_OK) == 0) return 0;
-    n += (size_t)snprintf(tried + n, tried_size - n, "%s", out);
-    snprintf(out, size, "%s", name);
-    if (access(out, R_OK) == 0) return 0;
-    if (n < tried_size) n += (size_t)snprintf(tried + n, tried_size - n, ", ./%s", name);
-    const char *env = getenv("PLIANT_DATA_PATH");
-    if (env && *env) {
-        char *copy = strdup(env), *save = NULL;
-        for (char *d = copy ? strtok_r(copy, ":", &save) : NULL; d; d = strtok_r(NULL, ":", &save)) {
-            snprintf(out, size, "%s/%s", d, name);
-            if (access(out, R_OK) == 0) {
-                free(copy);
-                return 0;
-            }
-            if (n < tried_size) n += (size_t)snprintf(tried + n, tried_size - n, ", %s", out);
-        }
-        free(copy);
-    }
-    return -1;
-}
-
 static int ml_init(pl_component *c, pl_ctx *ctx)
 {
     mesh_loader *l = (mesh_loader *)c;
     char path[1024], tried[2048];
     if (!l->filename || !l->filename[0])
         return pl_component_error(c, ctx, PL_EINPUT, "filename is empty");
-    if (pl_resolve_data_file(c->file, l->filename, path, sizeof path, tried, sizeof tried) != 0)
+    if (pl_util_data_file(c->file, l->filename, path, sizeof path, tried, sizeof tried) != 0)
         return pl_component_error(c, ctx, PL_EINPUT, "filename: cannot find '%s' (tried %s)",
                                   l->filename, tried);
     if (!(l->resolved = strdup(path))) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_mesh_load_options opt = {l->only_attached, l->keep_inverted};
+    pl_mesh_load_options opt = {.drop_unused = l->only_attached,
+                                .keep_inverted = l->keep_inverted};
     pl_diag diag;
     pl_diag_init(&diag);
     int rc = pl_mesh_load(path, &opt, &l->mesh, &diag);
@@ -113,6 +79,16 @@ static int ml_init(pl_component *c, pl_ctx *ctx)
     if (l->subdivide < 0)
         return pl_component_error(c, ctx, PL_EINPUT, "subdivide must be >= 0, got %d",
                                   l->subdivide);
+    /* each round multiplies the tetrahedra by 8, the triangles by 4: refuse
+     * before making the first one what the last one could not hold */
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    double elements = l->mesh.ntets * pow(8, l->subdivide) + l->mesh.ntris * pow(4, l->subdivide);
+    char what[96];
+    snprintf(what, sizeof what, "the element count after subdivide=\"%d\" (of %d tetrahedra and "
+             "%d triangles)", l->subdivide, l->mesh.ntets, l->mesh.ntris);
+    if (pl_work_limit_check(c, ctx, elements, lim.max_elements, what, "maxElements"))
+        return PL_EINPUT;
     pl_error se;
     if ((rc = pl_mesh_subdivide(&l->mesh, l->subdivide, &se)) != PL_OK)
         return pl_component_error(c, ctx, rc, "subdivide: %s", se.msg);

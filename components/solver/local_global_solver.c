@@ -78,6 +78,11 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     pl_dynamics_free(&s->dyn);
     if (s->iterations < 1) return pl_component_error(c, ctx, PL_EINPUT, "iterations must be >= 1");
     if (s->tolerance < 0) return pl_component_error(c, ctx, PL_EINPUT, "tolerance must be >= 0");
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    if (pl_work_limit_check(c, ctx, s->iterations, lim.max_iterations,
+                            "iterations (per time step)", "maxIterations"))
+        return PL_EINPUT;
     free(s->constraints);
     s->constraints = NULL;
     collect cl = {NULL, 0};

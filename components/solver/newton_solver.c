@@ -46,6 +46,11 @@ static int ns_reinit(pl_component *c, pl_ctx *ctx)
 {
     newton_solver *s = (newton_solver *)c;
     s->ready = 0;
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    if (pl_work_limit_check(c, ctx, s->max_iterations, lim.max_iterations,
+                            "maxIterations (per time step)", "maxIterations"))
+        return PL_EINPUT;
     pl_dynamics_free(&s->dyn);
     free(s->grad);
     free(s->dx);

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 
 typedef struct mechanical_object {
     pl_component base;
@@ -99,6 +99,10 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
     mo->offset = -1;
     if (mo->slot_x < 0 || mo->slot_v < 0 || mo->slot_f < 0)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    /* a restored state must not bring NaN or infinity into the solvers */
+    pl_model_set_slot_check(ctx->model, mo->slot_x, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->model, mo->slot_v, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->model, mo->slot_f, pl_slot_check_finite);
     return PL_OK;
 }
 

@@ -149,7 +149,8 @@ static int run_list(const regress_opts *o, const pl_regression_list *list)
         fprintf(stderr, "pliant regress: cannot create a temporary folder in $TMPDIR\n");
         return 1;
     }
-    regress_ctx x = {list, list_dir, refs, out_dir, o->update, o->quiet};
+    regress_ctx x = {.list = list, .list_path = o->list_path, .list_dir = list_dir, .refs = refs,
+                     .out_dir = out_dir, .update = o->update, .quiet = o->quiet};
     table t = {&x, o->timeout, calloc((size_t)list->count + 1, sizeof(char *)), 0, 0, 0};
     int *todo = malloc(((size_t)list->count + 1) * sizeof *todo);
     int root = cli_dispatch_rank() == 0;

@@ -23,6 +23,8 @@ static const char USAGE[] =
     "                         process may use; never more than those)\n"
     "      --progress S       in a log (stderr not a terminal) a progress line every S\n"
     "                         seconds (default 5; 0 = none)\n"
+    "      --allow-plugin-path  let the scene's <RequiredPlugin> name a file (runs its code:\n"
+    "                         only for scenes you trust; default: plugin names only)\n"
     "  -q, --quiet            only warnings and errors\n"
     "  -h, --help             this text\n"
     "exit codes: 0 ok, 1 internal error, 2 bad input (scene, arguments)\n";
@@ -39,9 +41,10 @@ typedef struct run_args {
     int threads;
     double progress;
     const char *device;
+    int allow_plugin_path;
 } run_args;
 
-enum { OPT_EXPORT_EVERY = 256, OPT_TIMINGS, OPT_DEVICE, OPT_PROGRESS };
+enum { OPT_EXPORT_EVERY = 256, OPT_TIMINGS, OPT_DEVICE, OPT_PROGRESS, OPT_ALLOW_PLUGIN_PATH };
 
 static const struct option OPTIONS[] = {
     {"steps", required_argument, NULL, 'n'},
@@ -52,6 +55,7 @@ static const struct option OPTIONS[] = {
     {"device", required_argument, NULL, OPT_DEVICE},
     {"threads", required_argument, NULL, 'j'},
     {"progress", required_argument, NULL, OPT_PROGRESS},
+    {"allow-plugin-path", no_argument, NULL, OPT_ALLOW_PLUGIN_PATH},
     {"quiet", no_argument, NULL, 'q'},
     {"help", no_argument, NULL, 'h'},
     {0, 0, 0, 0}};
@@ -82,6 +86,7 @@ static int parse_args(int argc, char **argv, run_args *a)
             break;
         case 'j': rc = cli_parse_int("run", "--threads", optarg, 1, &a->threads); break;
         case OPT_PROGRESS: rc = cli_parse_double("run", "--progress", optarg, &a->progress); break;
+        case OPT_ALLOW_PLUGIN_PATH: a->allow_plugin_path = 1; break;
         case 'q': a->quiet = 1; break;
         case 'h': fputs(USAGE, stdout); return -1;
         default: rc = cli_bad_option("run", argv, optind, optopt);
@@ -111,7 +116,8 @@ static int write_timings(pl_sim *sim, const char *path)
 static pl_sim *load(const run_args *a, const char *out_dir, int *status)
 {
     pl_sim_options opt = {.out_dir = out_dir, .export_every = a->export_every,
-                          .overrides = a->sets, .noverrides = a->nsets, .device = a->device};
+                          .overrides = a->sets, .noverrides = a->nsets, .device = a->device,
+                          .allow_plugin_path = a->allow_plugin_path};
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim *sim = pl_sim_load_file(a->scene, &opt, &diag);

@@ -5,10 +5,11 @@
 
 #include <stdio.h>
 
-#include "export/export.h"
+#include <pliant/export.h>
 
 typedef struct regress_ctx {
     const pl_regression_list *list;
+    const char *list_path;    /* the list itself, for errors that name its lines */
     const char *list_dir;     /* scenes are relative to the list's folder */
     const char *refs;         /* reference folder */
     const char *out_dir;      /* this rank's temporary folder for the scenes' outputs */

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "export/export.h"
+#include <pliant/export.h>
 #include "regress.h"
 
 typedef struct states {
@@ -43,10 +43,37 @@ static int record(pl_sim *sim, const states *st, pl_state_records *rec, pl_error
     return PL_OK;
 }
 
+/* Estimates an entry's cost before running it: its steps, and the memory
+ * its recorded states take, against the scene's work limits; an error
+ * names the list's line. */
+static int check_cost(pl_sim *sim, const states *st, const pl_regression_entry *e,
+                      const char *list, pl_error *err)
+{
+    pl_work_limits lim;
+    pl_work_limits_of(pl_sim_model(sim), pl_sim_model(sim)->root, &lim);
+    if (e->steps > lim.max_steps)
+        return pl_error_set(err, PL_EINPUT, list, e->line, NULL,
+                            "%d steps are above the cap of %lld (the scene may raise it with "
+                            "<WorkLimits maxSteps=\"...\"/>)", e->steps, lim.max_steps);
+    double values = 0;
+    for (int k = 0; k < st->n; ++k) {
+        const pl_state_ops *ops = pl_component_role(st->items[k], PL_ROLE_STATE);
+        values += 3.0 * ops->positions(st->items[k], pl_sim_data(sim)).rows;
+    }
+    double mb = values * (e->last_only ? 2.0 : e->steps + 1.0) * sizeof(double) / 1048576.0;
+    if (mb > lim.max_record_mb)
+        return pl_error_set(err, PL_EINPUT, list, e->line, NULL,
+                            "recording %d steps of %.0f values would take %.0f MB, above the cap "
+                            "of %.0f MB (lastonly 1 records the last step only; the scene may "
+                            "raise the cap with <WorkLimits maxRecordMB=\"...\"/>)",
+                            e->steps, values, mb, lim.max_record_mb);
+    return PL_OK;
+}
+
 /* Runs one entry and returns the sim (the caller frees it: the state
  * components' names are needed for the reference files), NULL on error. */
-static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *out_dir,
-                         states *st, pl_state_records *rec, pl_error *err)
+static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *list,
+                         const char *out_dir, states *st, pl_state_records *rec, pl_error *err)
 {
     pl_diag diag;
     pl_diag_init(&diag);
@@ -63,7 +90,8 @@ static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const 
     st->n = 0;
     pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, add_state, st);
     for (int k = 0; k < st->n; ++k) pl_state_records_init(&rec[k]);
-    int rc = record(sim, st, rec, err);
+    int rc = check_cost(sim, st, e, list, err);
+    if (rc == PL_OK) rc = record(sim, st, rec, err);
     for (int s = 0; rc == PL_OK && s < e->steps; ++s) {
         rc = pl_sim_step(sim, 1, err);
         if (rc == PL_OK && (!e->last_only || s == e->steps - 1)) rc = record(sim, st, rec, err);
@@ -137,7 +165,7 @@ int regress_entry_job(int i, void *user, FILE *out)
     pl_state_records rec[64];
     pl_error err;
     pl_regression_result res = {0};
-    pl_sim *sim = run_entry(scene, e, x->out_dir, &st, rec, &err);
+    pl_sim *sim = run_entry(scene, e, x->list_path, x->out_dir, &st, rec, &err);
     int rc = sim ? PL_OK : err.code;
     double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
     if (rc == PL_OK)

@@ -80,10 +80,10 @@ int view_args_finish(view_args *a, const char *cmd, int argc, char **argv)
 int view_load(const view_args *a, vw_app *app, pl_sim **sim)
 {
     pl_sim_options opt = {.out_dir = a->out, .overrides = a->sets, .noverrides = a->nsets,
-                          .device = a->device, .prepare = vw_app_prepare, .prepare_user = app};
+                          .device = a->device};
     pl_diag diag;
     pl_diag_init(&diag);
-    *sim = pl_sim_load_file(a->scene, &opt, &diag);
+    *sim = pl_sim_load_file_prepared(a->scene, &opt, vw_app_prepare, app, &diag);
     if (!a->quiet || !*sim) pl_diag_print(&diag, stderr);
     int status = pl_diag_status(&diag);
     if (!*sim)

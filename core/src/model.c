@@ -1,11 +1,16 @@
 /* model.c - state slots of the model, and pl_data: create, copy, save, load. */
 #include "pliant/model.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes)
+#include "pliant/checked.h"
+
+static int add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes,
+                    size_t elem_size, size_t max_elems)
 {
     char path[192], full[256];
     if (m->nslots == m->cap_slots) {
@@ -18,11 +23,55 @@ int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t
     snprintf(full, sizeof full, "%s.%s", owner ? pl_component_path(owner, path, sizeof path) : "",
              name);
     pl_slot_info *s = &m->slots[m->nslots];
+    memset(s, 0, sizeof *s);
     if (!(s->name = strdup(full))) return -1;
     s->owner = owner;
     s->initial_bytes = bytes;
+    s->elem_size = elem_size;
+    s->max_elems = max_elems;
     return m->nslots++;
 }
+
+int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes)
+{
+    return add_slot(m, owner, name, bytes, 0, 0);
+}
+
+int pl_model_add_var_slot(pl_model *m, pl_component *owner, const char *name, size_t elem_size,
+                          size_t max_elems)
+{
+    size_t most;
+    if (elem_size == 0 || pl_mul_size(elem_size, max_elems, &most)) return -1;
+    return add_slot(m, owner, name, 0, elem_size, max_elems);
+}
+
+void pl_model_set_slot_check(pl_model *m, int slot, pl_slot_check check)
+{
+    if (slot >= 0 && slot < m->nslots) m->slots[slot].check = check;
+}
+
+int pl_slot_check_finite(const pl_component *owner, const void *data, size_t bytes,
+                         pl_error *err)
+{
+    const double *v = data;
+    if (bytes % sizeof(double))
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "%zu bytes are not whole numbers",
+                            bytes);
+    for (size_t i = 0; i < bytes / sizeof(double); ++i)
+        if (!isfinite(v[i]))
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "value %zu is %g: expected a "
+                                "finite number", i, v[i]);
+    return PL_OK;
+}
+
+/* Whether `bytes` is a size slot k may have. */
+static int size_allowed(const pl_slot_info *s, size_t bytes)
+{
+    if (!s->elem_size) return bytes == s->initial_bytes;
+    return bytes % s->elem_size == 0 && bytes / s->elem_size <= s->max_elems;
+}
+
+static int resize(pl_data *d, int slot, size_t bytes);
 
 int pl_model_find_slot(const pl_model *m, const char *fullname)
 {
@@ -43,7 +92,7 @@ pl_data *pl_data_create(const pl_model *m)
         return NULL;
     }
     for (int k = 0; k < m->nslots; ++k)
-        if (pl_data_resize_slot(d, k, m->slots[k].initial_bytes) != 0) {
+        if (resize(d, k, m->slots[k].initial_bytes) != 0) {
             pl_data_free(d);
             return NULL;
         }
@@ -58,7 +107,8 @@ void pl_data_free(pl_data *d)
     free(d);
 }
 
-int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
+/* Resizes without asking whether the size is allowed. */
+static int resize(pl_data *d, int slot, size_t bytes)
 {
     pl_slot *s = &d->slots[slot];
     if (bytes == s->bytes) return 0;
@@ -69,6 +119,12 @@ int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
     s->ptr = p;
     s->bytes = bytes;
     return 0;
+}
+
+int pl_data_resize_slot(pl_data *d, int slot, size_t bytes)
+{
+    if (slot < d->model->nslots && !size_allowed(&d->model->slots[slot], bytes)) return -1;
+    return resize(d, slot, bytes);
 }
 
 int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes)
@@ -82,7 +138,7 @@ int pl_data_copy(pl_data *dst, const pl_data *src)
 {
     if (dst->nslots != src->nslots) return -1;
     for (int k = 0; k < src->nslots; ++k) {
-        if (pl_data_resize_slot(dst, k, src->slots[k].bytes) != 0) return -1;
+        if (resize(dst, k, src->slots[k].bytes) != 0) return -1;
         if (src->slots[k].bytes) memcpy(dst->slots[k].ptr, src->slots[k].ptr, src->slots[k].bytes);
     }
     dst->time = src->time;
@@ -125,9 +181,69 @@ fail:
     return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "cannot write the state file");
 }
 
+/* Reads a slot's `bytes` bytes into tmp's slot k.  A fixed slot has been
+ * checked to have its declared size; a variable one grows chunk by chunk
+ * as the bytes arrive, so a file that announces 384 GiB and holds 10 bytes
+ * costs 1 MiB, not a 384 GiB allocation. */
+static int read_slot(pl_data *tmp, int k, uint64_t bytes, FILE *f)
+{
+    const size_t chunk = (size_t)1 << 20;
+    size_t got = 0;
+    while (got < bytes) {
+        size_t n = bytes - got < chunk ? (size_t)(bytes - got) : chunk;
+        if (resize(tmp, k, got + n) != 0 || fread((char *)tmp->slots[k].ptr + got, 1, n, f) != n)
+            return -1;
+        got += n;
+    }
+    return resize(tmp, k, (size_t)bytes);
+}
+
+static int load_slots(pl_data *tmp, FILE *f, pl_error *err)
+{
+    char name[512];
+    const pl_model *m = tmp->model;
+    for (int k = 0; k < tmp->nslots; ++k) {
+        const pl_slot_info *s = &m->slots[k];
+        uint64_t len, bytes;
+        if (fread(&len, sizeof len, 1, f) != 1 || len >= sizeof name ||
+            fread(name, 1, len, f) != len || fread(&bytes, sizeof bytes, 1, f) != 1)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated or corrupt state file "
+                                "(in the header of slot %d)", k);
+        name[len] = '\0';
+        if (strcmp(name, s->name) != 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "the state file's slot %d is '%s', this scene's is '%s'", k,
+                                name, s->name);
+        /* the size is checked against the declaration before anything is allocated */
+        if (bytes > SIZE_MAX || !size_allowed(s, (size_t)bytes)) {
+            if (!s->elem_size)
+                return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                    "slot '%s' holds %llu bytes in the state file; this scene's "
+                                    "has %zu: the file belongs to another scene or is corrupt",
+                                    s->name, (unsigned long long)bytes, s->initial_bytes);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                                "slot '%s' holds %llu bytes in the state file: expected a "
+                                "multiple of %zu, at most %zu elements",
+                                s->name, (unsigned long long)bytes, s->elem_size, s->max_elems);
+        }
+        if (read_slot(tmp, k, bytes, f) != 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated state file: slot '%s' "
+                                "announces %llu bytes", s->name, (unsigned long long)bytes);
+        if (s->check && s->check(s->owner, tmp->slots[k].ptr, tmp->slots[k].bytes, err)) {
+            char msg[sizeof err->msg];
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "slot '%s': %s", s->name, msg);
+        }
+    }
+    if (fgetc(f) != EOF)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file goes on after its last slot: corrupt");
+    return PL_OK;
+}
+
 int pl_data_load(pl_data *d, FILE *f, pl_error *err)
 {
-    char magic[8], name[512];
+    char magic[8];
     uint64_t n;
     int64_t step;
     double time;
@@ -136,6 +252,12 @@ int pl_data_load(pl_data *d, FILE *f, pl_error *err)
     if (fread(&time, sizeof time, 1, f) != 1 || fread(&step, sizeof step, 1, f) != 1 ||
         fread(&n, sizeof n, 1, f) != 1)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated state file");
+    if (!isfinite(time))
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file's time is %g: expected a finite time [s]", time);
+    if (step < 0 || (uint64_t)step > (uint64_t)LONG_MAX)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
+                            "the state file's step count %lld is negative", (long long)step);
     if (n != (uint64_t)d->nslots)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "the state file has %llu slots, this scene has %d: it belongs to "
@@ -144,28 +266,13 @@ int pl_data_load(pl_data *d, FILE *f, pl_error *err)
     /* read into a scratch copy first so a bad file leaves d untouched */
     pl_data *tmp = pl_data_create(d->model);
     if (!tmp) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    for (int k = 0; k < d->nslots; ++k) {
-        uint64_t len, bytes;
-        if (fread(&len, sizeof len, 1, f) != 1 || len >= sizeof name ||
-            fread(name, 1, len, f) != len || fread(&bytes, sizeof bytes, 1, f) != 1)
-            goto truncated;
-        name[len] = '\0';
-        if (strcmp(name, d->model->slots[k].name) != 0) {
-            pl_data_free(tmp);
-            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
-                                "the state file's slot %d is '%s', this scene's is '%s'", k,
-                                name, d->model->slots[k].name);
-        }
-        if (bytes > ((uint64_t)1 << 40) || pl_data_resize_slot(tmp, k, (size_t)bytes) != 0 ||
-            (bytes && fread(tmp->slots[k].ptr, 1, (size_t)bytes, f) != bytes))
-            goto truncated;
+    int rc = load_slots(tmp, f, err);
+    if (rc == PL_OK) {
+        tmp->time = time;
+        tmp->step = (long)step;
+        if (pl_data_copy(d, tmp) != 0)
+            rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     }
-    tmp->time = time;
-    tmp->step = (long)step;
-    pl_data_copy(d, tmp);
     pl_data_free(tmp);
-    return PL_OK;
-truncated:
-    pl_data_free(tmp);
-    return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "truncated or corrupt state file");
+    return rc;
 }

@@ -5,12 +5,19 @@
 #include "pliant/node.h"
 #include "pliant/registry.h"
 
+/* flags of pl_scene_build */
+enum {
+    /* <RequiredPlugin name="/some/libx.so"/> may name a file (the user trusts
+     * the scene); otherwise plugins come from the plugin path only */
+    PL_SCENE_ALLOW_PLUGIN_PATH = 1
+};
+
 /* Parses scene XML (never touching the network or expanding entities) and
  * builds the tree: components created with defaults, attributes parsed,
  * plugins loaded.  Every problem goes to diag with file:line.  Returns the
  * root (possibly partial, to be freed) or NULL. */
 pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_registry *reg,
-                        pl_diag *diag);
+                        int flags, pl_diag *diag);
 /* Frees a tree: components' destroy callbacks, fields, nodes. */
 void pl_scene_free(pl_node *root);
 /* Creates a component of type t in node n (defaults applied); NULL on OOM. */

@@ -1,9 +1,10 @@
 /* scene_xml.c - XML scene -> node tree, with every mistake reported.
  *
- * Security: scenes are parsed with network access off and without entity
- * substitution; documents that declare a DTD or entities are refused before
- * libxml2 sees them, so an entity bomb costs nothing. */
+ * Security: scenes are parsed by xml_guard.c, with network access off and
+ * without entity substitution; a document that declares a DTD is refused
+ * as soon as the parser meets it, whatever its encoding. */
 #include "scene.h"
+#include "xml_guard.h"
 
 #include <ctype.h>
 #include <stdio.h>
@@ -18,6 +19,14 @@ static const char *const IGNORED[] = {"VisualStyle", "OglModel", "OglSceneFrame"
                                       "BackgroundSetting", "ConstraintAttachButtonSetting",
                                       "DefaultVisualManagerLoop", "LightManager",
                                       "DirectionalLight", NULL};
+
+/* What every step of building the tree needs. */
+typedef struct scene_build {
+    const char *file;
+    pl_registry *reg;
+    pl_diag *diag;
+    int flags; /* PL_SCENE_* */
+} scene_build;
 
 static const char *const NODE_ATTRS[] = {"name", "dt", "gravity", "animate", NULL};
 
@@ -216,12 +225,25 @@ static void parse_attributes(pl_component *c, xmlNode *x, const char *file, pl_d
     }
 }
 
-static void load_required_plugins(xmlNode *x, const char *file, pl_registry *reg, pl_diag *diag)
+/* A plugin name names a file of the plugin path (lib<name>.so): letters,
+ * digits, '_', '-' and '.', never a path.  A scene is data: it must not be
+ * able to make the program map and run an arbitrary shared object (its
+ * constructors run on dlopen, before any check), so a path is accepted only
+ * when the user running the scene allows it. */
+static int is_plain_plugin_name(const char *p)
+{
+    if (!*p || strstr(p, "..")) return 0;
+    for (; *p; ++p)
+        if (!isalnum((unsigned char)*p) && *p != '_' && *p != '-' && *p != '.') return 0;
+    return 1;
+}
+
+static void load_required_plugins(xmlNode *x, const scene_build *b)
 {
     xmlChar *v = xmlGetProp(x, (const xmlChar *)"pluginName");
     if (!v) v = xmlGetProp(x, (const xmlChar *)"name");
     if (!v) {
-        pl_diag_error(diag, PL_EINPUT, file, line_of(x), "RequiredPlugin",
+        pl_diag_error(b->diag, PL_EINPUT, b->file, line_of(x), "RequiredPlugin",
                       "missing attribute 'name' (the plugin to load)");
         return;
     }
@@ -230,8 +252,19 @@ static void load_required_plugins(xmlNode *x, const char *file, pl_registry *reg
     if (!list) return;
     for (char *p = strtok_r(list, " \t\n,", &save); p; p = strtok_r(NULL, " \t\n,", &save)) {
         pl_error e;
-        if (pl_registry_load_plugin(reg, p, &e) != PL_OK)
-            pl_diag_error(diag, e.code, file, line_of(x), "RequiredPlugin", "%s", e.msg);
+        int is_path = strchr(p, '/') || strstr(p, "..");
+        if (!is_plain_plugin_name(p) && !(is_path && (b->flags & PL_SCENE_ALLOW_PLUGIN_PATH))) {
+            pl_diag_error(b->diag, PL_EINPUT, b->file, line_of(x), "RequiredPlugin",
+                          is_path ? "'%s' is a path: a scene names plugins, which are loaded from "
+                                    "the plugin path only (PLIANT_PLUGIN_PATH and the built-in "
+                                    "folders); `pliant run --allow-plugin-path` lets a scene you "
+                                    "trust load a file"
+                                  : "'%s' is not a plugin name (letters, digits, '_', '-', '.')",
+                          p);
+            continue;
+        }
+        if (pl_registry_load_plugin(b->reg, p, &e) != PL_OK)
+            pl_diag_error(b->diag, e.code, b->file, line_of(x), "RequiredPlugin", "%s", e.msg);
     }
     free(list);
 }
@@ -276,13 +309,15 @@ static void parse_node_attrs(pl_node *n, xmlNode *x, const char *file, pl_diag *
     }
 }
 
-static void build_node(pl_node *n, xmlNode *x, const char *file, pl_registry *reg, pl_diag *diag)
+static void build_node(pl_node *n, xmlNode *x, const scene_build *b)
 {
+    const char *file = b->file;
+    pl_diag *diag = b->diag;
     parse_node_attrs(n, x, file, diag);
     /* plugins first, wherever they appear in the node, so order does not matter */
     for (xmlNode *k = x->children; k; k = k->next)
         if (k->type == XML_ELEMENT_NODE && !strcmp((const char *)k->name, "RequiredPlugin"))
-            load_required_plugins(k, file, reg, diag);
+            load_required_plugins(k, b);
     for (xmlNode *k = x->children; k; k = k->next) {
         if (k->type != XML_ELEMENT_NODE) continue;
         const char *tag = (const char *)k->name;
@@ -297,16 +332,16 @@ static void build_node(pl_node *n, xmlNode *x, const char *file, pl_registry *re
                 pl_diag_error(diag, PL_EINTERNAL, file, line_of(k), np, "out of memory");
                 return;
             }
-            build_node(child, k, file, reg, diag);
+            build_node(child, k, b);
             continue;
         }
         if (is_ignored(tag)) {
             pl_diag_warn(diag, file, line_of(k), np, "%s is a visual component: ignored", tag);
             continue;
         }
-        const pl_type *t = pl_registry_find(reg, tag);
+        const pl_type *t = pl_registry_find(b->reg, tag);
         if (!t) {
-            const char *s = pl_registry_suggest(reg, tag);
+            const char *s = pl_registry_suggest(b->reg, tag);
             if (s)
                 pl_diag_error(diag, PL_EINPUT, file, line_of(k), np,
                               "unknown component type '%s' (did you mean %s?)", tag, s);
@@ -341,51 +376,22 @@ pl_component *pl_node_add_component(pl_node *n, const pl_registry *reg, const ch
     return c;
 }
 
-/* Refuses DTDs and entity declarations by looking at the raw text. */
-static int has_doctype(const char *xml, size_t len)
-{
-    static const char *const bad[] = {"<!DOCTYPE", "<!ENTITY"};
-    for (int b = 0; b < 2; ++b) {
-        size_t bl = strlen(bad[b]);
-        for (size_t i = 0; i + bl <= len; ++i)
-            if (xml[i] == '<' && !strncmp(xml + i, bad[b], bl)) return 1;
-    }
-    return 0;
-}
-
 pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_registry *reg,
-                        pl_diag *diag)
+                        int flags, pl_diag *diag)
 {
+    scene_build b = {file, reg, diag, flags};
     if (len == 0) {
         pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the scene is empty");
-        return NULL;
-    }
-    if (has_doctype(xml, len)) {
-        pl_diag_error(diag, PL_EINPUT, file, 0, NULL,
-                      "scenes may not declare a DTD or entities (<!DOCTYPE>, <!ENTITY>)");
         return NULL;
     }
     if (len > (size_t)1 << 30) {
         pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the scene is larger than 1 GiB");
         return NULL;
     }
-    xmlParserCtxtPtr ctxt = xmlNewParserCtxt();
-    if (!ctxt) {
-        pl_diag_error(diag, PL_EINTERNAL, file, 0, NULL, "out of memory");
-        return NULL;
-    }
-    int opts = XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_BIG_LINES;
-    xmlDocPtr doc = xmlCtxtReadMemory(ctxt, xml, (int)len, file, NULL, opts);
+    pl_error e;
+    xmlDoc *doc = pl_xml_read_untrusted(xml, len, file, "scenes", XML_PARSE_BIG_LINES, &e);
     if (!doc) {
-        xmlErrorPtr e = xmlCtxtGetLastError(ctxt);
-        char msg[512] = "malformed XML";
-        if (e && e->message) {
-            snprintf(msg, sizeof msg, "malformed XML: %s", e->message);
-            size_t l = strlen(msg);
-            while (l && (msg[l - 1] == '\n' || msg[l - 1] == ' ')) msg[--l] = '\0';
-        }
-        pl_diag_error(diag, PL_EINPUT, file, e ? e->line : 0, NULL, "%s", msg);
-        xmlFreeParserCtxt(ctxt);
+        pl_diag_add(diag, &e);
         return NULL;
     }
     xmlNode *x = xmlDocGetRootElement(doc);
@@ -398,9 +404,8 @@ pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_regist
         xmlChar *nm = xmlGetProp(x, (const xmlChar *)"name");
         root = new_node(NULL, nm ? (const char *)nm : "root", file, line_of(x));
         xmlFree(nm);
-        if (root) build_node(root, x, file, reg, diag);
+        if (root) build_node(root, x, &b);
     }
     xmlFreeDoc(doc);
-    xmlFreeParserCtxt(ctxt);
     return root;
 }

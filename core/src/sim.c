@@ -3,6 +3,7 @@
 #include "pliant/sim.h"
 #include "pliant/log.h"
 #include "pliant/roles.h"
+#include "pliant/work_limits.h"
 #include "scene.h"
 #include "walk.h"
 
@@ -21,6 +22,7 @@ struct pl_sim {
     char *out_dir;
     int export_every;
     pl_component *loop;      /* the animation loop, or NULL */
+    pl_work_limits ceiling;  /* pl_sim_options.max_limits, model.ceiling points here */
     pl_sim_callback callback;
     void *callback_user;
     int frame_timer;
@@ -52,17 +54,35 @@ static int resolve_links(pl_component *c, void *user)
     return 0;
 }
 
+/* A load-time callback's status is the plugin's word: a failure stops the
+ * load even when the callback recorded nothing (then a generic error names
+ * the component), and a recorded error stops it even with PL_OK. */
+static int honour(pl_component *c, pl_ctx *ctx, const char *what, int rc, int errors_before)
+{
+    if (rc == PL_OK) return 0;
+    if (ctx->diag->nerrors == errors_before)
+        pl_component_error(c, ctx, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                           "%s failed (status %d) without saying why", what, rc);
+    return 0; /* go on: the user sees every component's errors at once */
+}
+
 static int call_init(pl_component *c, void *user)
 {
-    return c->type->ops.init ? (c->type->ops.init(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.init ? honour(c, ctx, "init", c->type->ops.init(c, ctx), before) : 0;
 }
 static int call_bind(pl_component *c, void *user)
 {
-    return c->type->ops.bind ? (c->type->ops.bind(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.bind ? honour(c, ctx, "bind", c->type->ops.bind(c, ctx), before) : 0;
 }
 static int call_reinit(pl_component *c, void *user)
 {
-    return c->type->ops.reinit ? (c->type->ops.reinit(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.reinit ? honour(c, ctx, "reinit", c->type->ops.reinit(c, ctx), before) : 0;
 }
 
 static int apply_override(pl_sim *s, const char *text, pl_diag *diag)
@@ -120,8 +140,31 @@ static int load_tree(pl_sim *s, pl_diag *diag)
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err);
 
+/* A time step is the one number of a node that scales everything (dt^2 in
+ * every update): above the cap, positions overflow to NaN a step later, so
+ * it is refused here as bad input, with the node's file:line. */
+static void check_time_steps(const pl_model *m, const pl_node *n, pl_diag *diag)
+{
+    if (n->has_dt) {
+        pl_work_limits lim;
+        pl_work_limits_of(m, n, &lim);
+        char np[160];
+        if (!(n->dt <= lim.max_dt))
+            pl_diag_error(diag, PL_EINPUT, n->file, n->line, pl_node_path(n, np, sizeof np),
+                          "dt = %g s is above the cap of %g s (it guards against steps that "
+                          "overflow; a scene that needs more sets <WorkLimits maxTimeStep=\"...\"/>)",
+                          n->dt, lim.max_dt);
+    }
+    for (int k = 0; k < n->nchildren; ++k) check_time_steps(m, n->children[k], diag);
+}
+
+typedef struct prepare_hook {
+    pl_sim_prepare fn;
+    void *user;
+} prepare_hook;
+
 static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_options *opt,
-                    pl_diag *diag)
+                    const prepare_hook *hook, pl_diag *diag)
 {
     pl_sim *s = calloc(1, sizeof *s);
     if (!s) return NULL;
@@ -139,14 +182,20 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
         }
     }
     if (opt && opt->out_dir && !(s->out_dir = strdup(opt->out_dir))) goto fail;
+    if (opt && opt->max_limits) {
+        s->ceiling = *opt->max_limits;
+        s->model.ceiling = &s->ceiling;
+    }
     s->export_every = opt ? opt->export_every : 0;
-    s->model.root = pl_scene_build(xml, len, file, s->registry, diag);
+    int flags = opt && opt->allow_plugin_path ? PL_SCENE_ALLOW_PLUGIN_PATH : 0;
+    s->model.root = pl_scene_build(xml, len, file, s->registry, flags, diag);
     if (!s->model.root || diag->nerrors) goto fail;
     pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
+    check_time_steps(&s->model, s->model.root, diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
-    if (opt && opt->prepare && opt->prepare(s->model.root, s->registry, diag, opt->prepare_user)) {
+    if (hook->fn && hook->fn(s->model.root, s->registry, diag, hook->user)) {
         if (!diag->nerrors)
             pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the program's prepare step failed");
         goto fail;
@@ -164,13 +213,27 @@ fail:
     return NULL;
 }
 
+pl_sim *pl_sim_load_string_prepared(const char *xml, const char *name,
+                                    const pl_sim_options *opt, pl_sim_prepare prepare,
+                                    void *user, pl_diag *diag)
+{
+    prepare_hook hook = {prepare, user};
+    return load(xml, strlen(xml), name ? name : "<string>", opt, &hook, diag);
+}
+
 pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
                            pl_diag *diag)
 {
-    return load(xml, strlen(xml), name ? name : "<string>", opt, diag);
+    return pl_sim_load_string_prepared(xml, name, opt, NULL, NULL, diag);
 }
 
 pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *diag)
+{
+    return pl_sim_load_file_prepared(path, opt, NULL, NULL, diag);
+}
+
+pl_sim *pl_sim_load_file_prepared(const char *path, const pl_sim_options *opt,
+                                  pl_sim_prepare prepare, void *user, pl_diag *diag)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -194,7 +257,8 @@ pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *d
     }
     buf[len] = '\0';
     fclose(f);
-    pl_sim *s = load(buf, len, path, opt, diag);
+    prepare_hook hook = {prepare, user};
+    pl_sim *s = load(buf, len, path, opt, &hook, diag);
     free(buf);
     return s;
 }
@@ -226,34 +290,46 @@ typedef struct step_walk {
     int finish;
 } step_walk;
 
+/* A step-time callback's status: a failure without a message in err gets
+ * a generic one naming the component. */
+static int step_status(step_walk *w, pl_component *c, const char *what, int rc)
+{
+    if (rc != PL_OK && w->err->code == PL_OK)
+        pl_component_fail(c, w->err, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                          "%s failed (status %d) without saying why", what, rc);
+    return (w->rc = rc == PL_OK ? PL_OK : w->err->code);
+}
+
 static int call_begin(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.begin_step) return 0;
-    return (w->rc = c->type->ops.begin_step(c, &w->ctx, w->err));
+    return step_status(w, c, "begin_step", c->type->ops.begin_step(c, &w->ctx, w->err));
 }
 static int call_end(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.end_step) return 0;
-    return (w->rc = c->type->ops.end_step(c, &w->ctx, w->err));
+    return step_status(w, c, "end_step", c->type->ops.end_step(c, &w->ctx, w->err));
 }
 static int call_controller(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_controller_ops *ops = pl_component_role(c, PL_ROLE_CONTROLLER);
-    return ops->apply ? (w->rc = ops->apply(c, &w->ctx, w->t, w->err)) : 0;
+    return ops->apply ? step_status(w, c, "apply", ops->apply(c, &w->ctx, w->t, w->err)) : 0;
 }
 static int call_exporter(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_exporter_ops *ops = pl_component_role(c, PL_ROLE_EXPORTER);
-    if (w->finish) return ops->finish ? (w->rc = ops->finish(c, &w->ctx, w->info, w->err)) : 0;
-    return ops->write ? (w->rc = ops->write(c, &w->ctx, w->info, w->err)) : 0;
+    if (w->finish)
+        return ops->finish ? step_status(w, c, "finish", ops->finish(c, &w->ctx, w->info, w->err)) : 0;
+    return ops->write ? step_status(w, c, "write", ops->write(c, &w->ctx, w->info, w->err)) : 0;
 }
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err)
 {
+    pl_error_clear(err);
     pl_export_info info = {s->out_dir, s->export_every, d->step, d->time};
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, &info, finish};
     pl_node_visit_role(s->model.root, PL_ROLE_EXPORTER, call_exporter, &w);
@@ -264,6 +340,7 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
 {
     double dt = pl_node_dt(s->model.root);
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, NULL, 0};
+    pl_error_clear(err);
     pl_timer_start(s->timers, s->frame_timer);
     if (s->callback && s->callback(s, d->time, s->callback_user) != 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "callback",
@@ -272,7 +349,7 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
     if (pl_node_visit_role(s->model.root, PL_ROLE_CONTROLLER, call_controller, &w)) return w.rc;
     if (s->loop) {
         const pl_animation_loop_ops *ops = pl_component_role(s->loop, PL_ROLE_ANIMATION_LOOP);
-        int rc = ops->step(s->loop, &w.ctx, dt, err);
+        int rc = step_status(&w, s->loop, "step", ops->step(s->loop, &w.ctx, dt, err));
         if (rc) return rc;
     }
     d->time += dt;

@@ -210,6 +210,7 @@ static int cc_init(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
     cc->slot = pl_model_add_slot(ctx->model, c, "force", sizeof(double));
     if (cc->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, cc->slot, pl_slot_check_finite);
     return PL_OK;
 }
 

@@ -218,6 +218,6 @@ int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ive
             stack[top++] = b->left[node];
         }
     }
-    sort_hits(out->v + first, out->n - first);
+    if (out->n > first) sort_hits(out->v + first, out->n - first); /* v is NULL when empty */
     return PL_OK;
 }

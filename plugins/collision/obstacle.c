@@ -6,7 +6,9 @@
  * alarmDistance gets a contact: one normal and two friction rows (see
  * collision.h for the conventions).  Contacts are recorded in the pl_data
  * slot "contacts" and receive their forces after the step. */
+#include <limits.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -98,12 +100,34 @@ static int find_models(coll_obstacle *o, pl_ctx *ctx)
     return PL_OK;
 }
 
+/* Restored contacts (a saved state is input): models in range, finite values. */
+_Static_assert(offsetof(pl_obstacle_contact, point) == 0, "the doubles come first");
+static int check_restored(const pl_component *c, const void *data, size_t bytes, pl_error *err)
+{
+    const coll_obstacle *o = (const coll_obstacle *)c;
+    const pl_obstacle_contact *r = data;
+    for (size_t k = 0; k < bytes / sizeof *r; ++k) {
+        if (r[k].model < 0 || r[k].model >= o->nmodels || r[k].vertex < 0)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "contact %zu names model %d, "
+                                "vertex %d: expected a model in 0..%d", k, r[k].model,
+                                r[k].vertex, o->nmodels - 1);
+        const double *v = (const double *)(const void *)&r[k]; /* point .. force */
+        for (size_t i = 0; i < offsetof(pl_obstacle_contact, vertex) / sizeof(double); ++i)
+            if (!isfinite(v[i]))
+                return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "contact %zu holds a "
+                                    "non-finite value", k);
+    }
+    return PL_OK;
+}
+
 int coll_obstacle_init(pl_component *c, pl_ctx *ctx, coll_shape_fn make_shape)
 {
     coll_obstacle *o = (coll_obstacle *)c;
     o->make_shape = make_shape;
-    o->slot = pl_model_add_slot(ctx->model, c, "contacts", 0);
+    o->slot = pl_model_add_var_slot(ctx->model, c, "contacts", sizeof(pl_obstacle_contact),
+                                    INT_MAX);
     if (o->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, o->slot, check_restored);
     pl_shape s;
     pl_motion m;
     pl_error err;

@@ -14,6 +14,7 @@
  *      with the pair's mu and contactDistance, and records the contacts in
  *      the data slot "contacts", which receive their forces after the step.
  * The whole is timed as "Detection", apart from the paper's columns. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -116,13 +117,40 @@ static int collect_model(pl_component *c, void *user)
     return 0;
 }
 
+/* Restored contacts (a saved state is input): kinds, models and vertex
+ * counts in range, vertices non-negative, finite numbers. */
+static int check_restored(const pl_component *c, const void *data, size_t bytes, pl_error *err)
+{
+    const collision_pipeline *p = (const collision_pipeline *)c;
+    const coll_contact_record *r = data;
+    for (size_t k = 0; k < bytes / sizeof *r; ++k) {
+        const pl_proximity *x = &r[k].prox;
+        int bad = (x->kind != PL_PROX_VERTEX_FACE && x->kind != PL_PROX_EDGE_EDGE) ||
+                  x->model_a < 0 || x->model_a >= p->nmodels || x->model_b < 0 ||
+                  x->model_b >= p->nmodels || x->na < 1 || x->na > 3 || x->nb < 1 || x->nb > 3;
+        for (int i = 0; !bad && i < x->na; ++i) bad = x->a[i] < 0 || !isfinite(x->wa[i]);
+        for (int i = 0; !bad && i < x->nb; ++i) bad = x->b[i] < 0 || !isfinite(x->wb[i]);
+        for (int i = 0; !bad && i < 3; ++i)
+            bad = !isfinite(x->normal[i]) || !isfinite(r[k].lambda[i]) ||
+                  !isfinite(r[k].force[i]) || !isfinite(r[k].point_a[i]) ||
+                  !isfinite(r[k].point_b[i]) || !isfinite(r[k].t1[i]) || !isfinite(r[k].t2[i]);
+        if (bad || !isfinite(x->gap))
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "contact %zu is corrupt (kind "
+                                "%d, models %d and %d of %d, or a non-finite value)", k, x->kind,
+                                x->model_a, x->model_b, p->nmodels);
+    }
+    return PL_OK;
+}
+
 static int cp_init(pl_component *c, pl_ctx *ctx)
 {
     collision_pipeline *p = (collision_pipeline *)c;
     pl_error err;
     if (check(p, &err)) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
-    p->slot = pl_model_add_slot(ctx->model, c, "contacts", 0);
+    p->slot = pl_model_add_var_slot(ctx->model, c, "contacts", sizeof(coll_contact_record),
+                                    INT_MAX);
     if (p->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, p->slot, check_restored);
     return PL_OK;
 }
 

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "shape_tets.h"
+#include "pliant/work_limits.h"
 
 
 
@@ -253,6 +254,17 @@ static int st_init(pl_component *c, pl_ctx *ctx)
     pl_mesh_init(&s->mesh);
     int rc = check_fields(s, c, ctx);
     if (rc) return rc;
+    /* the work (and at most 6 tetrahedra per cell) grows with the grid over
+     * the bounding box: estimated before it is scanned */
+    double lo[3], hi[3], cells = 1;
+    bounds(s, lo, hi);
+    for (int k = 0; k < 3; ++k) cells *= hi[k] > lo[k] ? ceil((hi[k] - lo[k]) / s->cell) : 1;
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    if (pl_work_limit_check(c, ctx, 6 * cells, lim.max_elements,
+                            "the tetrahedra of its grid (6 per cell of the bounding box)",
+                            "maxElements"))
+        return PL_EINPUT;
     rc = generate(s);
     if (rc == PL_EINPUT)
         return pl_component_error(c, ctx, rc,

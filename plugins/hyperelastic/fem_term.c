@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "fem_term.h"
 
 const char *const hyper_fem_element_choices[] = {"auto", "tetrahedra", "triangles", NULL};
@@ -73,6 +73,7 @@ int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
         size_t bytes = (size_t)f->nelem * 3 * (f->k - 1) * sizeof(double);
         f->dual_slot = pl_model_add_slot(ctx->model, c, "dual", bytes);
         if (f->dual_slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+        pl_model_set_slot_check(ctx->model, f->dual_slot, pl_slot_check_finite);
     }
     return PL_OK;
 }

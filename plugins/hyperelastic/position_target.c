@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "fem_term.h"
 #include "hyperelastic.h"
 #ifdef PLIANT_HAVE_CUDA
@@ -90,6 +90,7 @@ static int pt_init(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     p->slot = pl_model_add_slot(ctx->model, c, "target", (size_t)p->indices.n * 3 * sizeof(double));
     if (p->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, p->slot, pl_slot_check_finite);
     return PL_OK;
 }
 

@@ -122,6 +122,10 @@ typedef struct pl_ncpc_key {
     double lambda;            /* the multiplier at the end of the step [N] */
 } pl_ncpc_key;
 
+/* The check of restored warm-start records (a pl_slot_check): kinds known,
+ * friction pairs in range, directions and multipliers finite. */
+int pl_ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err);
+
 /* Keys of the active rows (lambda left 0). */
 int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys,
                        pl_error *err);

@@ -22,6 +22,7 @@
  * When the animation loop hands iterate() device buffers (LocalGlobalSolver
  * device="cuda", CUDA builds), the iterations run on the GPU:
  * contact_device.c; begin stays on the CPU. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,15 +30,14 @@
 
 #include "contact_solver.h"
 #include "pliant/plugin.h"
+#include "pliant/work_limits.h"
 
 static const char *const NCP_CHOICES[] = {"fischer-burmeister", "minimum-map", NULL};
 static const char *const PRECOND_CHOICES[] = {"delassus", "mass", NULL};
 static const char *const CORRECTION_CHOICES[] = {"jacobian", "multiplier", NULL};
 static const char *const DELASSUS_CHOICES[] = {"auto", "explicit", "matrix-free", NULL};
 static const char *const CR_SCALING_CHOICES[] = {"jacobi", "none", NULL};
-#ifdef PLIANT_HAVE_CUDA
 static const char *const DEVICE_CHOICES[] = {"cpu", "auto", NULL};
-#endif
 
 static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(ncp_contact_solver, ncp, "ncp", NCP_CHOICES, "fischer-burmeister",
@@ -111,13 +111,12 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
-#ifdef PLIANT_HAVE_CUDA
+    /* in every build: without CUDA, auto is the CPU */
     PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",
                   "where the iterations' constraint work runs: auto (where the animation loop "
                   "runs it: on the GPU with LocalGlobalSolver device=\"cuda\") or cpu (a loop on "
                   "the device is then refused)",
                   0),
-#endif
 };
 
 static int check_fields(const ncp_contact_solver *s, char *msg, size_t size)
@@ -140,8 +139,14 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     ncp_contact_solver *s = (ncp_contact_solver *)c;
     char msg[256];
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
-    s->slot = pl_model_add_slot(ctx->model, c, "warmStart", 0);
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    if (pl_work_limit_check(c, ctx, s->cr_iterations, lim.max_iterations,
+                            "crIterations (per constraint solve)", "maxIterations"))
+        return PL_EINPUT;
+    s->slot = pl_model_add_var_slot(ctx->model, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
     if (s->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    pl_model_set_slot_check(ctx->model, s->slot, pl_ncpc_keys_check);
     return PL_OK;
 }
 

@@ -64,6 +64,23 @@ int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *
     return PL_OK;
 }
 
+int pl_ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err)
+{
+    const pl_ncpc_key *k = data;
+    size_t n = bytes / sizeof *k;
+    for (size_t j = 0; j < n; ++j) {
+        int bad = k[j].kind < PL_ROW_BILATERAL || k[j].kind > PL_ROW_BOUNDED ||
+                  k[j].pair < -1 || (k[j].pair >= 0 && (size_t)k[j].pair >= n) ||
+                  !isfinite(k[j].lambda);
+        for (int a = 0; a < 3 && !bad; ++a) bad = !isfinite(k[j].dir[a]);
+        if (bad)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "warm-start record %zu is corrupt "
+                                "(kind %d, pair %d of %zu, or a non-finite value)", j,
+                                (int)k[j].kind, (int)k[j].pair, n);
+    }
+    return PL_OK;
+}
+
 static int cmp_key(const pl_ncpc_key *a, const pl_ncpc_key *b)
 {
     if (a->owner != b->owner) return a->owner < b->owner ? -1 : 1;

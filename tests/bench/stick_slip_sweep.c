@@ -41,8 +41,7 @@ static double run(const sweep *sw, const char *precond, double mu)
     snprintf(set_pc, sizeof set_pc, "contact.preconditioner=%s", precond);
     const char *sets[3 + MAX_SETS] = {set_mu, set_pc, "vtk.every=100000000"};
     for (int k = 0; k < sw->nsets; ++k) sets[3 + k] = sw->sets[k];
-    pl_sim_options opt = {.out_dir = test_tmp_dir(), .overrides = sets,
-                          .noverrides = 3 + sw->nsets};
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .overrides = sets, .noverrides = 3 + sw->nsets};
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim *s = pl_sim_load_file(sw->scene, &opt, &diag);

@@ -171,7 +171,7 @@ static pl_mesh check_mesh(const char *file, int rounds)
     pl_diag d;
     pl_diag_init(&d);
     pl_mesh_init(&m);
-    pl_mesh_load_options opt = {1, 0}; /* drop unused vertices: Euler's formula counts used ones */
+    pl_mesh_load_options opt = {.drop_unused = 1}; /* drop unused vertices: Euler's formula counts used ones */
     ck_assert_int_eq(pl_mesh_load(path, &opt, &m, &d), PL_OK);
     pl_diag_free(&d);
     pl_mesh s = subdivided(&m, rounds);

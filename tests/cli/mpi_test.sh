@@ -7,7 +7,11 @@
 set -u
 PLIANT=$1
 SRC=$2
-FAULT=$3
+# a scene names plugins, found on the plugin path (a path would be refused)
+PLIANT_PLUGIN_PATH=$(dirname "$3")${PLIANT_PLUGIN_PATH:+:$PLIANT_PLUGIN_PATH}
+export PLIANT_PLUGIN_PATH
+FAULT=$(basename "$3" .so)
+FAULT=${FAULT#libpliant_}
 MPIEXEC=$4
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/pliant_mpi_test.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT

@@ -4,6 +4,7 @@
 #include <check.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "export/export.h"
@@ -241,6 +242,39 @@ START_TEST(list_rejects_malformed_lines_with_their_numbers)
 }
 END_TEST
 
+/* A byte order mark would become part of the first folder name, and a NUL
+ * byte would silently end the list: both are errors naming the line. */
+START_TEST(list_with_a_bom_or_a_nul_byte_is_refused)
+{
+    pl_regression_list l;
+    pl_diag d;
+    pl_diag_init(&d);
+    ck_assert_int_eq(pl_regression_list_parse("\xEF\xBB\xBFrefs\na.scn 10 1e-3\n", "bom.list", &l,
+                                               &d), PL_EINPUT);
+    ck_assert_int_eq(d.items[0].line, 1);
+    ck_assert_msg(strstr(d.items[0].msg, "byte order mark"), "%s", d.items[0].msg);
+    ck_assert_int_eq(l.count, 0);
+    ck_assert_ptr_null(l.ref_dir);
+    pl_diag_free(&d);
+    char *dir = tu_tmpdir();
+    const char *path = tu_path(dir, "nul.list");
+    const char text[] = "a.scn 10 1e-3\nb.scn 10\0 1e-3\nc.scn 10 1e-3\n";
+    FILE *f = fopen(path, "wb");
+    ck_assert_ptr_nonnull(f);
+    ck_assert_uint_eq(fwrite(text, 1, sizeof text - 1, f), sizeof text - 1);
+    fclose(f);
+    pl_diag_init(&d);
+    ck_assert_int_eq(pl_regression_list_load(path, &l, &d), PL_EINPUT);
+    ck_assert_int_eq(d.items[0].line, 2);
+    ck_assert_str_eq(d.items[0].file, path);
+    ck_assert_msg(strstr(d.items[0].msg, "NUL byte (at byte 22)"), "%s", d.items[0].msg);
+    ck_assert_int_eq(l.count, 0);
+    pl_diag_free(&d);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 START_TEST(list_loads_from_file_and_names_reference_files)
 {
     char *dir = tu_tmpdir();
@@ -284,6 +318,7 @@ int main(void)
     tcase_add_test(tl, list_parses_sofa_format);
     tcase_add_test(tl, list_rejects_malformed_lines_with_their_numbers);
     tcase_add_test(tl, list_loads_from_file_and_names_reference_files);
+    tcase_add_test(tl, list_with_a_bom_or_a_nul_byte_is_refused);
     suite_add_tcase(s, tl);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

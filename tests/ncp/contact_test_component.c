@@ -149,8 +149,7 @@ void ts_load(test_scene *t, const char *xml, const char *const *overrides, int n
     ck_assert_ptr_nonnull(t->reg);
     ck_assert_int_eq(pl_register_builtin_components(t->reg, &err), PL_OK);
     ck_assert_int_eq(pl_registry_add(t->reg, &test_constraint_type, &err), PL_OK);
-    pl_sim_options opt = {.registry = t->reg, .overrides = overrides,
-                          .noverrides = noverrides};
+    pl_sim_options opt = {.registry = t->reg, .overrides = overrides, .noverrides = noverrides};
     t->sim = pl_sim_load_string(xml, PL_SOURCE_DIR "/scenes/inline.xml", &opt, &diag);
     if (!t->sim) pl_diag_print(&diag, stderr);
     pl_diag_free(&diag);

@@ -22,12 +22,12 @@ const char *VT_FALLING_BALL =
 pl_sim *vt_load(const char *xml, int is_file, vw_app *app)
 {
     memset(app, 0, sizeof *app);
-    pl_sim_options opt = {.out_dir = test_tmp_dir(), .device = "cpu",
-                          .prepare = vw_app_prepare, .prepare_user = app};
+    pl_sim_options opt = {.out_dir = test_tmp_dir(), .device = "cpu"};
     pl_diag diag;
     pl_diag_init(&diag);
-    pl_sim *s = is_file ? pl_sim_load_file(xml, &opt, &diag)
-                        : pl_sim_load_string(xml, "viewer_test.xml", &opt, &diag);
+    pl_sim *s = is_file ? pl_sim_load_file_prepared(xml, &opt, vw_app_prepare, app, &diag)
+                        : pl_sim_load_string_prepared(xml, "viewer_test.xml", &opt,
+                                                      vw_app_prepare, app, &diag);
     if (!s) pl_diag_print(&diag, stderr);
     pl_diag_free(&diag);
     ck_assert_ptr_nonnull(s);

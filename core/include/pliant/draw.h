@@ -16,11 +16,14 @@
 #ifndef PLIANT_DRAW_H
 #define PLIANT_DRAW_H
 
+#include "api.h"
 #include "component.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+#if PL_ABI_TARGET_MINOR >= 2 /* the drawing is new in ABI 4.2 */
 
 typedef enum pl_draw_kind {
     PL_DRAW_OBSTACLE = 0, /* a rigid surface: triangles */
@@ -47,29 +50,31 @@ typedef struct pl_drawing {
     int nparts, cap_parts;
 } pl_drawing;
 
-void pl_drawing_init(pl_drawing *dw);
-void pl_drawing_free(pl_drawing *dw);
+PL_API void pl_drawing_init(pl_drawing *dw);
+PL_API void pl_drawing_free(pl_drawing *dw);
 /* Empties the drawing but keeps its memory (a viewer redraws every frame). */
-void pl_drawing_clear(pl_drawing *dw);
+PL_API void pl_drawing_clear(pl_drawing *dw);
 /* Starts a part owned by c; NULL on allocation failure. */
-pl_draw_part *pl_drawing_add(pl_drawing *dw, const pl_component *c, pl_draw_kind kind);
+PL_API pl_draw_part *pl_drawing_add(pl_drawing *dw, const pl_component *c, pl_draw_kind kind);
 /* Appends n points (x: n x 3) with their vectors (vec: n x 3, or NULL for
  * zeros); returns the index of the first one, or -1 on allocation failure. */
-int pl_draw_vertices(pl_draw_part *p, const double *x, const double *vec, int n);
+PL_API int pl_draw_vertices(pl_draw_part *p, const double *x, const double *vec, int n);
 /* Appends n triangles (n x 3) / segments (n x 2) whose indices are
  * relative to `base` (the value pl_draw_vertices returned); PL_OK or
  * PL_EINTERNAL (allocation), PL_EINPUT for an index outside the part. */
-int pl_draw_triangles(pl_draw_part *p, const int *tris, int n, int base);
-int pl_draw_lines(pl_draw_part *p, const int *lines, int n, int base);
+PL_API int pl_draw_triangles(pl_draw_part *p, const int *tris, int n, int base);
+PL_API int pl_draw_lines(pl_draw_part *p, const int *lines, int n, int base);
 /* Appends the polyline through n points (n - 1 segments). */
-int pl_draw_polyline(pl_draw_part *p, const double *x, int n);
+PL_API int pl_draw_polyline(pl_draw_part *p, const double *x, int n);
 
 /* Every component of the subtree of `root` that plays the visual role draws
  * into dw (scene order), for state d.  Stops at the first error. */
 struct pl_node;
 struct pl_data;
-int pl_drawing_collect(struct pl_node *root, const struct pl_data *d, pl_drawing *dw,
-                       pl_error *err);
+PL_API int pl_drawing_collect(struct pl_node *root, const struct pl_data *d, pl_drawing *dw,
+                              pl_error *err);
+
+#endif /* PL_ABI_TARGET_MINOR >= 2 */
 
 #ifdef __cplusplus
 }

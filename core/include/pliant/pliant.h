@@ -3,9 +3,11 @@
 #define PLIANT_H
 
 #include "buffer.h"
+#include "checked.h"
 #include "component.h"
 #include "draw.h"
 #include "error.h"
+#include "export.h"
 #include "field.h"
 #include "log.h"
 #include "mesh.h"
@@ -18,6 +20,8 @@
 #include "sim.h"
 #include "sparse.h"
 #include "timer.h"
+#include "work_limits.h"
+#include "util.h"
 
 #define PLIANT_VERSION_MAJOR 0
 #define PLIANT_VERSION_MINOR 1

@@ -199,15 +199,6 @@ typedef struct pl_collision_model_ops {
                   pl_error *err);
 } pl_collision_model_ops;
 
-/* ---- pl_detector: proximity queries -------------------------------------- */
-#define PL_DETECTOR_OPS_VERSION 1
-typedef struct pl_detector_ops {
-    int version;
-    /* appends the proximities within alarmDistance between the given models */
-    int (*detect)(pl_component *c, pl_ctx *ctx, const pl_collision_geometry *models, int nmodels,
-                  pl_contacts *out, pl_error *err);
-} pl_detector_ops;
-
 /* ---- pl_exporter: writes frames ------------------------------------------ */
 typedef struct pl_export_info {
     const char *out_dir;      /* directory for outputs (created if missing); NULL = as the scene says */
@@ -254,6 +245,12 @@ enum {
     PL_DEVICE_GRAPHS = 1, /* callers should capture repeated work (an iteration) as a graph */
     PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
 };
+#if PL_ABI_TARGET_MINOR >= 1
+/* Since ABI 4.1: the service has no device behind it (no GPU answers, or
+ * a build without CUDA): callers stay on the host, as without a service
+ * (pl_util_device skips it). */
+#define PL_DEVICE_ABSENT 4
+#endif
 typedef struct pl_device_ops {
     int version;
     /* PL_DEVICE_* flags the scene asked for */
@@ -298,7 +295,8 @@ typedef struct pl_device_ops {
     void (*graph_free)(pl_component *c, void *graph);
 } pl_device_ops;
 
-/* ---- pl_visual: what a component shows (viewer, exporters) -------------- */
+#if PL_ABI_TARGET_MINOR >= 2
+/* ---- pl_visual: what a component shows (viewer, exporters); ABI 4.2 ---- */
 #define PL_VISUAL_OPS_VERSION 1
 typedef struct pl_visual_ops {
     int version;
@@ -308,7 +306,7 @@ typedef struct pl_visual_ops {
     int (*draw)(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err);
 } pl_visual_ops;
 
-/* ---- pl_event: input from an interactive program ------------------------- */
+/* ---- pl_event: input from an interactive program; ABI 4.2 --------------- */
 typedef enum pl_event_kind {
     PL_EVENT_KEY_PRESSED = 0,  /* SOFA's KeypressedEvent */
     PL_EVENT_KEY_RELEASED = 1  /* SOFA's KeyreleasedEvent */
@@ -336,6 +334,7 @@ typedef struct pl_event_ops {
      * Sets *used when the event meant something to c (others still get it). */
     int (*handle)(pl_component *c, pl_ctx *ctx, const pl_event *ev, int *used, pl_error *err);
 } pl_event_ops;
+#endif
 
 #ifdef __cplusplus
 }
