@@ -8,8 +8,10 @@
  * is the spring force, solved implicitly with the rest of the constrained
  * step: a stiff spring cannot make the step unstable, as an explicit force
  * would.  The viewer adds one to the animation loop's node of the scene it
- * shows (its prepare hook, pl_sim_load_file_prepared) and sets vertex and target through the
- * embedding API (pl_sim_set) while the mouse drags. */
+ * shows (its prepare hook, pl_sim_load_file_prepared) and sets vertex and
+ * target through the embedding API (pl_sim_set) while the mouse drags: all
+ * three fields are input fields, whose values live in the data (input.h), so a drag
+ * changes the state being shown and never rebuilds the model. */
 #include <math.h>
 
 #include "constraint/pick.h"
@@ -25,36 +27,39 @@ static const pl_field FIELDS[] = {
     PL_FIELD(pick_spring, vertex, "vertex", PL_F_INT, "-1",
              "picked vertex, a global index over all states in scene order (-1: none, the "
              "spring is off)",
-             PL_FIELD_RUNTIME),
+             PL_FIELD_INPUT),
     PL_FIELD(pick_spring, target, "target", PL_F_VEC3, "0 0 0",
-             "point the vertex is pulled to [m]", PL_FIELD_RUNTIME),
+             "point the vertex is pulled to [m]", PL_FIELD_INPUT),
     PL_FIELD(pick_spring, stiffness, "stiffness", PL_F_DOUBLE, "1000",
-             "spring stiffness [N/m] (the rows' compliance is its inverse)", PL_FIELD_RUNTIME),
+             "spring stiffness [N/m] (the rows' compliance is its inverse)", PL_FIELD_INPUT),
 };
 
-static int ps_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                         pl_rows *rows, pl_error *err)
+static int ps_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                         const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    (void)ctx, (void)q;
+    (void)q;
     const pick_spring *p = (const pick_spring *)c;
-    if (p->vertex < 0) return PL_OK;
-    if (p->vertex >= sys->nverts)
+    int vertex = pl_input_int(ctx->data, c, &p->vertex);
+    const double *target = pl_input_vec3(ctx->data, c, p->target);
+    double stiffness = pl_input_double(ctx->data, c, &p->stiffness);
+    if (vertex < 0) return PL_OK;
+    if (vertex >= sys->nverts)
         return pl_component_fail(c, err, PL_EINPUT, "vertex %d: the scene has %d vertices",
-                                 p->vertex, sys->nverts);
-    if (!isfinite(p->stiffness) || p->stiffness <= 0.0)
+                                 vertex, sys->nverts);
+    if (!isfinite(stiffness) || stiffness <= 0.0)
         return pl_component_fail(c, err, PL_EINPUT, "stiffness must be > 0 [N/m], got %g",
-                                 p->stiffness);
+                                 stiffness);
     for (int k = 0; k < 3; ++k)
-        if (!isfinite(p->target[k]))
+        if (!isfinite(target[k]))
             return pl_component_fail(c, err, PL_EINPUT, "target is not finite");
     for (int k = 0; k < 3; ++k) {
         int r = pl_rows_begin(rows, PL_ROW_BILATERAL, c);
         double dir[3] = {0.0, 0.0, 0.0};
         dir[k] = 1.0;
-        if (r < 0 || pl_rows_add(rows, p->vertex, dir[0], dir[1], dir[2]) != PL_OK)
+        if (r < 0 || pl_rows_add(rows, vertex, dir[0], dir[1], dir[2]) != PL_OK)
             return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-        rows->d[r] = p->target[k];
-        rows->compliance[r] = 1.0 / p->stiffness;
+        rows->d[r] = target[k];
+        rows->compliance[r] = 1.0 / stiffness;
     }
     return PL_OK;
 }

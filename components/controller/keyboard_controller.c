@@ -1,4 +1,4 @@
-/* keyboard_controller.c - KeyboardController: keys change a RUNTIME field
+/* keyboard_controller.c - KeyboardController: keys change an input field
  * of another component (target="@cable.value" keys="+ -" step="0.001"),
  * as SoftRobots' keyboard controllers do in runSofa.
  *
@@ -7,9 +7,11 @@
  * the first press on it also plays the controller role: it writes its value
  * into the target at the start of every step, so placed after a Keyframes
  * on the same target (scene order) it takes over from the keyframes when a
- * person starts pressing keys; until then it changes nothing.  Whether it
- * has taken over and its value are state (the pl_data slot "value"): reset
- * and restore bring them back with the rest of the scene. */
+ * person starts pressing keys; until then it changes nothing.  Like every
+ * controller it writes the target's value in the data (pl_input_set,
+ * input.h), never the model.  Whether it has taken over and its value are
+ * state too (the pl_data slot "value"): reset and restore bring them back
+ * with the rest of the scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,8 +35,8 @@ typedef struct keyboard_controller {
 
 static const pl_field FIELDS[] = {
     PL_FIELD(keyboard_controller, target, "target", PL_F_STRING, NULL,
-             "the driven field: @component.field (e.g. @cable.value); a RUNTIME number or list "
-             "(a list gets one number)",
+             "the driven field: @component.field (e.g. @cable.value); an input field of one "
+             "number or a list (a list gets one number)",
              PL_FIELD_REQUIRED),
     PL_FIELD(keyboard_controller, keys, "keys", PL_F_STRING, "+ -",
              "the key that increases and the key that decreases the value: characters, or up, "
@@ -109,7 +111,7 @@ static int kc_init(pl_component *c, pl_ctx *ctx)
     if (check_limits(kc, &err) != PL_OK) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     int rc = parse_keys(kc, ctx);
     if (rc) return rc;
-    kc->slot = pl_model_add_slot(ctx->model, c, "value", 2 * sizeof(double));
+    kc->slot = pl_model_add_slot(ctx->build, c, "value", 2 * sizeof(double));
     return kc->slot < 0 ? pl_component_error(c, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
 }
 
@@ -123,16 +125,10 @@ static int kc_bind(pl_component *c, pl_ctx *ctx)
     return rc;
 }
 
-/* Writes v into the target through the field's own parser. */
-static int write_target(keyboard_controller *kc, double v, pl_error *err)
+/* Writes v into the target's input in d. */
+static int write_target(const keyboard_controller *kc, pl_data *d, double v, pl_error *err)
 {
-    char text[64];
-    int integer = kc->field->type == PL_F_INT || kc->field->type == PL_F_INTS;
-    if (integer)
-        snprintf(text, sizeof text, "%ld", lround(v));
-    else
-        snprintf(text, sizeof text, "%.17g", v);
-    int rc = pl_field_parse(kc->field, kc->comp, text, err);
+    int rc = pl_input_set(d, kc->comp, kc->field, &v, 1, err);
     if (rc) {
         char p[160];
         snprintf(err->where, sizeof err->where, "KeyboardController %.150s",
@@ -141,40 +137,41 @@ static int write_target(keyboard_controller *kc, double v, pl_error *err)
     return rc;
 }
 
-/* The target's current first number (0 when it has none). */
-static double read_target(const keyboard_controller *kc)
+/* The target's current first number in d (0 when it has none). */
+static double read_target(const keyboard_controller *kc, const pl_data *d)
 {
     char text[256];
-    if (pl_field_format(kc->field, kc->comp, text, sizeof text) != PL_OK) return 0.0;
+    if (pl_input_format(d, kc->comp, kc->field, text, sizeof text) != PL_OK) return 0.0;
     char *end;
     double v = strtod(text, &end);
     return end == text || !isfinite(v) ? 0.0 : v;
 }
 
-static int kc_handle(pl_component *c, pl_ctx *ctx, const pl_event *ev, int *used, pl_error *err)
+static int kc_handle(const pl_component *c, pl_ctx *ctx, const pl_event *ev, int *used,
+                     pl_error *err)
 {
-    keyboard_controller *kc = (keyboard_controller *)c;
+    const keyboard_controller *kc = (const keyboard_controller *)c;
     if (ev->kind != PL_EVENT_KEY_PRESSED || (ev->key != kc->key[0] && ev->key != kc->key[1]))
         return PL_OK;
     int rc = check_limits(kc, err);
     if (rc) return rc;
     double *s = pl_data_slot(ctx->data, kc->slot);
-    double v = s[0] != 0.0 ? s[1] : read_target(kc);
+    double v = s[0] != 0.0 ? s[1] : read_target(kc, ctx->data);
     v += ev->key == kc->key[0] ? kc->step : -kc->step;
     if (kc->min.n && v < kc->min.v[0]) v = kc->min.v[0];
     if (kc->max.n && v > kc->max.v[0]) v = kc->max.v[0];
     s[0] = 1.0;
     s[1] = v;
     *used = 1;
-    return write_target(kc, v, err);
+    return write_target(kc, ctx->data, v, err);
 }
 
-static int kc_apply(pl_component *c, pl_ctx *ctx, double t, pl_error *err)
+static int kc_apply(const pl_component *c, pl_ctx *ctx, double t, pl_error *err)
 {
     (void)t;
-    keyboard_controller *kc = (keyboard_controller *)c;
+    const keyboard_controller *kc = (const keyboard_controller *)c;
     const double *s = pl_data_slot(ctx->data, kc->slot);
-    return s[0] != 0.0 ? write_target(kc, s[1], err) : PL_OK;
+    return s[0] != 0.0 ? write_target(kc, ctx->data, s[1], err) : PL_OK;
 }
 
 static const pl_controller_ops CONTROLLER = {.version = PL_CONTROLLER_OPS_VERSION,
@@ -184,7 +181,7 @@ static const pl_event_ops EVENT = {.version = PL_EVENT_OPS_VERSION, .handle = kc
 const pl_type pl_keyboard_controller_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "KeyboardController",
-    .help = "Keys pressed in the viewer change a RUNTIME field of another component "
+    .help = "Keys pressed in the viewer change an input field of another component "
             "(target=\"@cable.value\" keys=\"+ -\" step min max); after a Keyframes on the same "
             "target it takes over at the first key press.",
     .size = sizeof(keyboard_controller),

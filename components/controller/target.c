@@ -20,6 +20,19 @@ static int no_field(pl_component *c, pl_ctx *ctx, const pl_component *comp, cons
                               comp->type->name, path, fname);
 }
 
+/* The names of t's input fields, for messages ("value, pullPoint"). */
+static void input_names(const pl_type *t, char *buf, size_t size)
+{
+    size_t w = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < t->nfields && w < size; ++i)
+        if (t->fields[i].flags & PL_FIELD_INPUT) {
+            int n = snprintf(buf + w, size - w, "%s%s", w ? ", " : "", t->fields[i].name);
+            if (n < 0) break;
+            w += (size_t)n;
+        }
+}
+
 int pl_controller_target(pl_component *c, pl_ctx *ctx, const char *what, const char *text,
                          pl_component **comp, const pl_field **field)
 {
@@ -39,10 +52,15 @@ int pl_controller_target(pl_component *c, pl_ctx *ctx, const char *what, const c
     if (f->flags & PL_FIELD_OUTPUT)
         return pl_component_error(c, ctx, PL_EINPUT, "target: '%s' is an output of %s", f->name,
                                   (*comp)->type->name);
-    if (!(f->flags & PL_FIELD_RUNTIME))
-        return pl_component_error(c, ctx, PL_EINPUT, "target: %s.%s is not a RUNTIME field "
-                                  "(changing it would rebuild the model); %s drives RUNTIME "
-                                  "fields only", (*comp)->type->name, f->name, what);
+    if (!(f->flags & PL_FIELD_INPUT)) {
+        char names[256];
+        input_names((*comp)->type, names, sizeof names);
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "target: %s.%s is not an input field (a model value, which a "
+                                  "step never changes); %s drives input fields only%s%s%s",
+                                  (*comp)->type->name, f->name, what, names[0] ? " (" : "",
+                                  names, names[0] ? ")" : "");
+    }
     if (f->type != PL_F_DOUBLE && f->type != PL_F_INT && f->type != PL_F_VEC3 &&
         f->type != PL_F_DOUBLES && f->type != PL_F_INTS)
         return pl_component_error(c, ctx, PL_EINPUT, "target: '%s' is a %s field; %s drives "

@@ -1,4 +1,5 @@
-/* solver.h - animation loops: the local-global solver and the Newton reference. */
+/* solver.h - animation loops (the local-global solver, the Newton reference)
+ * and the built-in global solver JacobiSolver (the paper's baseline). */
 #ifndef PLIANT_SOLVER_H
 #define PLIANT_SOLVER_H
 
@@ -6,5 +7,6 @@
 
 extern const pl_type pl_local_global_solver_type;
 extern const pl_type pl_newton_solver_type;
+extern const pl_type pl_jacobi_solver_type;
 
 #endif

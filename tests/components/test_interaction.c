@@ -132,10 +132,40 @@ START_TEST(test_pick_spring)
 }
 END_TEST
 
+/* The viewer's drag (pl_sim_set of the spring's vertex and target) changes
+ * the data shown, not the model: no rebuild, and another data of the same
+ * model, stepped alongside, is not pulled. */
+START_TEST(test_pick_drag_is_data)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim *s = load("<PickSpring name=\"pick\" stiffness=\"1e5\"/>", &diag);
+    ck_assert_ptr_nonnull(s);
+    pl_data *other = pl_data_clone(pl_sim_data(s));
+    ck_assert_ptr_nonnull(other);
+    unsigned long generation = pl_sim_model(s)->generation;
+    pl_error err;
+    ck_assert_int_eq(pl_sim_set(s, "pick.vertex", "0", &err), PL_OK);
+    ck_assert_int_eq(pl_sim_set(s, "pick.target", "0.05 0.3 0.05", &err), PL_OK);
+    ck_assert_uint_eq(pl_sim_model(s)->generation, generation);
+    ck_assert_int_eq(pl_sim_step(s, 30, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step_data(s, other, 30, &err), PL_OK);
+    pl_component *dofs = pl_sim_component(s, "cube/dofs");
+    const pl_state_ops *so = pl_component_role(dofs, PL_ROLE_STATE);
+    pl_buffer xs = so->positions(dofs, pl_sim_data(s)), xo = so->positions(dofs, other);
+    const double *a = pl_buffer_f64(&xs), *b = pl_buffer_f64(&xo);
+    ck_assert_double_eq_tol(a[1], 0.3, 1e-3); /* held at the target's height */
+    ck_assert_double_lt(b[1], -0.04);        /* the other data's vertex fell */
+    pl_data_free(other);
+    pl_sim_free(s);
+    pl_diag_free(&diag);
+}
+END_TEST
+
 START_TEST(test_bad_input)
 {
     expect_error("<KeyboardController target=\"@dofs.position\" step=\"1\"/>",
-                 "is not a RUNTIME field", 10);
+                 "is not an input field", 10);
     expect_error("<PickSpring name=\"p\"/><KeyboardController target=\"@p.stiffness\" "
                  "keys=\"+\" step=\"1\"/>", "keys: expected two different keys", 10);
     expect_error("<PickSpring name=\"p\"/><KeyboardController target=\"@p.stiffness\" "
@@ -170,6 +200,7 @@ int main(void)
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_keyboard);
     tcase_add_test(tc, test_pick_spring);
+    tcase_add_test(tc, test_pick_drag_is_data);
     tcase_add_test(tc, test_bad_input);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);

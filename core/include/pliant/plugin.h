@@ -31,7 +31,13 @@
  * pl_contacts removed, pl_type registered by pointer (its plugin name is the
  * registry's), roles in PL_ROLE_MAX reserved slots, ABI major.minor.
  * 4.1: PL_DEVICE_ABSENT, pl_mesh_boundary_triangles, pl_util_data_file.
- * 4.2: the visual role (PL_ROLE_VISUAL, pl_visual_ops, draw.h) and the event
+ * 5.0: the model const in step callbacks (pl_ctx.model const, pl_ctx.build
+ * while building), per-data workspaces (pl_type.workspace_size,
+ * pl_lifecycle.workspace_free), input fields, fixed and variable state
+ * slots with restore checks (pl_type's layout changed: a major version).
+ * 5.1: 4.1's additions again, as a minor of 5 (a plugin may target 5.0
+ * without them).
+ * 5.2: the visual role (PL_ROLE_VISUAL, pl_visual_ops, draw.h) and the event
  * role (PL_ROLE_EVENT, pl_event_ops, pl_sim_send_event) in free role slots;
  * pl_node_add_component, pl_sim_load_file_prepared / _string_prepared,
  * pl_vtu_write_cells, pl_pvd_append_part. */
