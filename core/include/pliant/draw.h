@@ -23,7 +23,7 @@
 extern "C" {
 #endif
 
-#if PL_ABI_TARGET_MINOR >= 2 /* the drawing is new in ABI 4.2 */
+#if PL_ABI_TARGET_MINOR >= 2 /* the drawing is new in ABI 5.2 */
 
 typedef enum pl_draw_kind {
     PL_DRAW_OBSTACLE = 0, /* a rigid surface: triangles */

@@ -52,7 +52,7 @@ typedef struct pl_vtu_cells {
 } pl_vtu_cells;
 
 /* pl_vtu_write with line segments too (cable paths); points only (vertex
- * cells) when there is no cell.  Since ABI 4.2. */
+ * cells) when there is no cell.  Since ABI 5.2. */
 PL_API int pl_vtu_write_cells(const char *path, int nverts, const double *xyz,
                               const pl_vtu_cells *c, const pl_vtu_array *point_data,
                               int npoint_data, int binary, pl_error *err);
@@ -74,7 +74,7 @@ PL_API int pl_pvd_append(pl_pvd *s, double time, const char *file, pl_error *err
 #if PL_ABI_TARGET_MINOR >= 2
 /* Same for part `part` of a multi-part series: ParaView shows the parts of
  * one time step together (a body, its obstacles, its cable, its contacts).
- * Since ABI 4.2. */
+ * Since ABI 5.2. */
 PL_API int pl_pvd_append_part(pl_pvd *s, double time, int part, const char *file,
                               pl_error *err);
 #endif

@@ -57,7 +57,7 @@ PL_API pl_component *pl_node_resolve(const pl_component *from, const char *path)
  * initial).  For programs that add tools to a parsed scene before it is
  * initialised (the prepare hook of pl_sim_load_file_prepared); set fields
  * with pl_field_parse.  NULL with the reason in diag (unknown type, name
- * taken, out of memory).  Since ABI 4.2. */
+ * taken, out of memory).  Since ABI 5.2. */
 struct pl_registry;
 PL_API pl_component *pl_node_add_component(pl_node *n, const struct pl_registry *reg,
                                            const char *type, const char *name, pl_diag *diag);

@@ -324,7 +324,7 @@ typedef struct pl_device_ops {
 } pl_device_ops;
 
 #if PL_ABI_TARGET_MINOR >= 2
-/* ---- pl_visual: what a component shows (viewer, exporters); ABI 4.2 ---- */
+/* ---- pl_visual: what a component shows (viewer, exporters); ABI 5.2 ---- */
 #define PL_VISUAL_OPS_VERSION 1
 typedef struct pl_visual_ops {
     int version;
@@ -334,7 +334,7 @@ typedef struct pl_visual_ops {
     int (*draw)(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err);
 } pl_visual_ops;
 
-/* ---- pl_event: input from an interactive program; ABI 4.2 --------------- */
+/* ---- pl_event: input from an interactive program; ABI 5.2 --------------- */
 typedef enum pl_event_kind {
     PL_EVENT_KEY_PRESSED = 0,  /* SOFA's KeypressedEvent */
     PL_EVENT_KEY_RELEASED = 1  /* SOFA's KeyreleasedEvent */

@@ -67,7 +67,7 @@ PL_API pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_si
  * the reason goes to diag. */
 typedef int (*pl_sim_prepare)(pl_node *root, pl_registry *reg, pl_diag *diag, void *user);
 /* pl_sim_load_file / pl_sim_load_string with a prepare hook (NULL: none),
- * called with `user`.  Since ABI 4.2 (functions rather than members of
+ * called with `user`.  Since ABI 5.2 (functions rather than members of
  * pl_sim_options, whose layout a program compiled against an older minor
  * fixes). */
 PL_API pl_sim *pl_sim_load_file_prepared(const char *path, const pl_sim_options *opt,
@@ -125,7 +125,7 @@ PL_API void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
 /* Hands an event (a key pressed in a viewer) to every component playing the
  * event role (KeyboardController, Python controllers), in scene order, for
  * the current state.  *used (may be NULL) tells whether one of them used it.
- * Since ABI 4.2. */
+ * Since ABI 5.2. */
 PL_API int pl_sim_send_event(pl_sim *sim, const pl_event *ev, int *used, pl_error *err);
 #endif
 
