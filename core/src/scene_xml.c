@@ -17,8 +17,8 @@
 /* Visual and GUI components of SOFA scenes: skipped with a warning. */
 static const char *const IGNORED[] = {"VisualStyle", "OglModel", "OglSceneFrame",
                                       "BackgroundSetting", "ConstraintAttachButtonSetting",
-                                      "DefaultVisualManagerLoop", "InteractiveCamera",
-                                      "LightManager", "DirectionalLight", NULL};
+                                      "DefaultVisualManagerLoop", "LightManager",
+                                      "DirectionalLight", NULL};
 
 /* What every step of building the tree needs. */
 typedef struct scene_build {
@@ -357,6 +357,23 @@ static void build_node(pl_node *n, xmlNode *x, const scene_build *b)
         xmlFree(nm);
         if (c) parse_attributes(c, k, file, diag);
     }
+}
+
+pl_component *pl_node_add_component(pl_node *n, const pl_registry *reg, const char *type,
+                                    const char *name, pl_diag *diag)
+{
+    const pl_type *t = pl_registry_find(reg, type);
+    if (!t) {
+        char np[160];
+        pl_diag_error(diag, PL_EINPUT, n->file ? n->file : "<scene>", 0,
+                      pl_node_path(n, np, sizeof np), "no component type '%s' is registered",
+                      type);
+        return NULL;
+    }
+    pl_component *c = pl_scene_new_component(n, t, name, n->file ? n->file : "<scene>", 0, diag);
+    if (!c && !diag->nerrors)
+        pl_diag_error(diag, PL_EINTERNAL, n->file ? n->file : "<scene>", 0, type, "out of memory");
+    return c;
 }
 
 pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_registry *reg,

@@ -5,6 +5,7 @@
 #include "buffer.h"
 #include "checked.h"
 #include "component.h"
+#include "draw.h"
 #include "error.h"
 #include "export.h"
 #include "field.h"
