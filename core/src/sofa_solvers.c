@@ -1,0 +1,181 @@
+/* sofa_solvers.c - SOFA's loop and solvers gathered into Pliant's.
+ *
+ * SOFA puts an ODE solver and a linear solver in each body's node and a
+ * constraint solver next to the animation loop at the root; Pliant runs one
+ * LocalGlobalSolver at the root over every body below it, with one global
+ * solver and, for constraints, one contact solver.  So the solvers of a SOFA
+ * scene are taken out of their nodes and one of each is written at the
+ * root, with the name the user gave the first (so that `--set
+ * odesolver.iterations=40` finds it).  What SOFA's placement means and
+ * Pliant's cannot express is refused: bodies under no ODE solver (SOFA
+ * keeps them still), ODE solvers with different damping, cables under
+ * DefaultAnimationLoop (SOFA ignores them). */
+#include "sofa_lower.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int zero_or_absent(sofa_lower *L, xmlNode *e, const char *attr, const char *why)
+{
+    char *v = sofa_get(e, attr);
+    double d = 0;
+    int ok = !v || (sofa_parse_number(v, &d) && d == 0);
+    if (!ok) sofa_error(L, e, "%s=\"%s\": %s", attr, v, why);
+    xmlFree(v);
+    return ok;
+}
+
+static void gather_ode(sofa_lower *L, xmlNode *e)
+{
+    zero_or_absent(L, e, "rayleighStiffness",
+                   "stiffness-proportional damping is not in LocalGlobalSolver; remove it "
+                   "(rayleighMass becomes LocalGlobalSolver's damping)");
+    zero_or_absent(L, e, "vdamping", "velocity damping is not mapped; use rayleighMass");
+    char *fo = sofa_get(e, "firstOrder");
+    if (sofa_is_true(fo))
+        sofa_error(L, e, "firstOrder=\"%s\": SOFA's first-order scheme (M dx/dt = f, the mass "
+                         "as a viscosity) is not in Pliant, which integrates second order; "
+                         "remove it and damp with rayleighMass to settle",
+                   fo);
+    xmlFree(fo);
+    double rm = 0;
+    char *v = sofa_get(e, "rayleighMass");
+    if (v && (!sofa_parse_number(v, &rm) || rm < 0))
+        sofa_error(L, e, "rayleighMass=\"%s\": expected a number >= 0", v);
+    xmlFree(v);
+    if (L->ode && rm != L->rayleigh_mass)
+        sofa_error(L, e, "rayleighMass %g differs from the first EulerImplicitSolver's %g: "
+                         "Pliant integrates every body with one solver",
+                   rm, L->rayleigh_mass);
+    if (!L->ode++) {
+        L->rayleigh_mass = rm;
+        L->ode_name = sofa_get(e, "name");
+    }
+    if (L->node_count < 64) L->ode_nodes[L->node_count++] = e->parent;
+}
+
+void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry)
+{
+    const char *tag = (const char *)e->name;
+    char key[128];
+    snprintf(key, sizeof key, "solver-%s", entry->pliant);
+    if (strstr(tag, "AnimationLoop")) {
+        if (L->loop++) sofa_error(L, e, "a second animation loop: a scene has one");
+        L->free_motion = !strcmp(tag, "FreeMotionAnimationLoop");
+    } else if (!strcmp(tag, "EulerImplicitSolver")) {
+        gather_ode(L, e);
+        sofa_note(L, key, e, "%s", entry->note);
+    } else if (!strcmp(entry->pliant, "SparseInverseSolver")) {
+        if (!L->linsolver++) L->lin_name = sofa_get(e, "name");
+        sofa_note(L, key, e, "%s: %s", tag, entry->note);
+    } else {
+        if (!L->consolver++) L->con_name = sofa_get(e, "name");
+        sofa_note(L, key, e, "%s: %s", tag, entry->note);
+    }
+    for (xmlAttr *a = e->properties; a; a = a->next) {
+        const pl_sofa_attr *r = pl_sofa_find_attr(tag, (const char *)a->name);
+        if (r && r->kind == PL_SOFA_A_REFUSE)
+            sofa_error(L, e, "'%s' is not supported: %s", (const char *)a->name, r->note);
+    }
+    sofa_remove(e);
+}
+
+static int integrated(const sofa_lower *L, xmlNode *node)
+{
+    for (; sofa_is_node(node); node = node->parent)
+        for (int k = 0; k < L->node_count; ++k)
+            if (L->ode_nodes[k] == node) return 1;
+    return 0;
+}
+
+/* MechanicalObjects with no ODE solver above them; 1 if any Pliant loop. */
+static int check_states(sofa_lower *L, xmlNode *node)
+{
+    int loop = 0;
+    for (xmlNode *e = node->children; e; e = e->next) {
+        if (sofa_is_node(e))
+            loop |= check_states(L, e);
+        else if (sofa_tag_is(e, "LocalGlobalSolver") || sofa_tag_is(e, "NewtonSolver"))
+            loop = 1;
+        else if (L->ode && sofa_tag_is(e, "MechanicalObject") && !integrated(L, node))
+            sofa_error(L, e, "this MechanicalObject has no EulerImplicitSolver in its node or "
+                             "above: SOFA keeps it still, Pliant would simulate it; add an "
+                             "EulerImplicitSolver above it, or hold it (FixedConstraint "
+                             "fixAll=\"1\")");
+    }
+    return loop;
+}
+
+static xmlNode *first_component(sofa_lower *L)
+{
+    for (xmlNode *e = L->root->children; e; e = e->next)
+        if (sofa_is_element(e) && !sofa_tag_is(e, "RequiredPlugin")) return e;
+    return NULL;
+}
+
+static void emit(sofa_lower *L, const char *tag, const char *name, int line, const char *a1,
+                 const char *v1, const char *a2, const char *v2)
+{
+    xmlNode *e = sofa_new_before(L, first_component(L), tag, line);
+    if (!e) return;
+    if (name) sofa_set(e, "name", name);
+    if (a1) sofa_set(e, a1, v1);
+    if (a2) sofa_set(e, a2, v2);
+}
+
+static void emit_plugins(sofa_lower *L)
+{
+    static const struct {
+        unsigned bit;
+        const char *name;
+    } P[] = {{NEED_HYPERELASTIC, "hyperelastic"},
+             {NEED_SPARSE_INVERSE, "sparse_inverse"},
+             {NEED_NCP_CONTACT, "ncp_contact"},
+             {NEED_CABLE, "cable"}};
+    xmlNode *first = L->root->children;
+    while (first && !sofa_is_element(first)) first = first->next;
+    for (int k = 0; k < 4; ++k) {
+        if (!(L->need & P[k].bit)) continue;
+        xmlNode *e = xmlNewDocNode(L->doc, NULL, (const xmlChar *)"RequiredPlugin", NULL);
+        if (!e) return;
+        e->line = L->root->line;
+        sofa_set(e, "name", P[k].name);
+        if (first)
+            xmlAddPrevSibling(first, e);
+        else
+            xmlAddChild(L->root, e);
+    }
+}
+
+void sofa_emit_solvers(sofa_lower *L)
+{
+    int line = sofa_line(L->root);
+    int has_loop = check_states(L, L->root) && L->ode;
+    if (L->nconstraints && L->ode && (!L->free_motion || !L->consolver))
+        pl_diag_error(L->diag, PL_EINPUT, L->file, L->constraint_line, "CableConstraint",
+                      "a Lagrangian constraint: SOFA solves it only with FreeMotionAnimationLoop "
+                      "and a constraint solver (GenericConstraintSolver, "
+                      "BlockGaussSeidelConstraintSolver, ...) at the root, and ignores it "
+                      "otherwise; add them");
+    if (has_loop)
+        pl_diag_error(L->diag, PL_EINPUT, L->file, line, "EulerImplicitSolver",
+                      "the scene has both SOFA's EulerImplicitSolver and a Pliant animation loop "
+                      "(LocalGlobalSolver or NewtonSolver): keep one");
+    else if (L->ode && !L->linsolver)
+        pl_diag_error(L->diag, PL_EINPUT, L->file, line, "EulerImplicitSolver",
+                      "EulerImplicitSolver needs a linear solver in its node (CGLinearSolver, "
+                      "SparseLDLSolver, ...), as in SOFA");
+    else if (L->ode) {
+        char damping[40];
+        snprintf(damping, sizeof damping, "%.17g", L->rayleigh_mass);
+        if (L->nconstraints && L->consolver) {
+            emit(L, "NonSmoothNewtonContactSolver", L->con_name, line, NULL, NULL, NULL, NULL);
+            L->need |= NEED_NCP_CONTACT;
+        }
+        emit(L, "SparseInverseSolver", L->lin_name, line, NULL, NULL, NULL, NULL);
+        emit(L, "LocalGlobalSolver", L->ode_name, line, "iterations", "20", "damping", damping);
+        L->need |= NEED_SPARSE_INVERSE;
+    }
+    emit_plugins(L);
+}
