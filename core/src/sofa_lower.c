@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -421,10 +422,32 @@ static void check_selection_link(sofa_lower *L, xmlNode *e, const char *attr)
     xmlFree(v);
 }
 
+/* SOFA's data-repository paths ("mesh/liver.msh", resolved by SOFA against
+ * its share/ folder): when the scene's folder has no such file, the name
+ * without "mesh/" is looked up by MeshLoader's own rule (the scene's folder,
+ * the working directory, PLIANT_DATA_PATH). */
+static void lower_mesh_path(sofa_lower *L, xmlNode *e)
+{
+    char *f = sofa_get(e, "filename");
+    if (f && !strncmp(f, "mesh/", 5)) {
+        char path[1024];
+        const char *slash = strrchr(L->file, '/');
+        snprintf(path, sizeof path, "%.*s%s", slash ? (int)(slash - L->file + 1) : 0, L->file, f);
+        if (access(path, F_OK) != 0) {
+            sofa_note(L, "mesh-path", e,
+                      "filename \"%s\": a SOFA share/ path, looked up as \"%s\" in the scene's "
+                      "folder, the working directory and PLIANT_DATA_PATH",
+                      f, f + 5);
+            sofa_set(e, "filename", f + 5);
+        }
+    }
+    xmlFree(f);
+}
+
 static void lower_component_attrs(sofa_lower *L, xmlNode *e, const char *tag)
 {
     if (!strcmp(tag, "MechanicalObject")) lower_state(L, e);
-    if (strstr(tag, "Loader")) lower_scale(L, e);
+    if (strstr(tag, "Loader")) lower_scale(L, e), lower_mesh_path(L, e);
     if (strstr(tag, "FEMForceField") || !strcmp(tag, "FastTetrahedralCorotationalForceField"))
         lower_fem(L, e, tag);
     if (!strcmp(tag, "DiagonalMass") || !strcmp(tag, "MeshMatrixMass")) {
