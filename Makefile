@@ -1,7 +1,11 @@
 # Thin wrapper over CMake/CTest.  The two commands of the quick start:
 #   make demo   install what is missing, build, run the default scene
 #   make test   build, run the whole suite, then again under ASan+UBSan (that
-#               build has no CUDA and no MPI: the MPI tests run in the first pass)
+#               build has no CUDA and no MPI: the MPI tests run in the first pass),
+#               then check that both builds document the same scene format
+#               (`pliant doc`, byte for byte)
+# make test and CI turn warnings into errors (PLIANT_WERROR=ON); a plain
+# build (make build, cmake) does not, so a newer compiler never stops it.
 BUILD ?= build
 ASAN_BUILD ?= build-asan
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -16,7 +20,7 @@ FUZZ_SECONDS ?= 180
 # targets to run (default: all of tests/fuzz)
 FUZZ_TARGETS ?=
 
-.PHONY: all deps deps-fuzz configure build demo test test-fast test-asan bench docs clean fuzz \
+.PHONY: all deps deps-fuzz configure build demo test test-fast test-asan test-doc bench docs clean fuzz \
 	fuzz-build fuzz-coverage
 
 all: build
@@ -36,7 +40,9 @@ demo: build
 	$(BUILD)/bin/pliant run $(DEMO_SCENE) -n 100 --out $(DEMO_OUT) --timings $(DEMO_OUT)/timings.json
 	@echo "demo: open $(DEMO_OUT)/*.pvd in ParaView"
 
-test-fast: build
+test-fast: configure
+	cmake -S . -B $(BUILD) -DPLIANT_WERROR=ON
+	cmake --build $(BUILD) -j $(JOBS)
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 $(ASAN_BUILD)/CMakeCache.txt: | deps
@@ -44,11 +50,23 @@ $(ASAN_BUILD)/CMakeCache.txt: | deps
 	  -DPLIANT_MPI=OFF $(CMAKE_FLAGS)
 
 test-asan: $(ASAN_BUILD)/CMakeCache.txt
+	cmake -S . -B $(ASAN_BUILD) -DPLIANT_WERROR=ON
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
 
-test: test-fast test-asan
+# The scene format does not depend on the build: the component reference of
+# the CUDA build and of the ASan build (no CUDA) must be equal.
+test-doc:
+	env -u PLIANT_PLUGIN_PATH $(BUILD)/bin/pliant doc $(BUILD)/components.md >/dev/null
+	env -u PLIANT_PLUGIN_PATH ASAN_OPTIONS=detect_leaks=1 $(ASAN_BUILD)/bin/pliant doc \
+	  $(ASAN_BUILD)/components.md >/dev/null
+	@cmp -s $(BUILD)/components.md $(ASAN_BUILD)/components.md || \
+	  { diff $(BUILD)/components.md $(ASAN_BUILD)/components.md; \
+	    echo "test-doc: FAIL: pliant doc differs between $(BUILD) and $(ASAN_BUILD)"; exit 1; }
+	@echo "test-doc: ok, $(BUILD) and $(ASAN_BUILD) document the same components"
+
+test: test-fast test-asan test-doc
 
 # Fuzzing (tests/fuzz, docs/fuzzing.md): clang + libFuzzer, not part of `make test`
 # (which replays the seeds and the regression inputs).  Runs under nice -n 19.

@@ -19,15 +19,22 @@ function(pliant_add_test name)
     ENVIRONMENT "CK_FORK=yes;CK_VERBOSITY=normal;OMP_NUM_THREADS=2;OMP_WAIT_POLICY=PASSIVE")
 endfunction()
 
-# pliant_add_plugin(NAME SOURCES a.c ... [LIBS lib ...])
-# A run-time loaded plugin: build/plugins/lib<NAME>.so, found by
-# <RequiredPlugin name="NAME"/>.  It links libpliant for the SDK functions.
+# pliant_add_plugin(NAME SOURCES a.c ... [LIBS lib ...] [NOINSTALL])
+# A run-time loaded plugin: build/plugins/libpliant_<NAME>.so, found by
+# <RequiredPlugin name="NAME"/>.  It links libpliant for the SDK functions
+# and nothing else of it (--no-undefined: a call to a function the SDK does
+# not declare fails at link time, as it would out of the tree).  NOINSTALL:
+# not part of the installed SDK (the tutorial plugin).
 function(pliant_add_plugin name)
-  cmake_parse_arguments(P "" "" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(P "NOINSTALL" "" "SOURCES;LIBS" ${ARGN})
   add_library(${name} MODULE ${P_SOURCES})
   target_link_libraries(${name} PRIVATE pliant ${P_LIBS})
+  target_link_options(${name} PRIVATE -Wl,--no-undefined)
   set_target_properties(${name} PROPERTIES
+    OUTPUT_NAME pliant_${name}
     LIBRARY_OUTPUT_DIRECTORY ${PLIANT_PLUGIN_OUTPUT_DIR}
     C_VISIBILITY_PRESET hidden)
-  install(TARGETS ${name} LIBRARY DESTINATION lib/pliant/plugins)
+  if(NOT P_NOINSTALL)
+    install(TARGETS ${name} LIBRARY DESTINATION lib/pliant/plugins)
+  endif()
 endfunction()

@@ -1,5 +1,5 @@
 /* component_util.c - helpers shared by built-in components. */
-#include "component_util.h"
+#include "pliant/util.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -158,4 +158,13 @@ void pl_util_axis_angle(const double a[3], double angle, double R[9])
     R[0] = t * x * x + c;     R[1] = t * x * y - s * z; R[2] = t * x * z + s * y;
     R[3] = t * x * y + s * z; R[4] = t * y * y + c;     R[5] = t * y * z - s * x;
     R[6] = t * x * z - s * y; R[7] = t * y * z + s * x; R[8] = t * z * z + c;
+}
+
+pl_component *pl_util_device(const pl_component *c)
+{
+    pl_component *dev = c && c->node ? pl_node_find_role_up(c->node, PL_ROLE_DEVICE) : NULL;
+    const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
+    if (!ops) return NULL;
+    if (ops->flags && (ops->flags(dev) & PL_DEVICE_ABSENT)) return NULL;
+    return dev;
 }

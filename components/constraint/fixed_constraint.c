@@ -3,7 +3,7 @@
  * held by stiff springs, which would ruin the conditioning of A). */
 #include <stdlib.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "prescribed.h"
 
 typedef struct fixed_constraint {

@@ -11,7 +11,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "controller/controller.h"
 #include "prescribed.h"
 

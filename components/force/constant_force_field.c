@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "force.h"
 
 typedef struct constant_force_field {
@@ -105,7 +105,7 @@ static int cf_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A,
 /* The scene's device service (this node or above), or NULL. */
 static const pl_device_ops *find_device(const pl_component *c, pl_component **dev)
 {
-    *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    *dev = pl_util_device(c);
     const pl_device_ops *ops = *dev ? pl_component_role(*dev, PL_ROLE_DEVICE) : NULL;
     return ops && ops->version >= 1 && ops->sub_csr && ops->alloc && ops->copy ? ops : NULL;
 }

@@ -2,7 +2,7 @@
  * keyed by its sorted vertex triple; after sorting the keys, a face seen
  * once is on the boundary.  For a positively oriented tetrahedron (a,b,c,d)
  * the outward faces are (a,c,b), (a,b,d), (a,d,c) and (b,c,d). */
-#include "mesh_boundary.h"
+#include "pliant/mesh.h"
 
 #include <stdlib.h>
 

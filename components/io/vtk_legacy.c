@@ -65,7 +65,7 @@ static int read_ints(vtk_reader *r, long long n, int width, int *out, const char
         }
         return PL_OK;
     }
-    const unsigned char *p;
+    const unsigned char *p = NULL;
     int line = t->line;
     size_t bytes;
     if (pl_array_bytes((uint64_t)n, (size_t)width, 0, &bytes))

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "mass.h"
 
 typedef struct diagonal_mass {

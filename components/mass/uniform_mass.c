@@ -1,7 +1,7 @@
 /* uniform_mass.c - UniformMass: the same mass on every vertex. */
 #include <math.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "mass.h"
 
 typedef struct uniform_mass {

@@ -36,6 +36,7 @@
 #include <string.h>
 
 #include "local_global.h"
+#include "pliant/util.h"
 
 /* Appends to a reason message (truncated silently: it is only a message). */
 static void say(char *buf, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -90,12 +91,17 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
 /* The device service for this solver, or NULL (why says why). */
 static pl_component *find_device(local_global_solver *s, char *why, size_t size)
 {
-    pl_component *c = &s->base, *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    pl_component *c = &s->base, *dev = pl_util_device(c);
     why[0] = '\0';
     if (!dev) {
-        snprintf(why, size,
-                 "no device service in this node or above (add <RequiredPlugin "
-                 "name=\"cuda\"/> and <CudaDevice/> to the root node, in a CUDA build)");
+        pl_component *absent = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+        if (absent)
+            snprintf(why, size, "the device service %s has no device here (no GPU answers, or "
+                     "this build has no CUDA)", absent->name);
+        else
+            snprintf(why, size,
+                     "no device service in this node or above (add <RequiredPlugin "
+                     "name=\"cuda\"/> and <CudaDevice/> to the root node, in a CUDA build)");
         return NULL;
     }
     const pl_device_ops *ops = pl_component_role(dev, PL_ROLE_DEVICE);

@@ -8,11 +8,6 @@
 
 #include "cli_types.h"
 
-static const char *ROLE_NAMES[PL_ROLE_COUNT] = {
-    "state", "mass", "topology", "local term", "global solver", "constraint",
-    "contact solver", "collision model", "detector", "exporter", "controller",
-    "prescribed DOFs", "animation loop", "device"};
-
 pl_registry *cli_full_registry(void)
 {
     pl_error err;
@@ -32,18 +27,21 @@ pl_registry *cli_full_registry(void)
 
 static int cmp_types(const void *a, const void *b)
 {
-    const pl_type *x = *(const pl_type *const *)a, *y = *(const pl_type *const *)b;
+    const cli_type *x = a, *y = b;
     int c = strcmp(x->plugin, y->plugin);
     if (c) return !strcmp(x->plugin, "builtin") ? -1 : !strcmp(y->plugin, "builtin") ? 1 : c;
-    return strcmp(x->name, y->name);
+    return strcmp(x->t->name, y->t->name);
 }
 
-const pl_type **cli_sorted_types(const pl_registry *r)
+cli_type *cli_sorted_types(const pl_registry *r)
 {
     int n = pl_registry_count(r);
-    const pl_type **t = malloc((size_t)(n ? n : 1) * sizeof *t);
+    cli_type *t = malloc((size_t)(n ? n : 1) * sizeof *t);
     if (!t) return NULL;
-    for (int k = 0; k < n; ++k) t[k] = pl_registry_type(r, k);
+    for (int k = 0; k < n; ++k) {
+        t[k].t = pl_registry_type(r, k);
+        t[k].plugin = pl_registry_type_plugin(r, t[k].t);
+    }
     qsort(t, (size_t)n, sizeof *t, cmp_types);
     return t;
 }
@@ -54,7 +52,7 @@ void cli_roles_text(const pl_type *t, char *buf, size_t size)
     buf[0] = '\0';
     for (int k = 0; k < PL_ROLE_COUNT; ++k)
         if (t->roles[k] && n < size)
-            n += (size_t)snprintf(buf + n, size - n, "%s%s", n ? ", " : "", ROLE_NAMES[k]);
+            n += (size_t)snprintf(buf + n, size - n, "%s%s", n ? ", " : "", pl_role_name(k));
 }
 
 void cli_field_type_text(const pl_field *f, char *buf, size_t size)

@@ -17,11 +17,12 @@ static const char USAGE[] =
     "  -h, --help   this text\n"
     "exit codes: 0 ok, 2 no such type (the closest name is suggested)\n";
 
-static void print_type(const pl_type *t, FILE *f)
+static void print_type(const cli_type *e, FILE *f)
 {
+    const pl_type *t = e->t;
     char roles[256], ty[256];
     cli_roles_text(t, roles, sizeof roles);
-    fprintf(f, "%s  (%s)%s%s\n  %s\n", t->name, t->plugin, roles[0] ? "  roles: " : "", roles,
+    fprintf(f, "%s  (%s)%s%s\n  %s\n", t->name, e->plugin, roles[0] ? "  roles: " : "", roles,
             t->help ? t->help : "");
     for (int k = 0; k < t->nfields; ++k) {
         const pl_field *fd = &t->fields[k];
@@ -46,11 +47,11 @@ int cli_list(int argc, char **argv)
     const char *only = optind < argc ? argv[optind] : NULL;
     pl_registry *r = cli_full_registry();
     if (!r) return 1;
-    const pl_type **types = cli_sorted_types(r);
+    cli_type *types = cli_sorted_types(r);
     int n = pl_registry_count(r), found = 0;
     for (int k = 0; types && k < n; ++k) {
-        if (only && strcmp(types[k]->name, only)) continue;
-        print_type(types[k], stdout);
+        if (only && strcmp(types[k].t->name, only)) continue;
+        print_type(&types[k], stdout);
         found++;
     }
     if (!only) {

@@ -41,7 +41,7 @@ static void usage(FILE *f)
 
 static void version(void)
 {
-    printf("pliant %s (plugin ABI %d, %s)\n", PLIANT_VERSION_STRING, PL_ABI_VERSION,
+    printf("pliant %s (plugin ABI %d.%d, %s)\n", PLIANT_VERSION_STRING, PL_ABI_MAJOR, PL_ABI_MINOR,
            cli_dispatch_build_info());
 }
 

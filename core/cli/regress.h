@@ -5,7 +5,7 @@
 
 #include <stdio.h>
 
-#include "export/export.h"
+#include <pliant/export.h>
 
 typedef struct regress_ctx {
     const pl_regression_list *list;

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "export/export.h"
+#include <pliant/export.h>
 #include "regress.h"
 
 typedef struct states {

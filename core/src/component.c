@@ -6,6 +6,27 @@
 #include <stdio.h>
 #include <string.h>
 
+static const char *const ROLE_NAMES[PL_ROLE_COUNT] = {
+    [PL_ROLE_STATE] = "state",
+    [PL_ROLE_MASS] = "mass",
+    [PL_ROLE_TOPOLOGY] = "topology",
+    [PL_ROLE_LOCAL_TERM] = "local term",
+    [PL_ROLE_GLOBAL_SOLVER] = "global solver",
+    [PL_ROLE_CONSTRAINT] = "constraint",
+    [PL_ROLE_CONTACT_SOLVER] = "contact solver",
+    [PL_ROLE_COLLISION_MODEL] = "collision model",
+    [PL_ROLE_EXPORTER] = "exporter",
+    [PL_ROLE_CONTROLLER] = "controller",
+    [PL_ROLE_PRESCRIBED] = "prescribed DOFs",
+    [PL_ROLE_ANIMATION_LOOP] = "animation loop",
+    [PL_ROLE_DEVICE] = "device",
+};
+
+const char *pl_role_name(int role)
+{
+    return role >= 0 && role < PL_ROLE_COUNT && ROLE_NAMES[role] ? ROLE_NAMES[role] : "unknown role";
+}
+
 const char *pl_component_path(const pl_component *c, char *buf, size_t size)
 {
     char np[160];

@@ -364,21 +364,6 @@ int pl_field_format(const pl_field *f, const void *obj, char *buf, size_t size)
     return PL_OK;
 }
 
-int pl_field_is_set(const pl_field *f, const void *obj)
-{
-    const char *p = (const char *)obj + f->offset;
-    switch (f->type) {
-    case PL_F_STRING: return *(char *const *)p != NULL;
-    case PL_F_DOUBLES: return ((const pl_doubles *)p)->n > 0;
-    case PL_F_INTS: return ((const pl_ints *)p)->n > 0;
-    case PL_F_LINK: {
-        const pl_link *l = (const pl_link *)p;
-        return l->path && l->path[0];
-    }
-    default: return 1;
-    }
-}
-
 /* Levenshtein distance, case-insensitive, on short names. */
 int pl_edit_distance(const char *a, const char *b)
 {

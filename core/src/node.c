@@ -36,7 +36,9 @@ const char *pl_node_path(const pl_node *n, char *buf, size_t size)
     }
     char up[160];
     pl_node_path(n->parent, up, sizeof up);
-    snprintf(buf, size, "%s/%s", up, n->name ? n->name : "?");
+    /* a path for messages: cut when longer than buf */
+    if (snprintf(buf, size, "%s/%s", up, n->name ? n->name : "?") >= (int)size && size > 3)
+        memcpy(buf + size - 4, "...", 4);
     return buf;
 }
 

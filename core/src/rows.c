@@ -112,28 +112,3 @@ void pl_rows_add_transpose(const pl_rows *r, const double *lambda, double alpha,
         }
     }
 }
-
-void pl_contacts_init(pl_contacts *c)
-{
-    memset(c, 0, sizeof *c);
-}
-
-void pl_contacts_free(pl_contacts *c)
-{
-    free(c->items);
-    memset(c, 0, sizeof *c);
-}
-
-pl_contact *pl_contacts_push(pl_contacts *c)
-{
-    if (c->n == c->cap) {
-        int cap = c->cap ? 2 * c->cap : 64;
-        pl_contact *items = realloc(c->items, (size_t)cap * sizeof *items);
-        if (!items) return NULL;
-        c->items = items;
-        c->cap = cap;
-    }
-    pl_contact *k = &c->items[c->n++];
-    memset(k, 0, sizeof *k);
-    return k;
-}

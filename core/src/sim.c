@@ -54,17 +54,35 @@ static int resolve_links(pl_component *c, void *user)
     return 0;
 }
 
+/* A load-time callback's status is the plugin's word: a failure stops the
+ * load even when the callback recorded nothing (then a generic error names
+ * the component), and a recorded error stops it even with PL_OK. */
+static int honour(pl_component *c, pl_ctx *ctx, const char *what, int rc, int errors_before)
+{
+    if (rc == PL_OK) return 0;
+    if (ctx->diag->nerrors == errors_before)
+        pl_component_error(c, ctx, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                           "%s failed (status %d) without saying why", what, rc);
+    return 0; /* go on: the user sees every component's errors at once */
+}
+
 static int call_init(pl_component *c, void *user)
 {
-    return c->type->ops.init ? (c->type->ops.init(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.init ? honour(c, ctx, "init", c->type->ops.init(c, ctx), before) : 0;
 }
 static int call_bind(pl_component *c, void *user)
 {
-    return c->type->ops.bind ? (c->type->ops.bind(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.bind ? honour(c, ctx, "bind", c->type->ops.bind(c, ctx), before) : 0;
 }
 static int call_reinit(pl_component *c, void *user)
 {
-    return c->type->ops.reinit ? (c->type->ops.reinit(c, user), 0) : 0;
+    pl_ctx *ctx = user;
+    int before = ctx->diag->nerrors;
+    return c->type->ops.reinit ? honour(c, ctx, "reinit", c->type->ops.reinit(c, ctx), before) : 0;
 }
 
 static int apply_override(pl_sim *s, const char *text, pl_diag *diag)
@@ -247,34 +265,46 @@ typedef struct step_walk {
     int finish;
 } step_walk;
 
+/* A step-time callback's status: a failure without a message in err gets
+ * a generic one naming the component. */
+static int step_status(step_walk *w, pl_component *c, const char *what, int rc)
+{
+    if (rc != PL_OK && w->err->code == PL_OK)
+        pl_component_fail(c, w->err, rc == PL_EINPUT ? PL_EINPUT : PL_EINTERNAL,
+                          "%s failed (status %d) without saying why", what, rc);
+    return (w->rc = rc == PL_OK ? PL_OK : w->err->code);
+}
+
 static int call_begin(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.begin_step) return 0;
-    return (w->rc = c->type->ops.begin_step(c, &w->ctx, w->err));
+    return step_status(w, c, "begin_step", c->type->ops.begin_step(c, &w->ctx, w->err));
 }
 static int call_end(pl_component *c, void *user)
 {
     step_walk *w = user;
     if (!c->type->ops.end_step) return 0;
-    return (w->rc = c->type->ops.end_step(c, &w->ctx, w->err));
+    return step_status(w, c, "end_step", c->type->ops.end_step(c, &w->ctx, w->err));
 }
 static int call_controller(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_controller_ops *ops = pl_component_role(c, PL_ROLE_CONTROLLER);
-    return ops->apply ? (w->rc = ops->apply(c, &w->ctx, w->t, w->err)) : 0;
+    return ops->apply ? step_status(w, c, "apply", ops->apply(c, &w->ctx, w->t, w->err)) : 0;
 }
 static int call_exporter(pl_component *c, void *user)
 {
     step_walk *w = user;
     const pl_exporter_ops *ops = pl_component_role(c, PL_ROLE_EXPORTER);
-    if (w->finish) return ops->finish ? (w->rc = ops->finish(c, &w->ctx, w->info, w->err)) : 0;
-    return ops->write ? (w->rc = ops->write(c, &w->ctx, w->info, w->err)) : 0;
+    if (w->finish)
+        return ops->finish ? step_status(w, c, "finish", ops->finish(c, &w->ctx, w->info, w->err)) : 0;
+    return ops->write ? step_status(w, c, "write", ops->write(c, &w->ctx, w->info, w->err)) : 0;
 }
 
 static int export_all(pl_sim *s, pl_data *d, int finish, pl_error *err)
 {
+    pl_error_clear(err);
     pl_export_info info = {s->out_dir, s->export_every, d->step, d->time};
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, &info, finish};
     pl_node_visit_role(s->model.root, PL_ROLE_EXPORTER, call_exporter, &w);
@@ -285,6 +315,7 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
 {
     double dt = pl_node_dt(s->model.root);
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, NULL, 0};
+    pl_error_clear(err);
     pl_timer_start(s->timers, s->frame_timer);
     if (s->callback && s->callback(s, d->time, s->callback_user) != 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "callback",
@@ -293,7 +324,7 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
     if (pl_node_visit_role(s->model.root, PL_ROLE_CONTROLLER, call_controller, &w)) return w.rc;
     if (s->loop) {
         const pl_animation_loop_ops *ops = pl_component_role(s->loop, PL_ROLE_ANIMATION_LOOP);
-        int rc = ops->step(s->loop, &w.ctx, dt, err);
+        int rc = step_status(&w, s->loop, "step", ops->step(s->loop, &w.ctx, dt, err));
         if (rc) return rc;
     }
     d->time += dt;

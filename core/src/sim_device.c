@@ -6,11 +6,13 @@
  * A scene written without one (every scene of scenes/) gets a CudaDevice in
  * its root when the loader's device policy is "auto" (the default), the
  * scene has an animation loop, the cuda plugin can be loaded and a GPU
- * answers; otherwise it stays on the CPU without a word.  libpliant itself
+ * answers (its CudaDevice does not report PL_DEVICE_ABSENT); otherwise it
+ * stays on the CPU without a word.  libpliant itself
  * knows nothing of CUDA: it only asks the registry for the plugin. */
 #include "pliant/log.h"
 #include "pliant/roles.h"
 #include "pliant/sim.h"
+#include "pliant/util.h"
 #include "scene.h"
 
 #include <stdlib.h>
@@ -63,8 +65,10 @@ void pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg
     pl_diag scratch;
     pl_diag_init(&scratch);
     pl_ctx ctx = {model, NULL, reg, NULL, &scratch};
-    if (c->type->ops.init) c->type->ops.init(c, &ctx);
-    if (scratch.nerrors) {
+    int rc = c->type->ops.init ? c->type->ops.init(c, &ctx) : PL_OK;
+    if (rc != PL_OK || scratch.nerrors || !pl_util_device(c)) {
+        /* an error, or a device service without a device (no GPU answers,
+         * a build without CUDA: its warning stays in the scratch list) */
         pl_log_debug("no implicit device: %s",
                      scratch.count > 0 ? scratch.items[0].msg : "its init failed");
         pl_scene_remove_component(root, c);

@@ -164,7 +164,7 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     mesh_obstacle *o = (mesh_obstacle *)c;
     pl_motion m;
     pl_error e;
-    unsigned groups;
+    unsigned groups = 0;
     if (motion_of(o, &m, &groups, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     double t1 = ctx->data->time + pl_node_dt(c->node), R[9], tr[3];
     pl_motion_pose(&m, t1, R, tr);
@@ -183,16 +183,10 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     return PL_OK;
 }
 
-/* Whether c is a MeshObstacle: by name, since the registry holds its own
- * copy of each type (c->type is never &coll_mesh_obstacle_type). */
+/* Whether c is a MeshObstacle (the registry keeps types by pointer). */
 static int is_mesh_obstacle(const pl_component *c)
 {
-    return c && !strcmp(c->type->name, coll_mesh_obstacle_type.name);
-}
-
-const pl_mesh *coll_mesh_obstacle_mesh(const pl_component *c)
-{
-    return is_mesh_obstacle(c) ? &((const mesh_obstacle *)c)->mesh : NULL;
+    return c && c->type == &coll_mesh_obstacle_type;
 }
 
 pl_mesh_sides coll_model_sides(const pl_component *c)

@@ -5,14 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "io/mesh_boundary.h"
-#include "loader/loader.h"
 #include "models.h"
 
 static int from_file(pl_component *c, pl_ctx *ctx, const char *name, pl_mesh *out)
 {
     char path[1024], tried[2048];
-    if (pl_resolve_data_file(c->file, name, path, sizeof path, tried, sizeof tried) != 0)
+    if (pl_util_data_file(c->file, name, path, sizeof path, tried, sizeof tried) != 0)
         return pl_component_error(c, ctx, PL_EINPUT, "filename: cannot find '%s' (tried %s)", name,
                                   tried);
     pl_diag diag;

@@ -57,8 +57,4 @@ int coll_surface_model_solid(const pl_component *c);
 extern const pl_type coll_mesh_obstacle_type;
 extern const pl_type coll_mapped_model_type;
 
-/* MeshObstacle internals the pipeline and tests may use: the obstacle's
- * mesh at its scene pose (nverts x 3) and its triangles. */
-const pl_mesh *coll_mesh_obstacle_mesh(const pl_component *c);
-
 #endif

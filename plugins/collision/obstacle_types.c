@@ -4,7 +4,7 @@
  * build its pl_shape; everything else is shared. */
 #include <stddef.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "obstacle.h"
 
 #define COLL_TYPE(var, tag, S, table, init_fn, helptext)                                       \

@@ -10,9 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "collision.h"
-#include "io/mesh_boundary.h"
 #include "pliant/pliant.h"
 
 typedef struct surface_model {
@@ -273,8 +272,7 @@ extern const pl_type coll_surface_model_type;
 
 int coll_surface_model_solid(const pl_component *c)
 {
-    /* by name: the registry holds its own copy of each type */
-    return c && !strcmp(c->type->name, coll_surface_model_type.name) && ((const surface_model *)c)->solid;
+    return c && c->type == &coll_surface_model_type && ((const surface_model *)c)->solid;
 }
 
 const pl_type coll_surface_model_type = {

@@ -1,24 +1,31 @@
 /* cuda_device.h - the CudaDevice component (internal to the cuda plugin):
- * one GPU, one stream; plays PL_ROLE_DEVICE through cuda_device_ops.c. */
+ * one GPU, one stream; plays PL_ROLE_DEVICE through its backend,
+ * cuda_device_ops.c in a CUDA build, cuda_device_none.c otherwise (the
+ * component and its fields are the same in every build). */
 #ifndef PLIANT_CUDA_DEVICE_H
 #define PLIANT_CUDA_DEVICE_H
 
-#include <cuda_runtime_api.h>
-
 #include "pliant/pliant.h"
+
+struct CUstream_st;
 
 typedef struct cuda_device {
     pl_component base;
     int index;            /* field device: CUDA device ordinal */
     int graph;            /* field graph: capture iterations as CUDA graphs */
     int profile;          /* field profile: sync after each phase for the timers */
-    cudaStream_t stream;  /* created at init */
+    struct CUstream_st *stream; /* cudaStream_t, created at init */
+    int absent;           /* no device here: flags() says PL_DEVICE_ABSENT */
     long live;            /* allocations handed out by alloc and not yet freed */
 } cuda_device;
 
+/* The backend.  open: selects the GPU and creates the stream (idempotent:
+ * the loader may try an implicit device first); where no GPU answers, or
+ * the build has no CUDA, it warns once and marks the device absent (the
+ * scene then runs on the CPU); an ordinal that is not a GPU of this
+ * machine is an error.  close: frees what open made. */
+int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx);
+void pl_cuda_device_close(cuda_device *d);
 extern const pl_device_ops pl_cuda_device_ops;
-
-/* Fills err from a failed CUDA call about c; returns PL_EINTERNAL. */
-int pl_cuda_fail(const pl_component *c, pl_error *err, cudaError_t e, const char *what);
 
 #endif

@@ -1,21 +1,83 @@
-/* cuda_device_ops.c - CudaDevice's pl_device_ops: memory, copies and
- * kernels queued on the component's stream, and CUDA graphs captured from
- * it (thread-local capture mode: other threads may keep using CUDA). */
+/* cuda_device_ops.c - CudaDevice's backend in a CUDA build: the GPU and
+ * its stream (open/close), and pl_device_ops: memory, copies and kernels
+ * queued on the component's stream, and CUDA graphs captured from it
+ * (thread-local capture mode: other threads may keep using CUDA). */
 #include <stdint.h>
+
+#include <cuda_runtime_api.h>
 
 #include "cuda_device.h"
 #include "cuda_kernels.h"
 
 #define DEV(c) ((cuda_device *)(c))
+#define STREAM(c) ((cudaStream_t)DEV(c)->stream)
+
+/* Fills err from a failed CUDA call about c; returns PL_EINTERNAL. */
+static int cuda_fail(const pl_component *c, pl_error *err, cudaError_t e, const char *what)
+{
+    /* reported here: later cudaGetLastError() calls of other components must
+     * not see it again (a sticky error stays anyway) */
+    cudaGetLastError();
+    return pl_component_fail(c, err, PL_EINTERNAL, "%s: %s (%s)", what, cudaGetErrorString(e),
+                             cudaGetErrorName(e));
+}
+
 #define CK(c, call, what)                                              \
     do {                                                               \
         cudaError_t ck_ = (call);                                      \
-        if (ck_ != cudaSuccess) return pl_cuda_fail(c, err, ck_, what); \
+        if (ck_ != cudaSuccess) return cuda_fail(c, err, ck_, what); \
     } while (0)
+
+int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx)
+{
+    pl_component *c = &d->base;
+    int count = 0;
+    cudaError_t e = cudaGetDeviceCount(&count);
+    if (e != cudaSuccess || count == 0) {
+        cudaGetLastError();
+        if (!d->absent)
+            pl_component_warn(c, ctx, "no CUDA device usable here (%s): the scene runs on the CPU",
+                              e != cudaSuccess ? cudaGetErrorString(e) : "none found");
+        d->absent = 1;
+        return PL_OK;
+    }
+    if (d->index < 0 || d->index >= count)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "device: %d is not a CUDA device ordinal (this machine has %d: "
+                                  "0 .. %d)",
+                                  d->index, count, count - 1);
+    struct cudaDeviceProp prop;
+    e = cudaSetDevice(d->index);
+    if (e == cudaSuccess) e = cudaGetDeviceProperties(&prop, d->index);
+    /* a blocking stream: work on the legacy default stream (host copies of
+     * components that do not know the device) still orders with it */
+    int first = !d->stream; /* the loader may have tried an implicit device already */
+    cudaStream_t st = NULL;
+    if (e == cudaSuccess && first && (e = cudaStreamCreate(&st)) == cudaSuccess) d->stream = st;
+    if (e != cudaSuccess)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "CUDA device %d: %s", d->index,
+                                  cudaGetErrorString(e));
+    d->absent = 0;
+    if (first)
+        pl_log_info("%s: CUDA device %d, %s, %d SMs, %.1f GiB, compute capability %d.%d%s%s", c->name,
+                    d->index, prop.name, prop.multiProcessorCount,
+                    (double)prop.totalGlobalMem / (1024.0 * 1024.0 * 1024.0), prop.major, prop.minor,
+                    d->graph && !d->profile ? ", CUDA graphs" : "", d->profile ? ", profiling" : "");
+    return PL_OK;
+}
+
+void pl_cuda_device_close(cuda_device *d)
+{
+    if (!d->stream) return;
+    cudaStreamSynchronize((cudaStream_t)d->stream);
+    cudaStreamDestroy((cudaStream_t)d->stream);
+    d->stream = NULL;
+}
 
 static int dev_flags(const pl_component *c)
 {
     const cuda_device *d = (const cuda_device *)c;
+    if (d->absent) return PL_DEVICE_ABSENT;
     if (d->profile) return PL_DEVICE_PROFILE;
     return d->graph ? PL_DEVICE_GRAPHS : 0;
 }
@@ -30,7 +92,7 @@ static void *dev_alloc(pl_component *c, size_t bytes, pl_error *err)
     void *p = NULL;
     cudaError_t e = cudaMalloc(&p, bytes ? bytes : 1);
     if (e != cudaSuccess) {
-        pl_cuda_fail(c, err, e, "cudaMalloc");
+        cuda_fail(c, err, e, "cudaMalloc");
         return NULL;
     }
     DEV(c)->live++;
@@ -46,7 +108,7 @@ static void dev_free(pl_component *c, void *p)
 
 static int dev_zero(pl_component *c, void *p, size_t bytes, pl_error *err)
 {
-    CK(c, cudaMemsetAsync(p, 0, bytes, DEV(c)->stream), "cudaMemsetAsync");
+    CK(c, cudaMemsetAsync(p, 0, bytes, STREAM(c)), "cudaMemsetAsync");
     return PL_OK;
 }
 
@@ -58,8 +120,8 @@ static int dev_copy(pl_component *c, void *dst, pl_location to, const void *src,
                                              : (from == PL_HOST ? cudaMemcpyHostToDevice
                                                                  : cudaMemcpyDeviceToDevice);
     if (bytes == 0) return PL_OK;
-    CK(c, cudaMemcpyAsync(dst, src, bytes, kind, DEV(c)->stream), "cudaMemcpyAsync");
-    if (to == PL_HOST) CK(c, cudaStreamSynchronize(DEV(c)->stream), "copy to the host");
+    CK(c, cudaMemcpyAsync(dst, src, bytes, kind, STREAM(c)), "cudaMemcpyAsync");
+    if (to == PL_HOST) CK(c, cudaStreamSynchronize(STREAM(c)), "copy to the host");
     return PL_OK;
 }
 
@@ -78,43 +140,43 @@ static void dev_unpin(pl_component *c, void *host)
 
 static int dev_sync(pl_component *c, pl_error *err)
 {
-    CK(c, cudaStreamSynchronize(DEV(c)->stream), "device work");
+    CK(c, cudaStreamSynchronize(STREAM(c)), "device work");
     return PL_OK;
 }
 
 static int launched(pl_component *c, int code, const char *what, pl_error *err)
 {
-    return code ? pl_cuda_fail(c, err, (cudaError_t)code, what) : PL_OK;
+    return code ? cuda_fail(c, err, (cudaError_t)code, what) : PL_OK;
 }
 
 static int dev_scale_rows(pl_component *c, int n, const double *s, const double *x, double *y,
                           pl_error *err)
 {
-    return launched(c, pl_cuda_scale_rows(DEV(c)->stream, n, s, x, y), "scale_rows", err);
+    return launched(c, pl_cuda_scale_rows(STREAM(c), n, s, x, y), "scale_rows", err);
 }
 
 static int dev_gather_rows(pl_component *c, int m, const int *map, const double *x, double *y,
                            pl_error *err)
 {
-    return launched(c, pl_cuda_gather_rows(DEV(c)->stream, m, map, x, y), "gather_rows", err);
+    return launched(c, pl_cuda_gather_rows(STREAM(c), m, map, x, y), "gather_rows", err);
 }
 
 static int dev_scatter_rows(pl_component *c, int m, const int *map, const double *y, double *x,
                             double *change, pl_error *err)
 {
-    return launched(c, pl_cuda_scatter_rows(DEV(c)->stream, m, map, y, x, change), "scatter_rows",
+    return launched(c, pl_cuda_scatter_rows(STREAM(c), m, map, y, x, change), "scatter_rows",
                     err);
 }
 
 static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double *y, pl_error *err)
 {
-    return launched(c, pl_cuda_sub_csr(DEV(c)->stream, A->nrows, A->p, A->j, A->x, x, y), "sub_csr",
+    return launched(c, pl_cuda_sub_csr(STREAM(c), A->nrows, A->p, A->j, A->x, x, y), "sub_csr",
                     err);
 }
 
 static int dev_capture_begin(pl_component *c, pl_error *err)
 {
-    CK(c, cudaStreamBeginCapture(DEV(c)->stream, cudaStreamCaptureModeThreadLocal),
+    CK(c, cudaStreamBeginCapture(STREAM(c), cudaStreamCaptureModeThreadLocal),
        "cudaStreamBeginCapture");
     return PL_OK;
 }
@@ -124,17 +186,17 @@ static int dev_capture_end(pl_component *c, void **graph, pl_error *err)
     cudaGraph_t g = NULL;
     cudaGraphExec_t exec = NULL;
     *graph = NULL;
-    CK(c, cudaStreamEndCapture(DEV(c)->stream, &g), "cudaStreamEndCapture");
+    CK(c, cudaStreamEndCapture(STREAM(c), &g), "cudaStreamEndCapture");
     cudaError_t e = cudaGraphInstantiate(&exec, g, 0);
     cudaGraphDestroy(g);
-    if (e != cudaSuccess) return pl_cuda_fail(c, err, e, "cudaGraphInstantiate");
+    if (e != cudaSuccess) return cuda_fail(c, err, e, "cudaGraphInstantiate");
     *graph = exec;
     return PL_OK;
 }
 
 static int dev_replay(pl_component *c, void *graph, pl_error *err)
 {
-    CK(c, cudaGraphLaunch((cudaGraphExec_t)graph, DEV(c)->stream), "cudaGraphLaunch");
+    CK(c, cudaGraphLaunch((cudaGraphExec_t)graph, STREAM(c)), "cudaGraphLaunch");
     return PL_OK;
 }
 

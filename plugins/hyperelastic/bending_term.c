@@ -4,7 +4,7 @@
  * buffers (CUDA builds) goes to stencil_device.c. */
 #include <math.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "bending_term.h"
 #include "fem_term.h"
 #ifdef PLIANT_HAVE_CUDA

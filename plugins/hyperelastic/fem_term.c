@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "fem_term.h"
 
 const char *const hyper_fem_element_choices[] = {"auto", "tetrahedra", "triangles", NULL};

@@ -37,7 +37,7 @@ static int prepare(hyper_fem *f, pl_error *err)
 {
     if (f->gpu) return PL_OK;
     pl_component *c = &f->base;
-    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     if (!ops || !ops->stream)
         return pl_component_fail(c, err, PL_EINPUT,

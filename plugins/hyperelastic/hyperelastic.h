@@ -39,6 +39,7 @@ extern "C" {
 #endif
 
 /* ---- small dense linear algebra (svd.c, sym_eigen.c) -------------------- */
+/* (The implementations are svd.h and sym_eigen.h, shared with the GPU.) */
 
 /* Signed SVD of a 3x3 F (row-major): F = U diag(s) V^T with U, V proper
  * rotations (det +1), |s0| >= |s1| >= |s2|, s0, s1 >= 0; s2 < 0 exactly when
@@ -74,6 +75,8 @@ int pl_hyper_tet_shape(const double x[12], double D[12], double *volume);
 int pl_hyper_tri_shape(const double x[9], double D[6], double *area);
 
 /* ---- material laws (material_law.c, material_hessian.c, local_solve.c) -- */
+/* (The laws on the singular values and the local solve are material_law.h
+ * and local_solve.h, shared with the GPU.) */
 
 typedef enum pl_hyper_material {
     PL_HYPER_ARAP = 0,          /* psi = mu ||F - R||^2 */

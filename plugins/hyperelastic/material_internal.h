@@ -1,6 +1,7 @@
 /* material_internal.h - isotropic laws as functions of the singular values
- * (internal to the hyperelastic core).  material_law.c defines them;
- * material_hessian.c and local_solve.c build on them. */
+ * on the CPU, for any law (internal to the hyperelastic core).
+ * material_law.c defines them over the shared material_law.h and svd.h;
+ * material_hessian.c builds on them. */
 #ifndef PLIANT_HYPER_MATERIAL_INTERNAL_H
 #define PLIANT_HYPER_MATERIAL_INTERNAL_H
 

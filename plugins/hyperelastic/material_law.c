@@ -1,19 +1,16 @@
 /* material_law.c - ARAP, corotational and Neo-Hookean energy densities and
- * their first Piola-Kirchhoff stress.
+ * their first Piola-Kirchhoff stress, on the CPU.
  *
- * All three are isotropic, so psi(F) = psi_hat(s) on the singular values
- * (signed for 3x3: an inverted element has s2 < 0) and P = U diag(g) V^T
- * with g = dpsi_hat/ds.  With R = U V^T:
- *   ARAP          psi_hat = mu sum (s_i - 1)^2
- *   corotational  + lambda/2 (sum s_i - d)^2       (tr(R^T F - I) = sum s_i - d)
- *   Neo-Hookean   mu/2 (sum s_i^2 - d) - mu ln J + lambda/2 (ln J)^2,  J = prod s_i
- * For membranes (d = 2) these are the same formulas on the two singular
- * values of the 3x2 F; lambda is then the plane-stress value (elements.c). */
+ * The laws on the singular values (psi_hat, its gradient g and Hessian)
+ * are material_law.h, shared with the GPU; here: the Lame parameters, the
+ * full-U SVD the Hessian needs, psi(F) and P = U diag(g) V^T. */
 #include <math.h>
 
 #include "hyperelastic.h"
 #include "material_internal.h"
+#include "material_law.h"
 #include "small_matrix.h"
+#include "svd.h"
 
 int pl_hyper_lame(double E, double nu, int membrane, double *mu, double *lambda, pl_error *err)
 {
@@ -40,11 +37,11 @@ double pl_hyper_law_weight(const pl_hyper_law *m)
 void hyper_svd(int d, const double *F, double *U, double *s, double *V)
 {
     if (d == 3) {
-        pl_hyper_svd3(F, U, s, V);
+        hm_svd3(F, U, s, V);
         return;
     }
     double U2[6];
-    pl_hyper_svd32(F, U2, s, V);
+    hm_svd32(F, U2, s, V);
     double u0[3] = {U2[0], U2[2], U2[4]}, u1[3] = {U2[1], U2[3], U2[5]}, u2[3];
     hm_cross(u0, u1, u2);
     for (int r = 0; r < 3; ++r) {
@@ -56,42 +53,9 @@ void hyper_svd(int d, const double *F, double *U, double *s, double *V)
 
 int hyper_sv_eval(const pl_hyper_law *m, const double *s, double *psi, double *g, double *H)
 {
-    const int d = m->d;
-    const double mu = m->mu, la = m->lambda;
-    if (m->material == PL_HYPER_NEOHOOKEAN) {
-        double lnJ = 0.0, I1 = 0.0;
-        for (int i = 0; i < d; ++i) {
-            if (!(s[i] > 0.0)) {
-                *psi = INFINITY;
-                return -1;
-            }
-            lnJ += log(s[i]);
-            I1 += s[i] * s[i];
-        }
-        *psi = 0.5 * mu * (I1 - d) - mu * lnJ + 0.5 * la * lnJ * lnJ;
-        if (g)
-            for (int i = 0; i < d; ++i) g[i] = mu * s[i] + (la * lnJ - mu) / s[i];
-        if (H)
-            for (int i = 0; i < d; ++i)
-                for (int j = 0; j < d; ++j)
-                    H[i * d + j] = la / (s[i] * s[j]) +
-                                   (i == j ? mu + (mu - la * lnJ) / (s[i] * s[i]) : 0.0);
-        return 0;
-    }
-    /* ARAP and corotational: quadratic in the (signed) singular values */
-    double lc = m->material == PL_HYPER_COROTATIONAL ? la : 0.0;
-    double tr = -d, sq = 0.0;
-    for (int i = 0; i < d; ++i) {
-        tr += s[i];
-        sq += (s[i] - 1.0) * (s[i] - 1.0);
-    }
-    *psi = mu * sq + 0.5 * lc * tr * tr;
-    if (g)
-        for (int i = 0; i < d; ++i) g[i] = 2.0 * mu * (s[i] - 1.0) + lc * tr;
-    if (H)
-        for (int i = 0; i < d; ++i)
-            for (int j = 0; j < d; ++j) H[i * d + j] = lc + (i == j ? 2.0 * mu : 0.0);
-    return 0;
+    /* d as a constant in each call: the shared code is written for it */
+    if (m->d == 3) return hm_sv_eval(3, (int)m->material, m->mu, m->lambda, s, psi, g, H);
+    return hm_sv_eval(2, (int)m->material, m->mu, m->lambda, s, psi, g, H);
 }
 
 /* Keeps a denominator away from zero, with its sign. */

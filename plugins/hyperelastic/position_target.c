@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "fem_term.h"
 #include "hyperelastic.h"
 #ifdef PLIANT_HAVE_CUDA

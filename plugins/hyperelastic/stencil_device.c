@@ -29,7 +29,7 @@ static int prepare(const pl_component *c, const pl_hyper_stencils *s, hyper_sten
                    pl_error *err)
 {
     if (*gpu) return PL_OK;
-    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     if (!ops || !ops->stream)
         return pl_component_fail(c, err, PL_EINPUT,

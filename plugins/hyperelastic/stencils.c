@@ -8,6 +8,7 @@
 
 #include "hyperelastic.h"
 #include "incidence.h"
+#include "keep_norm.h"
 #include "small_matrix.h"
 #include "stencils_internal.h"
 
@@ -43,15 +44,7 @@ static void target_of(const pl_hyper_stencils *s, int r, const double *y, const 
         for (int a = 0; a < 3; ++a) p[a] = targets ? targets[3 * r + a] : 0.0;
         return;
     }
-    const double *y0 = s->rest + 3 * r;
-    double r0 = hm_norm3(y0), ny = hm_norm3(y);
-    if (r0 == 0.0) {
-        p[0] = p[1] = p[2] = 0.0;
-    } else if (ny > 1e-300) {
-        for (int a = 0; a < 3; ++a) p[a] = r0 * y[a] / ny;
-    } else { /* no direction: keep the rest vector (any vector of norm r0 is a minimiser) */
-        for (int a = 0; a < 3; ++a) p[a] = y0[a];
-    }
+    hm_keep_norm_target(s->rest + 3 * r, y, p);
 }
 
 int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,

@@ -2,6 +2,7 @@
  * contact_device.h): the step's data up once, then each iteration queued
  * on the device's stream. */
 #include "contact_device.h"
+#include "pliant/util.h"
 
 #include <cuda_runtime_api.h>
 #include <stdlib.h>
@@ -54,7 +55,7 @@ static int cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *
 
 pl_ncpc_device *pl_ncpc_device_create(pl_component *c, pl_error *err)
 {
-    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     if (!ops || ops->version < 1 || !ops->stream) {
         pl_component_fail(c, err, PL_EINPUT,

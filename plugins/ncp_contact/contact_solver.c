@@ -37,9 +37,7 @@ static const char *const PRECOND_CHOICES[] = {"delassus", "mass", NULL};
 static const char *const CORRECTION_CHOICES[] = {"jacobian", "multiplier", NULL};
 static const char *const DELASSUS_CHOICES[] = {"auto", "explicit", "matrix-free", NULL};
 static const char *const CR_SCALING_CHOICES[] = {"jacobi", "none", NULL};
-#ifdef PLIANT_HAVE_CUDA
 static const char *const DEVICE_CHOICES[] = {"cpu", "auto", NULL};
-#endif
 
 static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(ncp_contact_solver, ncp, "ncp", NCP_CHOICES, "fischer-burmeister",
@@ -113,13 +111,12 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
-#ifdef PLIANT_HAVE_CUDA
+    /* in every build: without CUDA, auto is the CPU */
     PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",
                   "where the iterations' constraint work runs: auto (where the animation loop "
                   "runs it: on the GPU with LocalGlobalSolver device=\"cuda\") or cpu (a loop on "
                   "the device is then refused)",
                   0),
-#endif
 };
 
 static int check_fields(const ncp_contact_solver *s, char *msg, size_t size)

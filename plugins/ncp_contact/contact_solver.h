@@ -44,8 +44,8 @@ typedef struct ncp_contact_solver {
     double *q_free, *corr;    /* nfree x 3 */
     double *lambda_all;       /* nall: the multipliers handed back */
     int t_global, t_schur, t_assembly, t_solve, t_corr, t_cglobal;
-#ifdef PLIANT_HAVE_CUDA
     int device;               /* field: 0 cpu, 1 auto (follow the animation loop) */
+#ifdef PLIANT_HAVE_CUDA
     pl_ncpc_device *gpu;      /* the device path, made on the first device iterate */
 #endif
 } ncp_contact_solver;

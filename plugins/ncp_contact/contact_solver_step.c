@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "contact_solver.h"
+#include "pliant/util.h"
 
 /* Products of W in a step, about: local-global iterations times (CR
  * iterations + the linearisation and the line search); the paper's 5 x 13. */
@@ -53,7 +54,7 @@ enum { DEVICE_EXPLICIT_MAX_ROWS = 1024 };
 static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *ops, const pl_system *sys)
 {
 #ifdef PLIANT_HAVE_CUDA
-    return s->device != 0 && pl_node_find_role_up(s->base.node, PL_ROLE_DEVICE) && ops && ops->version >= 2 &&
+    return s->device != 0 && pl_util_device(&s->base) && ops && ops->version >= 2 &&
            ops->accepts && ops->accepts(sys->global_solver, PL_DEVICE, PL_F64);
 #else
     (void)s, (void)ops, (void)sys;

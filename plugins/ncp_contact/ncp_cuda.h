@@ -6,9 +6,11 @@
  * cudaError_t as an int (0: queued); nothing waits, so a whole iteration
  * can be captured in a CUDA graph.  Pointers are device pointers.  The
  * phases are single-block kernels (rows and contacts of one step are few;
- * their reductions are then deterministic): they replay ncp_step.c, cr.c,
- * ncp_linesearch.c and ncp_project.c with the same formulas, the CPU files
- * being the reference.  Host decisions of the CPU code that depend on
+ * their reductions are then deterministic): they call the CPU's own NCP
+ * functions, residual parts and projections (ncp_functions.h,
+ * ncp_residual.h, ncp_project.h, compiled as CUDA) and replay ncp_step.c,
+ * cr.c and ncp_linesearch.c with the same formulas, the CPU files being the
+ * reference.  Host decisions of the CPU code that depend on
  * values become device flags: CR's stop (done) freezes its updates, the
  * clamped rows' product always runs (zero when no row is clamped), the line
  * search evaluates its trials in one kernel and takes the first that

@@ -2,18 +2,22 @@
  * phases between its W products (see ncp_cuda.h for the sequence).  Each
  * phase is one block: rows and contacts are strided over its threads, and
  * sums and maxima go through a fixed shared-memory tree (deterministic).
- * The formulas are those of ncp_step.c (evaluate_rows, the clamped rows,
- * the full_force operator), cr.c, ncp_linesearch.c and ncp_project.c. */
+ * The NCP functions, residual parts and projections are the CPU's own
+ * (ncp_functions.h, ncp_residual.h, ncp_project.h); the rest follows
+ * ncp_step.c (evaluate_rows, the clamped rows, the full_force operator),
+ * cr.c and ncp_linesearch.c. */
 #include "ncp_cuda.h"
 
 #include <cuda_runtime.h>
 
-#include "ncp_cuda_math.cuh"
+/* the row and contact functions the CPU runs too (compiled as CUDA) */
+#include "ncp_functions.h"
+#include "ncp_project.h"
+#include "ncp_residual.h"
 
 namespace {
 
 constexpr int kThreads = 512;
-constexpr double kOmegaClamp = 1e-3; /* PL_NCP_OMEGA_CLAMP */
 
 /* Sum (max = 0) or maximum (max = 1) over the block; every thread gets it. */
 __device__ double block_reduce(double v, int max, double *sh)
@@ -44,14 +48,12 @@ __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     for (int j = threadIdx.x; j < R.m; j += kThreads) {
         const int k = R.kind[j];
         const double d = V.delta[j], l = V.lambda[j];
-        if (k == ncu::BILATERAL) {
-            V.phi[j] = d + R.compliance[j] * l;
-            V.omega[j] = 1.0;
-            V.e[j] = R.compliance[j];
-        } else if (k == ncu::NORMAL) {
-            ncu::normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
-        } else if (k == ncu::BOUNDED) {
-            ncu::bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
+        if (k == PL_ROW_BILATERAL) {
+            ncp_bilateral(d, l, R.compliance[j], &V.phi[j], &V.omega[j], &V.e[j]);
+        } else if (k == PL_ROW_NORMAL) {
+            ncp_normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
+        } else if (k == PL_ROW_BOUNDED) {
+            ncp_bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
         }
     }
     for (int c = threadIdx.x; c < R.nc; c += kThreads) {
@@ -66,7 +68,7 @@ __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                 ++nt;
             }
         if (nt == 0) continue;
-        ncu::friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
+        ncp_friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
         for (int i = 0; i < nt; ++i) {
             V.phi[t[i]] = phi[i];
             V.omega[t[i]] = om;
@@ -82,9 +84,10 @@ __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, 
     double ss = 0.0;
     for (int j = threadIdx.x; j < R.m; j += kThreads) {
         const int k = R.kind[j];
-        if (k == ncu::FRICTION) continue;
-        ss += ncu::row_residual2(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j], R.r[j],
-                                 R.lo[j], R.hi[j]);
+        if (k == PL_ROW_FRICTION) continue;
+        const double v = ncp_row_residual(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j],
+                                          R.r[j], R.lo[j], R.hi[j]);
+        ss += v * v;
     }
     for (int c = threadIdx.x; c < R.nc; c += kThreads) {
         const int *ct = R.contact + 3 * c;
@@ -98,7 +101,9 @@ __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, 
             }
         if (nt == 0) continue;
         const double rho = P.h * R.r[ct[1] >= 0 ? ct[1] : ct[2]];
-        ss += ncu::friction_residual2(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho);
+        double cone, fric;
+        ncp_friction_residual(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho, &cone, &fric);
+        ss += ncp_friction_residual2(rho, cone, fric);
     }
     return sqrt(block_reduce(ss, 0, sh));
 }
@@ -110,27 +115,14 @@ __device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     const double step = P.damping * alpha;
     for (int j = threadIdx.x; j < R.m; j += kThreads) {
         double l = V.lambda[j] + step * V.dlambda[j];
-        if (P.project) {
-            if (R.kind[j] == ncu::NORMAL && l < 0.0)
-                l = 0.0;
-            else if (R.kind[j] == ncu::BOUNDED) {
-                if (l < R.lo[j]) l = R.lo[j];
-                if (l > R.hi[j]) l = R.hi[j];
-            }
-        }
+        if (P.project) l = ncp_project_row(R.kind[j], l, R.lo[j], R.hi[j]);
         V.lambda[j] = l;
     }
     __syncthreads();
     if (P.project)
         for (int c = threadIdx.x; c < R.nc; c += kThreads) {
             const int *ct = R.contact + 3 * c;
-            double radius = R.mu[ct[0]] * V.lambda[ct[0]], n2 = 0.0;
-            for (int i = 1; i <= 2; ++i)
-                if (ct[i] >= 0) n2 += V.lambda[ct[i]] * V.lambda[ct[i]];
-            if (n2 <= radius * radius) continue;
-            double s = radius > 0.0 ? radius / sqrt(n2) : 0.0;
-            for (int i = 1; i <= 2; ++i)
-                if (ct[i] >= 0) V.lambda[ct[i]] *= s;
+            ncp_project_contact(ct, R.mu[ct[0]], V.lambda);
         }
     __syncthreads();
     for (int j = threadIdx.x; j < R.m; j += kThreads) V.lambda_all[R.full[j]] = V.lambda[j];
@@ -157,9 +149,9 @@ __global__ void __launch_bounds__(kThreads)
             double s;
             if (P.full_force) {
                 s = 1.0;
-                c = !(V.omega[j] > kOmegaClamp);
+                c = !(V.omega[j] > PL_NCP_OMEGA_CLAMP);
             } else {
-                s = R.kind[j] == ncu::BOUNDED ? 1.0 : V.omega[j];
+                s = R.kind[j] == PL_ROW_BOUNDED ? 1.0 : V.omega[j];
                 c = s != V.omega[j];
             }
             V.scale[j] = s;

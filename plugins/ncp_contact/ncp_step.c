@@ -12,11 +12,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* full_force: rows with Omega at most this are solved as clamped rows
- * (e dlambda = rhs); dropping their Omega h^2 W dlambda term changes the
- * Newton step by a relative O(Omega), while dividing by a tiny Omega would
- * put an outlier of size e / Omega into CR's spectrum. */
-#define PL_NCP_OMEGA_CLAMP 1e-3
+#include "ncp_functions.h"
 
 void pl_ncp_params_default(pl_ncp_params *p)
 {
@@ -156,16 +152,16 @@ static void evaluate_rows(pl_ncp_work *w, const pl_ncp_params *par, const double
     for (int j = 0; j < w->m; ++j) {
         switch (R->kind[j]) {
         case PL_ROW_BILATERAL:
-            pl_ncp_bilateral(delta[j], lambda[j], R->compliance ? R->compliance[j] : 0.0,
-                             &w->phi[j], &w->omega[j], &w->e[j]);
+            ncp_bilateral(delta[j], lambda[j], R->compliance ? R->compliance[j] : 0.0,
+                          &w->phi[j], &w->omega[j], &w->e[j]);
             break;
         case PL_ROW_NORMAL:
-            pl_ncp_normal(par->fn, delta[j], lambda[j], r[j], par->fb_eps, &w->phi[j], &w->omega[j],
-                          &w->e[j]);
+            ncp_normal((int)par->fn, delta[j], lambda[j], r[j], par->fb_eps, &w->phi[j],
+                       &w->omega[j], &w->e[j]);
             break;
         case PL_ROW_BOUNDED:
-            pl_ncp_bounded(delta[j], lambda[j], R->lo ? R->lo[j] : -INFINITY, R->hi ? R->hi[j] : INFINITY,
-                           r[j], &w->phi[j], &w->omega[j], &w->e[j]);
+            ncp_bounded(delta[j], lambda[j], R->lo ? R->lo[j] : -INFINITY, R->hi ? R->hi[j] : INFINITY,
+                        r[j], &w->phi[j], &w->omega[j], &w->e[j]);
             break;
         case PL_ROW_FRICTION:
             break; /* below, per contact */
@@ -186,7 +182,7 @@ static void evaluate_rows(pl_ncp_work *w, const pl_ncp_params *par, const double
             continue;
         double mu = R->mu ? R->mu[ct[0]] : 0.0;
         /* rho = h r_f: the friction scaling at the position level. */
-        pl_ncp_friction(par->fn, nt, y, lf, lambda[ct[0]], mu, par->h * r[t[0]], phi, &om, &e);
+        ncp_friction((int)par->fn, nt, y, lf, lambda[ct[0]], mu, par->h * r[t[0]], phi, &om, &e);
         for (int i = 0; i < nt; ++i) {
             w->phi[t[i]] = phi[i];
             w->omega[t[i]] = om;

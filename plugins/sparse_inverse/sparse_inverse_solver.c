@@ -11,30 +11,34 @@
 #include "pliant/plugin.h"
 #include "pliant/roles.h"
 #include "pliant/timer.h"
+#include "pliant/util.h"
 #ifdef PLIANT_HAVE_CUDA
 #include "cuda/spinv_cuda_buffers.h"
 #endif
 
+/* The fields are the same in every build (the scene format does not depend
+ * on it); the CUDA code is compiled only with PLIANT_HAVE_CUDA, and without
+ * it device="cuda" is an error at init and "auto" means the CPU. */
 typedef struct sparse_inverse_solver {
     pl_component base;
     int ordering;              /* pl_spinv_ordering */
     int mode;                  /* pl_spinv_mode */
     int threads;
-    pl_sparse_inverse *solver; /* built by factor */
-#ifdef PLIANT_HAVE_CUDA
     int device;                /* 0 cpu, 1 cuda, 2 auto (cuda with a device service) */
     int precision;             /* 0 float64, 1 float32 (pl_precision) */
+    pl_sparse_inverse *solver; /* built by factor */
+#ifdef PLIANT_HAVE_CUDA
     pl_spinv_cuda *gpu;        /* device copy of S, built by factor when device = cuda */
     struct CUstream_st *stream; /* the scene's device stream (CudaDevice), or NULL */
 #endif
 } sparse_inverse_solver;
 
+enum { DEVICE_CPU = 0, DEVICE_CUDA = 1, DEVICE_AUTO = 2 };
+
 static const char *const ordering_choices[] = {"metis", "nesdis", "amd", "natural", NULL};
 static const char *const mode_choices[] = {"sparse", "direct", NULL};
-#ifdef PLIANT_HAVE_CUDA
 static const char *const device_choices[] = {"cpu", "cuda", "auto", NULL};
 static const char *const precision_choices[] = {"float64", "float32", NULL};
-#endif
 
 static const pl_field solver_fields[] = {
     PL_FIELD_ENUM(sparse_inverse_solver, ordering, "ordering", ordering_choices, "metis",
@@ -47,7 +51,6 @@ static const pl_field solver_fields[] = {
                   0),
     PL_FIELD(sparse_inverse_solver, threads, "threads", PL_F_INT, "0",
              "OpenMP threads for the inverse and the products [count] (0 = OpenMP's default)", 0),
-#ifdef PLIANT_HAVE_CUDA
     PL_FIELD_ENUM(sparse_inverse_solver, device, "device", device_choices, "auto",
                   "where the global step runs: cpu, cuda (S copied to the GPU; mode sparse; work "
                   "queued on the stream of a CudaDevice in this node or above, if any), or auto "
@@ -56,7 +59,6 @@ static const pl_field solver_fields[] = {
     PL_FIELD_ENUM(sparse_inverse_solver, precision, "precision", precision_choices, "float64",
                   "values and arithmetic of the device copy of S: float64 or float32 (device cuda)",
                   0),
-#endif
 };
 
 static int solver_init(pl_component *c, pl_ctx *ctx)
@@ -65,10 +67,14 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     if (s->threads < 0)
         return pl_component_error(c, ctx, PL_EINPUT, "threads must be >= 0 (0 = default), got %d",
                                   s->threads);
-#ifdef PLIANT_HAVE_CUDA
-    if (s->device == 1 && s->mode != PL_SPINV_SPARSE)
-        return pl_component_error(c, ctx, PL_EINPUT, "device cuda needs mode sparse");
+#ifndef PLIANT_HAVE_CUDA
+    if (s->device == DEVICE_CUDA)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "device=\"cuda\": this build has no CUDA (configured without "
+                                  "nvcc); use device=\"cpu\" or \"auto\"");
 #endif
+    if (s->device == DEVICE_CUDA && s->mode != PL_SPINV_SPARSE)
+        return pl_component_error(c, ctx, PL_EINPUT, "device cuda needs mode sparse");
     return PL_OK;
 }
 
@@ -128,12 +134,16 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
 #ifdef PLIANT_HAVE_CUDA
     pl_spinv_cuda_destroy(s->gpu);
     s->gpu = NULL;
-    pl_component *dev = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    pl_component *dev = pl_util_device(c), *svc = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
+    if (s->device == DEVICE_CUDA && svc && !dev)
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "device=\"cuda\": the device service %s has no device here (no "
+                                 "GPU answers)",
+                                 svc->name);
     const pl_device_ops *dops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     s->stream = dops && dops->stream ? (struct CUstream_st *)dops->stream(dev) : NULL;
-    if (s->device == 1 || (s->device == 2 && dev && s->mode == PL_SPINV_SPARSE)) {
-        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64,
-                                      PL_SPINV_CUDA_OWN, &e);
+    if (s->device == DEVICE_CUDA || (s->device == DEVICE_AUTO && dev && s->mode == PL_SPINV_SPARSE)) {
+        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64, &e);
         if (!s->gpu) return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         if (timers)
             pl_stat_set(timers, "S device memory [MB]",

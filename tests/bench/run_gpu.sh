@@ -8,6 +8,8 @@
 # BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep, test_gripper) and
 # plugins/ of a CUDA build; the bundled libraries (gpu-bundle) are taken from
 # $GPU_LIBS/lib (default BUILD_DIR/lib).  Parts:
+#   ctest     `ctest -L gpu` in BUILD_DIR: gpu_check's small bar and gpu_scenes'
+#             checks of the small scenes (each says "skipped: no GPU" without one)
 #   check     gpu_scenes: CPU vs GPU one frame from identical states, every scene
 #             with a device path (bars, cloth, cloth with bending/targets/forces,
 #             contact scenes), float64 within 1e-9, float32 S within 1e-4
@@ -28,7 +30,7 @@ set -u
 B=${1:-build-gpu}
 OUT=${OUT:-/tmp/gpu_out}
 FRAMES=${FRAMES:-30}
-PARTS=${PARTS:-check table sweep grasp memcheck}
+PARTS=${PARTS:-ctest check table sweep grasp memcheck}
 mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-$B}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH="$PWD/$B/plugins"
@@ -45,6 +47,15 @@ t0=$(date +%s)
 
 echo "== device" | tee "$OUT/run_gpu.log"
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee -a "$OUT/run_gpu.log"
+
+if has ctest; then
+  echo "== ctest -L gpu"
+  CTEST=$(command -v ctest || echo ctest)
+  timeout ${T_CTEST:-1800} "$CTEST" --test-dir "$B" -L gpu --output-on-failure > "$OUT/ctest_gpu.log" 2>&1
+  rc=$?; [ "$rc" = 0 ] || status=1
+  grep -E "tests passed|Skipped|Failed|skipped: no GPU" "$OUT/ctest_gpu.log"
+  echo "ctest -L gpu exit $rc ($(( $(date +%s) - t0 )) s)"
+fi
 
 if has check; then
   echo "== gpu_scenes checks (CPU vs GPU from identical states)"

@@ -27,7 +27,7 @@ check "dt=1e308 exits 2" "[ $code -eq 2 ]"
 check "dt=1e308 names file:line" "grep -q 'dt.xml:1: error: root: dt = 1e+308 s' '$TMP/err'"
 
 # 2. a scene cannot load a shared object by path unless the user allows it
-LIB="$BUILD/tests/plugins/libpl_ctor_plugin.so"
+LIB="$BUILD/tests/plugins/libpliant_pl_ctor_plugin.so"
 printf '<Node name="root">\n  <RequiredPlugin name="%s"/>\n</Node>\n' "$LIB" > "$TMP/lib.xml"
 "$PLIANT" run "$TMP/lib.xml" -n 1 --out "$TMP/out" > /dev/null 2> "$TMP/err"
 code=$?

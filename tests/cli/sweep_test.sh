@@ -11,7 +11,7 @@ SRC=$2
 PLIANT_PLUGIN_PATH=$(dirname "$3")${PLIANT_PLUGIN_PATH:+:$PLIANT_PLUGIN_PATH}
 export PLIANT_PLUGIN_PATH
 FAULT=$(basename "$3" .so)
-FAULT=${FAULT#lib}
+FAULT=${FAULT#libpliant_}
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/pliant_sweep_test.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 pass=0

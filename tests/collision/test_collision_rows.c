@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/component_util.h"
+#include "pliant/util.h"
 #include "coll_test_util.h"
 #include "collision.h"
 

@@ -38,7 +38,7 @@ START_TEST(a_good_plugin_registers_its_types)
     ck_assert_int_eq(pl_registry_load_plugin(r, "pl_test_plugin", &err), PL_OK);
     const pl_type *t = pl_registry_find(r, "TestMover");
     ck_assert_ptr_nonnull(t);
-    ck_assert_str_eq(t->plugin, "pl_test_plugin");
+    ck_assert_str_eq(pl_registry_type_plugin(r, t), "pl_test_plugin");
     /* loading again is a no-op */
     ck_assert_int_eq(pl_registry_load_plugin(r, "pl_test_plugin", &err), PL_OK);
     ck_assert_int_eq(pl_registry_plugin_count(r), 1);
@@ -62,11 +62,11 @@ START_TEST(a_plugin_of_another_abi_is_refused_naming_both_versions)
     pl_error err;
     char expect[64];
     pl_registry *r = pl_registry_create();
-    ck_assert_int_eq(pl_registry_load_plugin(r, PL_TEST_PLUGIN_DIR "/libpl_wrong_abi_plugin.so",
+    ck_assert_int_eq(pl_registry_load_plugin(r, PL_TEST_PLUGIN_DIR "/libpliant_pl_wrong_abi_plugin.so",
                                              &err),
                      PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "ABI version 999"));
-    snprintf(expect, sizeof expect, "ABI version %d", PL_ABI_VERSION);
+    snprintf(expect, sizeof expect, "ABI version %d.%d", PL_ABI_MAJOR, PL_ABI_MINOR);
     ck_assert_ptr_nonnull(strstr(err.msg, expect));
     ck_assert_int_eq(pl_registry_plugin_count(r), 0);
     pl_registry_free(r);
@@ -78,7 +78,7 @@ START_TEST(a_library_without_entry_point_and_a_missing_plugin_are_refused)
     pl_error err;
     pl_registry *r = pl_registry_create();
     ck_assert_int_eq(
-        pl_registry_load_plugin(r, PL_TEST_PLUGIN_DIR "/libpl_not_a_plugin.so", &err),
+        pl_registry_load_plugin(r, PL_TEST_PLUGIN_DIR "/libpliant_pl_not_a_plugin.so", &err),
         PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "not a Pliant plugin"));
     ck_assert_int_eq(pl_registry_load_plugin(r, "no_such_plugin_anywhere", &err), PL_EINPUT);

@@ -71,7 +71,7 @@ static const char *write_utf16(const char *name, const char *text, int big, int 
 
 START_TEST(a_scene_cannot_name_a_shared_object)
 {
-    const char *lib = PL_TEST_PLUGIN_DIR "/libpl_ctor_plugin.so";
+    const char *lib = PL_TEST_PLUGIN_DIR "/libpliant_pl_ctor_plugin.so";
     ck_assert_int_eq(access(lib, R_OK), 0);
     char xml[512];
     snprintf(xml, sizeof xml, "<Node name=\"root\">\n  <RequiredPlugin name=\"%s\"/>\n</Node>\n",
@@ -112,7 +112,7 @@ START_TEST(the_user_may_allow_plugin_paths)
 {
     char xml[512];
     snprintf(xml, sizeof xml, "<Node name=\"root\">\n  <RequiredPlugin name=\"%s\"/>\n</Node>\n",
-             PL_TEST_PLUGIN_DIR "/libpl_ctor_plugin.so");
+             PL_TEST_PLUGIN_DIR "/libpliant_pl_ctor_plugin.so");
     pl_sim_options opt = {.allow_plugin_path = 1};
     pl_sim *s = pl_sim_load_string(xml, "scene.xml", &opt, &diag);
     pl_diag_print(&diag, stderr);

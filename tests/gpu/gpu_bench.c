@@ -4,11 +4,10 @@
  *   gpu_bench [tables.md] [repetitions]
  *
  * Bars 44x11x11 and 72x17x17 (gpu_bar.h).  Global step x = A^-1 b on
- * device n x 3 blocks: own kernels and cuSPARSE (SpMM CSR_ALG3), float32
- * and float64: median over `repetitions` (100) single solves timed with
- * events, the products S a and S^T y alone, and the solve replayed as a
- * CUDA graph.  Achieved bandwidth = bytes of S a step must read (values,
- * plus column indices for cuSPARSE; pl_spinv_cuda_step_bytes) / time,
+ * device n x 3 blocks, float32 and float64: median over `repetitions` (100)
+ * single solves timed with events, the products S a and S^T y alone, and
+ * the solve replayed as a CUDA graph.  Achieved bandwidth = bytes of S a
+ * step must read (values; pl_spinv_cuda_step_bytes) / time,
  * against a measured device-to-device copy (bytes read + written).  Local
  * steps: GPU gather and atomic assembly, and the CPU's
  * pl_hyper_elements_project on this machine's cores for reference; the CPU
@@ -138,40 +137,38 @@ static void bench_global(gpu_bar *bar, double copy_gbs, cudaStream_t st)
         printf("%dx%dx%d CPU global step %.3f ms\n", bar->nx, bar->ny, bar->nz, med);
         free(t);
     }
-    for (int path = 0; path < 2; ++path)
-        for (int pi = 0; pi < 2; ++pi) {
-            pl_precision p = pi ? PL_F32 : PL_F64;
-            pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, (pl_spinv_cuda_path)path, &err);
-            if (!g) {
-                printf("create: %s\n", err.msg);
-                continue;
-            }
-            solve_ctx c = {g, gpu_put(b, n3, p), gpu_put(NULL, n3, p), p, -1, NULL};
-            double ms = time_events(run_solve, &c, st);
-            c.stage = PL_SPINV_CUDA_STAGE_PERMUTE;
-            double ms_p = time_events(run_solve, &c, st);
-            c.stage = PL_SPINV_CUDA_STAGE_S;
-            double ms_s = time_events(run_solve, &c, st);
-            c.stage = PL_SPINV_CUDA_STAGE_ST;
-            double ms_st = time_events(run_solve, &c, st);
-            double ms_graph = NAN;
-            if (path == 0 && capture(&c, st) == 0) {
-                ms_graph = time_events(run_solve, &c, st);
-                cudaGraphExecDestroy(c.exec);
-            }
-            double gbs = pl_spinv_cuda_step_bytes(g) / (ms * 1e-3) / 1e9;
-            const char *pn = pl_spinv_cuda_path_name(g);
-            printf("%dx%dx%d %-22s %s: step %.4f ms (graph %.4f), P %.4f, S %.4f, S^T %.4f, %.0f GB/s "
-                   "= %.0f%% of copy, S on device %.1f MB\n",
-                   bar->nx, bar->ny, bar->nz, pn, pi ? "float32" : "float64", ms, ms_graph, ms_p,
-                   ms_s, ms_st, gbs, 100.0 * gbs / copy_gbs, pl_spinv_cuda_device_bytes(g) / 1048576.0);
-            fprintf(md,
-                    "| %dx%dx%d | %d | %s | %s | %.4f | %.4f | %.4f / %.4f / %.4f | %.0f | %.0f%% |\n",
-                    bar->nx, bar->ny, bar->nz, bar->n, pn, pi ? "float32" : "float64", ms, ms_graph,
-                    ms_p, ms_s, ms_st, gbs, 100.0 * gbs / copy_gbs);
-            gpu_free(c.b), gpu_free(c.x);
-            pl_spinv_cuda_destroy(g);
+    for (int pi = 0; pi < 2; ++pi) {
+        pl_precision p = pi ? PL_F32 : PL_F64;
+        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, &err);
+        if (!g) {
+            printf("create: %s\n", err.msg);
+            continue;
         }
+        solve_ctx c = {g, gpu_put(b, n3, p), gpu_put(NULL, n3, p), p, -1, NULL};
+        double ms = time_events(run_solve, &c, st);
+        c.stage = PL_SPINV_CUDA_STAGE_PERMUTE;
+        double ms_p = time_events(run_solve, &c, st);
+        c.stage = PL_SPINV_CUDA_STAGE_S;
+        double ms_s = time_events(run_solve, &c, st);
+        c.stage = PL_SPINV_CUDA_STAGE_ST;
+        double ms_st = time_events(run_solve, &c, st);
+        double ms_graph = NAN;
+        if (capture(&c, st) == 0) {
+            ms_graph = time_events(run_solve, &c, st);
+            cudaGraphExecDestroy(c.exec);
+        }
+        double gbs = pl_spinv_cuda_step_bytes(g) / (ms * 1e-3) / 1e9;
+        printf("%dx%dx%d own kernels %s: step %.4f ms (graph %.4f), P %.4f, S %.4f, S^T %.4f, %.0f "
+               "GB/s = %.0f%% of copy, S on device %.1f MB\n",
+               bar->nx, bar->ny, bar->nz, pi ? "float32" : "float64", ms, ms_graph, ms_p, ms_s,
+               ms_st, gbs, 100.0 * gbs / copy_gbs, pl_spinv_cuda_device_bytes(g) / 1048576.0);
+        fprintf(md, "| %dx%dx%d | %d | own kernels | %s | %.4f | %.4f | %.4f / %.4f / %.4f | %.0f | "
+                    "%.0f%% |\n",
+                bar->nx, bar->ny, bar->nz, bar->n, pi ? "float32" : "float64", ms, ms_graph, ms_p,
+                ms_s, ms_st, gbs, 100.0 * gbs / copy_gbs);
+        gpu_free(c.b), gpu_free(c.x);
+        pl_spinv_cuda_destroy(g);
+    }
 done:
     free(b), free(x);
 }
@@ -193,7 +190,7 @@ static void bench_variants(gpu_bar *bar, cudaStream_t st)
         for (int v = 0; v < (int)(sizeof groups / sizeof groups[0]); ++v) {
             int blocks = base * scale[v] / 4;
             pl_spinv_cuda *g =
-                pl_spinv_cuda_create_tuned(bar->spinv, p, PL_SPINV_CUDA_OWN, groups[v], blocks, &err);
+                pl_spinv_cuda_create_tuned(bar->spinv, p, groups[v], blocks, &err);
             if (!g) {
                 printf("create: %s\n", err.msg);
                 continue;
@@ -290,7 +287,7 @@ static void bench_iteration(gpu_bar *bar, cudaStream_t st)
     pl_hyper_cuda *h = pl_hyper_cuda_create(&bar->el[0], &err);
     for (int pi = 0; h && pi < 2; ++pi) {
         pl_precision p = pi ? PL_F32 : PL_F64;
-        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, PL_SPINV_CUDA_OWN, &err);
+        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, &err);
         if (!g) continue;
         iter_ctx c;
         memset(&c, 0, sizeof c);
@@ -354,7 +351,7 @@ int main(int argc, char **argv)
         }
         bench_global(&bars[s], copy, st);
     }
-    fprintf(md, "\nRow kernel y = S a, tuning (own path): rows of S per warp item at most "
+    fprintf(md, "\nRow kernel y = S a, tuning: rows of S per warp item at most "
                 "(group: consecutive rows with one first column) and blocks of 8 columns per "
                 "item:\n\n| bar | precision | group | blocks/item | S [ms] | step [ms] |\n"
                 "|---|---|---|---|---|---|\n");

@@ -1,6 +1,7 @@
 /* gpu_scenes.c - whole scenes with the local-global loop on the GPU
  * (LocalGlobalSolver device="cuda", a CudaDevice added to the scene); needs
- * a GPU: run by tests/gpu/run.sh, not by ctest.
+ * a GPU (without one it prints "skipped: no GPU" and exits 77).  `ctest -L
+ * gpu` runs the checks of the small scenes; tests/bench/run_gpu.sh all.
  *
  *   gpu_scenes CHECKS.md TIMINGS.md [frames [small|timing|SCENE.xml]]
  * (frames 0: checks only; small: all but the 5.3k bar; timing: no checks;
@@ -41,6 +42,8 @@
 #include "gpu_util.h"
 #include "test_tmp.h"
 #include "pliant/pliant.h"
+
+#define PROG "gpu_scenes"
 
 static FILE *md;
 /* The checkpoint of the restore checks, in this run's temporary folder. */
@@ -533,6 +536,7 @@ static void implicit_device_check(void)
 
 int main(int argc, char **argv)
 {
+    gpu_require(PROG);
     md = argc > 1 ? fopen(argv[1], "w") : NULL;
     FILE *tab = argc > 2 ? fopen(argv[2], "w") : stdout;
     int frames = argc > 3 ? atoi(argv[3]) : 100;

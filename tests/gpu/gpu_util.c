@@ -16,6 +16,17 @@ static int ok(cudaError_t e, const char *what)
     return 0;
 }
 
+void gpu_require(const char *prog)
+{
+    int n = 0;
+    cudaError_t e = cudaGetDeviceCount(&n);
+    if (e == cudaSuccess && n > 0) return;
+    printf("%s: skipped: no GPU (%s)\n", prog,
+           e != cudaSuccess ? cudaGetErrorString(e) : "no CUDA device found");
+    fflush(stdout);
+    exit(GPU_SKIP);
+}
+
 void *gpu_put(const double *h, size_t m, pl_precision prec)
 {
     size_t es = prec == PL_F32 ? sizeof(float) : sizeof(double), bytes = (m ? m : 1) * es;

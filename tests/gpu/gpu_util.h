@@ -7,6 +7,12 @@
 
 #include "pliant/buffer.h"
 
+/* The exit status ctest reads as "skipped" (SKIP_RETURN_CODE). */
+#define GPU_SKIP 77
+/* Returns when a GPU answers; otherwise prints one line "<prog>: skipped:
+ * no GPU (<reason>)" and exits with GPU_SKIP. */
+void gpu_require(const char *prog);
+
 /* A device copy of m doubles of h, stored as prec (float32 converts);
  * NULL (message printed) on a CUDA error. h NULL: zeros. */
 void *gpu_put(const double *h, size_t m, pl_precision prec);

@@ -4,7 +4,6 @@
 #include "loader_test_util.h"
 
 #include "generators/generators.h"
-#include "io/mesh_boundary.h"
 
 
 /* Scale-free tetrahedron quality: 6 sqrt(2) V / l_max^3 (1 for a regular one). */

@@ -12,7 +12,6 @@
 #include <zlib.h>
 
 #include "generators/generators.h"
-#include "io/mesh_boundary.h"
 
 /* A growing string. */
 typedef struct sbuf {

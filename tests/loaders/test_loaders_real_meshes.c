@@ -3,7 +3,6 @@
  * volumes, and cross-checks between files that describe the same shape. */
 #include "loader_test_util.h"
 
-#include "io/mesh_boundary.h"
 
 typedef struct expect {
     const char *file;

@@ -4,7 +4,6 @@
 #include "loader_test_util.h"
 
 #include "generators/generators.h"
-#include "io/mesh_boundary.h"
 
 static pl_mesh unit_box(void)
 {

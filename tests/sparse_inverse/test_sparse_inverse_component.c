@@ -16,7 +16,7 @@
 #include "spinv_test_util.h"
 #include "spinv_testmat.h"
 
-#define PLUGIN PL_BINARY_DIR "/plugins/libsparse_inverse.so"
+#define PLUGIN PL_BINARY_DIR "/plugins/libpliant_sparse_inverse.so"
 
 static pl_registry *reg;
 static char logged[4096];

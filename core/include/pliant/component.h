@@ -8,6 +8,7 @@
 #ifndef PLIANT_COMPONENT_H
 #define PLIANT_COMPONENT_H
 
+#include "api.h"
 #include <stddef.h>
 #include "error.h"
 #include "field.h"
@@ -32,14 +33,18 @@ typedef enum pl_role {
     PL_ROLE_CONSTRAINT,      /* pl_constraint_ops */
     PL_ROLE_CONTACT_SOLVER,  /* pl_contact_solver_ops */
     PL_ROLE_COLLISION_MODEL, /* pl_collision_model_ops */
-    PL_ROLE_DETECTOR,        /* pl_detector_ops */
     PL_ROLE_EXPORTER,        /* pl_exporter_ops */
     PL_ROLE_CONTROLLER,      /* pl_controller_ops */
     PL_ROLE_PRESCRIBED,      /* pl_prescribed_ops: fixed or moving DOFs */
     PL_ROLE_ANIMATION_LOOP,  /* pl_animation_loop_ops: advances one step */
     PL_ROLE_DEVICE,          /* pl_device_ops: device memory, copies, a stream (CudaDevice) */
-    PL_ROLE_COUNT
+    PL_ROLE_COUNT            /* roles defined so far */
 } pl_role;
+
+/* Room in pl_type.roles: a role added later takes a free slot, so the
+ * layout of pl_type does not change and older plugins stay loadable (their
+ * tables hold NULL there: role not played). */
+#define PL_ROLE_MAX 24
 
 /* What a lifecycle callback is given. */
 typedef struct pl_ctx {
@@ -80,6 +85,11 @@ typedef struct pl_lifecycle {
                size_t size);
 } pl_lifecycle;
 
+/* A component type: one static, constant instance per type, registered as
+ * is (the registry keeps the pointer: a component's c->type is the address
+ * of the type's definition, so `c->type == &my_type` identifies it).
+ * Members a later minor ABI version adds go at the end and are read only
+ * from types whose abi_version has them (see plugin.h). */
 typedef struct pl_type {
     int abi_version;            /* PL_ABI_VERSION the type was compiled with */
     const char *name;           /* XML tag, e.g. "MechanicalObject" */
@@ -87,9 +97,8 @@ typedef struct pl_type {
     size_t size;                /* sizeof the component struct */
     const pl_field *fields;     /* field table */
     int nfields;
+    const void *roles[PL_ROLE_MAX]; /* role vtables; NULL = role not played */
     pl_lifecycle ops;
-    const void *roles[PL_ROLE_COUNT]; /* role vtables; NULL = role not played */
-    const char *plugin;         /* set by the registry: plugin name or "builtin" */
 } pl_type;
 
 struct pl_component {
@@ -106,18 +115,20 @@ static inline const void *pl_component_role(const pl_component *c, pl_role r)
     return (c && c->type) ? c->type->roles[r] : NULL;
 }
 
+/* "global solver", "contact solver", ...: a role's name for messages. */
+PL_API const char *pl_role_name(int role);
 /* "root/bar/dofs": node path plus component name, for messages. */
-const char *pl_component_path(const pl_component *c, char *buf, size_t size);
+PL_API const char *pl_component_path(const pl_component *c, char *buf, size_t size);
 /* Field descriptor by name (or alias), or NULL. */
-const pl_field *pl_component_field(const pl_component *c, const char *name);
+PL_API const pl_field *pl_component_field(const pl_component *c, const char *name);
 
 /* Records a load-time error about c (its file, line and path). Returns code. */
-int pl_component_error(const pl_component *c, pl_ctx *ctx, int code, const char *fmt, ...)
+PL_API int pl_component_error(const pl_component *c, pl_ctx *ctx, int code, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
-void pl_component_warn(const pl_component *c, pl_ctx *ctx, const char *fmt, ...)
+PL_API void pl_component_warn(const pl_component *c, pl_ctx *ctx, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Fills err about c at step time. Returns code. */
-int pl_component_fail(const pl_component *c, pl_error *err, int code, const char *fmt, ...)
+PL_API int pl_component_fail(const pl_component *c, pl_error *err, int code, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
 #ifdef __cplusplus

@@ -6,6 +6,7 @@
 #ifndef PLIANT_ERROR_H
 #define PLIANT_ERROR_H
 
+#include "api.h"
 #include <stdarg.h>
 #include <stddef.h>
 
@@ -29,17 +30,17 @@ typedef struct pl_error {
 } pl_error;
 
 /* Clears an error to PL_OK. */
-void pl_error_clear(pl_error *e);
+PL_API void pl_error_clear(pl_error *e);
 
 /* Fills e (if not NULL) and returns code.  file/where may be NULL. */
-int pl_error_set(pl_error *e, int code, const char *file, int line,
-                 const char *where, const char *fmt, ...)
+PL_API int pl_error_set(pl_error *e, int code, const char *file, int line,
+                        const char *where, const char *fmt, ...)
     __attribute__((format(printf, 6, 7)));
-int pl_error_vset(pl_error *e, int code, const char *file, int line,
-                  const char *where, const char *fmt, va_list ap);
+PL_API int pl_error_vset(pl_error *e, int code, const char *file, int line,
+                         const char *where, const char *fmt, va_list ap);
 
 /* Formats "file:line: where: msg" into buf; returns buf. */
-const char *pl_error_format(const pl_error *e, char *buf, size_t size);
+PL_API const char *pl_error_format(const pl_error *e, char *buf, size_t size);
 
 /* A list of errors and warnings, collected rather than stopping at the first. */
 typedef struct pl_diag {
@@ -48,21 +49,21 @@ typedef struct pl_diag {
     int nerrors;       /* items with code != PL_OK; warnings have code PL_OK */
 } pl_diag;
 
-void pl_diag_init(pl_diag *d);
-void pl_diag_free(pl_diag *d);
+PL_API void pl_diag_init(pl_diag *d);
+PL_API void pl_diag_free(pl_diag *d);
 /* Appends a copy of e (errors and warnings alike). */
-void pl_diag_add(pl_diag *d, const pl_error *e);
+PL_API void pl_diag_add(pl_diag *d, const pl_error *e);
 /* Appends a new error; returns code. */
-int pl_diag_error(pl_diag *d, int code, const char *file, int line,
-                  const char *where, const char *fmt, ...)
+PL_API int pl_diag_error(pl_diag *d, int code, const char *file, int line,
+                         const char *where, const char *fmt, ...)
     __attribute__((format(printf, 6, 7)));
 /* Appends a warning (code PL_OK): shown to the user, does not stop a load. */
-void pl_diag_warn(pl_diag *d, const char *file, int line, const char *where,
-                  const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+PL_API void pl_diag_warn(pl_diag *d, const char *file, int line, const char *where,
+                         const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 /* Prints every item as "file:line: error|warning: where: msg" to a stream. */
-void pl_diag_print(const pl_diag *d, void *stdio_file);
+PL_API void pl_diag_print(const pl_diag *d, void *stdio_file);
 /* The first error's code, or PL_OK. */
-int pl_diag_status(const pl_diag *d);
+PL_API int pl_diag_status(const pl_diag *d);
 
 #ifdef __cplusplus
 }

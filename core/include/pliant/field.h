@@ -13,6 +13,7 @@
 #ifndef PLIANT_FIELD_H
 #define PLIANT_FIELD_H
 
+#include "api.h"
 #include <stddef.h>
 #include "error.h"
 
@@ -79,18 +80,16 @@ typedef struct pl_field {
 /* Parses text into the field's storage inside component memory `obj`.
  * Frees what was there before.  On a malformed value returns PL_EINPUT with a
  * message saying what was expected (file/line are left for the caller). */
-int pl_field_parse(const pl_field *f, void *obj, const char *text, pl_error *err);
+PL_API int pl_field_parse(const pl_field *f, void *obj, const char *text, pl_error *err);
 /* Formats the field's current value as text (as it would be written in XML). */
-int pl_field_format(const pl_field *f, const void *obj, char *buf, size_t size);
+PL_API int pl_field_format(const pl_field *f, const void *obj, char *buf, size_t size);
 /* Releases heap storage held by the field (strings, lists, link paths). */
-void pl_field_release(const pl_field *f, void *obj);
+PL_API void pl_field_release(const pl_field *f, void *obj);
 /* Human name of a field type ("double", "vec3", "int list", ...). */
-const char *pl_field_type_name(pl_field_type t);
-/* Whether the field was given (non-empty list, non-NULL string or link). */
-int pl_field_is_set(const pl_field *f, const void *obj);
+PL_API const char *pl_field_type_name(pl_field_type t);
 
 /* Edit distance used for "did you mean ...?" suggestions. */
-int pl_edit_distance(const char *a, const char *b);
+PL_API int pl_edit_distance(const char *a, const char *b);
 
 #ifdef __cplusplus
 }

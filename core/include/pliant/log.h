@@ -4,6 +4,7 @@
 #ifndef PLIANT_LOG_H
 #define PLIANT_LOG_H
 
+#include "api.h"
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -17,11 +18,11 @@ typedef enum pl_log_level {
 
 typedef void (*pl_log_sink)(pl_log_level level, const char *msg, void *user);
 
-void pl_log_set_level(pl_log_level level);
-pl_log_level pl_log_get_level(void);
+PL_API void pl_log_set_level(pl_log_level level);
+PL_API pl_log_level pl_log_get_level(void);
 /* Redirects messages (NULL restores stderr). */
-void pl_log_set_sink(pl_log_sink sink, void *user);
-void pl_log(pl_log_level level, const char *fmt, ...)
+PL_API void pl_log_set_sink(pl_log_sink sink, void *user);
+PL_API void pl_log(pl_log_level level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 
 #define pl_log_error(...) pl_log(PL_LOG_ERROR, __VA_ARGS__)

@@ -9,6 +9,7 @@
 #ifndef PLIANT_MODEL_H
 #define PLIANT_MODEL_H
 
+#include "api.h"
 #include <stddef.h>
 #include <stdio.h>
 #include "component.h"
@@ -58,27 +59,27 @@ typedef struct pl_data {
 /* Declares a FIXED-size state slot of `bytes` bytes owned by c (during
  * init): it keeps that size, and a saved state whose slot has another size
  * is refused.  Returns its index (>= 0) or -1 on allocation failure. */
-int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
+PL_API int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
 /* Declares a VARIABLE state slot (contacts, rows: resized at run time),
  * empty at first, holding 0..max_elems elements of elem_size bytes (> 0).
  * pl_data_resize_slot and pl_data_load refuse other sizes. */
-int pl_model_add_var_slot(pl_model *m, pl_component *owner, const char *name, size_t elem_size,
-                          size_t max_elems);
+PL_API int pl_model_add_var_slot(pl_model *m, pl_component *owner, const char *name,
+                                 size_t elem_size, size_t max_elems);
 /* Sets the check pl_data_load runs on the slot's restored contents. */
-void pl_model_set_slot_check(pl_model *m, int slot, pl_slot_check check);
+PL_API void pl_model_set_slot_check(pl_model *m, int slot, pl_slot_check check);
 /* A ready check for slots of doubles: every value finite. */
-int pl_slot_check_finite(const pl_component *owner, const void *data, size_t bytes,
-                         pl_error *err);
+PL_API int pl_slot_check_finite(const pl_component *owner, const void *data, size_t bytes,
+                                pl_error *err);
 /* Index of the slot named "path.name", or -1. */
-int pl_model_find_slot(const pl_model *m, const char *fullname);
+PL_API int pl_model_find_slot(const pl_model *m, const char *fullname);
 
 /* A new data with every slot allocated and zeroed; NULL on failure. */
-pl_data *pl_data_create(const pl_model *m);
+PL_API pl_data *pl_data_create(const pl_model *m);
 /* A deep copy; NULL on failure. */
-pl_data *pl_data_clone(const pl_data *src);
+PL_API pl_data *pl_data_clone(const pl_data *src);
 /* Copies src into dst (same model); resizes dst's slots. */
-int pl_data_copy(pl_data *dst, const pl_data *src);
-void pl_data_free(pl_data *d);
+PL_API int pl_data_copy(pl_data *dst, const pl_data *src);
+PL_API void pl_data_free(pl_data *d);
 
 static inline void *pl_data_slot(const pl_data *d, int slot)
 {
@@ -91,11 +92,11 @@ static inline size_t pl_data_slot_bytes(const pl_data *d, int slot)
 /* Grows or shrinks a variable slot (contacts change in number); new bytes
  * are zero.  -1 when out of memory or when `bytes` is not a size the slot
  * was declared with (a fixed slot keeps its size). */
-int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
+PL_API int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
 
 /* Resizes a slot to `bytes` and copies src into it (a per-step list such as
  * the contacts of a step); PL_OK or PL_EINTERNAL. */
-int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
+PL_API int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
 
 /* Binary save/restore of a whole state (time, step, every slot by name).
  * Restoring treats the file as untrusted input: it must belong to a model
@@ -103,8 +104,8 @@ int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
  * (checked before anything is allocated; variable slots grow only as their
  * bytes actually arrive), the time must be finite, and each slot's check
  * must accept its contents.  On any error d is left untouched. */
-int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
-int pl_data_load(pl_data *d, FILE *f, pl_error *err);
+PL_API int pl_data_save(const pl_data *d, FILE *f, pl_error *err);
+PL_API int pl_data_load(pl_data *d, FILE *f, pl_error *err);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
 #ifndef PLIANT_NODE_H
 #define PLIANT_NODE_H
 
+#include "api.h"
 #include "component.h"
 
 #ifdef __cplusplus
@@ -27,28 +28,28 @@ typedef struct pl_node {
 
 /* Inherited context: the nearest ancestor (or self) that sets the value.
  * Defaults when no node sets them: dt 0.01 s, gravity (0, -9.81, 0) m/s^2. */
-double pl_node_dt(const pl_node *n);
-void pl_node_gravity(const pl_node *n, double g[3]);
+PL_API double pl_node_dt(const pl_node *n);
+PL_API void pl_node_gravity(const pl_node *n, double g[3]);
 
 /* "root/bar" */
-const char *pl_node_path(const pl_node *n, char *buf, size_t size);
+PL_API const char *pl_node_path(const pl_node *n, char *buf, size_t size);
 
 /* First component playing `role` in node n itself, or NULL. */
-pl_component *pl_node_find_role(const pl_node *n, pl_role role);
+PL_API pl_component *pl_node_find_role(const pl_node *n, pl_role role);
 /* Same, searching n then its ancestors (SOFA's context lookup). */
-pl_component *pl_node_find_role_up(const pl_node *n, pl_role role);
+PL_API pl_component *pl_node_find_role_up(const pl_node *n, pl_role role);
 
 /* Calls fn on every component of the subtree playing `role` (pre-order, scene
  * order).  Stops and returns fn's value when it is non-zero. */
 typedef int (*pl_component_visit)(pl_component *c, void *user);
-int pl_node_visit_role(pl_node *n, pl_role role, pl_component_visit fn, void *user);
+PL_API int pl_node_visit_role(pl_node *n, pl_role role, pl_component_visit fn, void *user);
 /* Number of components of the subtree playing `role`. */
-int pl_node_count_role(const pl_node *n, pl_role role);
+PL_API int pl_node_count_role(const pl_node *n, pl_role role);
 
 /* Resolves a link path from component `from`: "name" (same node, then up the
  * tree), "../name", "child/name", "/abs/path/name" or "[-1]" (the previous
  * component of the same node).  Returns NULL if not found. */
-pl_component *pl_node_resolve(const pl_component *from, const char *path);
+PL_API pl_component *pl_node_resolve(const pl_component *from, const char *path);
 
 #ifdef __cplusplus
 }

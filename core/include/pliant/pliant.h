@@ -6,6 +6,7 @@
 #include "checked.h"
 #include "component.h"
 #include "error.h"
+#include "export.h"
 #include "field.h"
 #include "log.h"
 #include "mesh.h"
@@ -19,6 +20,7 @@
 #include "sparse.h"
 #include "timer.h"
 #include "work_limits.h"
+#include "util.h"
 
 #define PLIANT_VERSION_MAJOR 0
 #define PLIANT_VERSION_MINOR 1

@@ -1,19 +1,36 @@
-/* plugin.h - what a plugin .so exports.
+/* plugin.h - what a plugin .so exports, and the ABI versions.
  *
  * Exactly one entry point:
  *
  *     int pl_plugin_register(pl_registry *reg, int host_abi);
  *
  * It returns the ABI version the plugin was compiled with (PL_ABI_VERSION).
- * When host_abi differs it must return at once without touching the
- * registry; the host then refuses the plugin, naming both versions.  When
- * they match it registers its types with pl_registry_add and returns
- * PL_ABI_VERSION (or a negative value if a registration failed).
- * PL_PLUGIN_DEFINE writes that boilerplate:
+ * When the host cannot run it (another major version, or an older minor
+ * than the plugin's) it must return at once without touching the registry;
+ * the host then refuses the plugin, naming both versions.  Otherwise it
+ * registers its types with pl_registry_add and returns PL_ABI_VERSION (or a
+ * negative value if a registration failed).  PL_PLUGIN_DEFINE writes that
+ * boilerplate:
  *
  *     static const pl_type *const types[] = {&arap_type, &neohookean_type};
  *     PL_PLUGIN_DEFINE(types)
- */
+ *
+ * ABI versions are major.minor, as SQLite's iVersion rule: a minor version
+ * only adds (a member at the end of a versioned role table, a role in a free
+ * slot of pl_type.roles, a function, a flag), so a host of minor m runs
+ * plugins built for any minor <= m of its major: it reads only what their
+ * tables have (role tables start with their version, checked by callers and
+ * by the registry).  Anything else (a struct layout, a member's meaning)
+ * bumps the major version, and plugins of another major are refused.
+ * A plugin may define PL_ABI_TARGET_MINOR before including the SDK to be
+ * built for hosts from that minor on: the headers then leave out what later
+ * minors added (each addition sits in #if PL_ABI_TARGET_MINOR >= m, a role
+ * table's new members and its raised version too).
+ *
+ * History: 3 and before: one number.  4.0: the detector role and
+ * pl_contacts removed, pl_type registered by pointer (its plugin name is the
+ * registry's), roles in PL_ROLE_MAX reserved slots, ABI major.minor.
+ * 4.1: PL_DEVICE_ABSENT, pl_mesh_boundary_triangles, pl_util_data_file. */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 
@@ -23,24 +40,19 @@
 extern "C" {
 #endif
 
-/* Bumped whenever a public struct layout or a role table changes
- * incompatibly.  Plugins of another version are refused. */
-#define PL_ABI_VERSION 3 /* 2: PL_ROLE_DEVICE (pl_type.roles grew); 3: collision groups as sets */
+/* Whether a host of ABI `host` runs code built for ABI `built`. */
+#define PL_ABI_COMPATIBLE(host, built)                 \
+    (PL_ABI_MAJOR_OF(host) == PL_ABI_MAJOR_OF(built) && \
+     PL_ABI_MINOR_OF(built) <= PL_ABI_MINOR_OF(host))
 
 #define PL_PLUGIN_ENTRY_NAME "pl_plugin_register"
 typedef int (*pl_plugin_entry)(pl_registry *reg, int host_abi);
-
-#if defined(__GNUC__)
-#define PL_EXPORT __attribute__((visibility("default")))
-#else
-#define PL_EXPORT
-#endif
 
 #define PL_PLUGIN_DEFINE(types_array)                                              \
     PL_EXPORT int pl_plugin_register(pl_registry *reg, int host_abi);              \
     PL_EXPORT int pl_plugin_register(pl_registry *reg, int host_abi)               \
     {                                                                              \
-        if (host_abi != PL_ABI_VERSION) return PL_ABI_VERSION;                     \
+        if (!PL_ABI_COMPATIBLE(host_abi, PL_ABI_VERSION)) return PL_ABI_VERSION;   \
         for (size_t k_ = 0; k_ < sizeof(types_array) / sizeof(types_array[0]); ++k_) { \
             pl_error e_;                                                           \
             if (pl_registry_add(reg, types_array[k_], &e_) != PL_OK) return -1;    \

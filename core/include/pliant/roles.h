@@ -198,15 +198,6 @@ typedef struct pl_collision_model_ops {
                   pl_error *err);
 } pl_collision_model_ops;
 
-/* ---- pl_detector: proximity queries -------------------------------------- */
-#define PL_DETECTOR_OPS_VERSION 1
-typedef struct pl_detector_ops {
-    int version;
-    /* appends the proximities within alarmDistance between the given models */
-    int (*detect)(pl_component *c, pl_ctx *ctx, const pl_collision_geometry *models, int nmodels,
-                  pl_contacts *out, pl_error *err);
-} pl_detector_ops;
-
 /* ---- pl_exporter: writes frames ------------------------------------------ */
 typedef struct pl_export_info {
     const char *out_dir;      /* directory for outputs (created if missing); NULL = as the scene says */
@@ -253,6 +244,12 @@ enum {
     PL_DEVICE_GRAPHS = 1, /* callers should capture repeated work (an iteration) as a graph */
     PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
 };
+#if PL_ABI_TARGET_MINOR >= 1
+/* Since ABI 4.1: the service has no device behind it (no GPU answers, or
+ * a build without CUDA): callers stay on the host, as without a service
+ * (pl_util_device skips it). */
+#define PL_DEVICE_ABSENT 4
+#endif
 typedef struct pl_device_ops {
     int version;
     /* PL_DEVICE_* flags the scene asked for */

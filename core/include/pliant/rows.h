@@ -8,6 +8,7 @@
 #ifndef PLIANT_ROWS_H
 #define PLIANT_ROWS_H
 
+#include "api.h"
 #include "component.h"
 
 #ifdef __cplusplus
@@ -37,44 +38,18 @@ typedef struct pl_rows {
     pl_component **owner;    /* per row: the component that emitted it */
 } pl_rows;
 
-void pl_rows_init(pl_rows *r);
-void pl_rows_free(pl_rows *r);
-void pl_rows_clear(pl_rows *r);
+PL_API void pl_rows_init(pl_rows *r);
+PL_API void pl_rows_free(pl_rows *r);
+PL_API void pl_rows_clear(pl_rows *r);
 /* Starts a new row; returns its index (or -1 on allocation failure).  Its
  * per-row values default to d 0, compliance 0, lo -inf, hi +inf, pair -1, mu 0. */
-int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner);
+PL_API int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner);
 /* Adds an entry (vertex, c) to the last row begun. */
-int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz);
+PL_API int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz);
 /* H q for one row, q an n x 3 row-major block over global vertices. */
-double pl_rows_dot(const pl_rows *r, int row, const double *q);
+PL_API double pl_rows_dot(const pl_rows *r, int row, const double *q);
 /* y += alpha * H^T lambda over global vertices (y: n x 3). */
-void pl_rows_add_transpose(const pl_rows *r, const double *lambda, double alpha, double *y);
-
-/* One proximity found by detection: a point of side A against side B.
- * Each side is a set of up to 4 vertices with barycentric weights (a vertex,
- * an edge point, a triangle point, a point mapped into a tetrahedron). */
-typedef struct pl_contact {
-    int nva, nvb;
-    int va[4], vb[4];        /* global vertex indices; nvb = 0 for a static or prescribed obstacle */
-    double wa[4], wb[4];
-    double normal[3];        /* unit, pointing from B to A (A is pushed along it) */
-    double gap;              /* signed distance along normal at detection [m] */
-    double target_gap;       /* the contactDistance to keep [m] */
-    double point_b[3];       /* the point on B (for obstacles without DOFs) */
-    double velocity_b[3];    /* surface velocity of B at point_b [m/s] (moving obstacles) */
-    double mu;               /* friction coefficient of the pair */
-    int model_a, model_b;    /* collision model indices (for groups, diagnostics) */
-} pl_contact;
-
-typedef struct pl_contacts {
-    pl_contact *items;
-    int n, cap;
-} pl_contacts;
-
-void pl_contacts_init(pl_contacts *c);
-void pl_contacts_free(pl_contacts *c);
-/* Appends a zeroed contact; NULL on allocation failure. */
-pl_contact *pl_contacts_push(pl_contacts *c);
+PL_API void pl_rows_add_transpose(const pl_rows *r, const double *lambda, double alpha, double *y);
 
 #ifdef __cplusplus
 }

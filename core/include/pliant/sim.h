@@ -12,6 +12,7 @@
 #ifndef PLIANT_SIM_H
 #define PLIANT_SIM_H
 
+#include "api.h"
 #include <stddef.h>
 #include "error.h"
 #include "model.h"
@@ -52,43 +53,43 @@ typedef struct pl_sim_options {
 
 /* Loads and initialises a scene.  On any error returns NULL with every
  * problem in diag (file:line, component path, the closest valid name). */
-pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *diag);
+PL_API pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *diag);
 /* Same from XML text; `name` stands for the file name in messages. */
-pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
-                           pl_diag *diag);
-void pl_sim_free(pl_sim *sim);
+PL_API pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
+                                  pl_diag *diag);
+PL_API void pl_sim_free(pl_sim *sim);
 
 /* Advances nsteps time steps of the scene's dt. */
-int pl_sim_step(pl_sim *sim, int nsteps, pl_error *err);
+PL_API int pl_sim_step(pl_sim *sim, int nsteps, pl_error *err);
 /* Advances another state over the same model (several states, one model). */
-int pl_sim_step_data(pl_sim *sim, pl_data *d, int nsteps, pl_error *err);
+PL_API int pl_sim_step_data(pl_sim *sim, pl_data *d, int nsteps, pl_error *err);
 /* Flushes exporters (closes .pvd series); called by pl_sim_free too. */
-int pl_sim_finish(pl_sim *sim, pl_error *err);
+PL_API int pl_sim_finish(pl_sim *sim, pl_error *err);
 
 /* Field access by path "node/sub/component.field" (the root's name may be
  * left out; a component name unique in the scene may stand alone). */
-int pl_sim_set(pl_sim *sim, const char *path, const char *value, pl_error *err);
-int pl_sim_get(const pl_sim *sim, const char *path, char *buf, size_t size, pl_error *err);
+PL_API int pl_sim_set(pl_sim *sim, const char *path, const char *value, pl_error *err);
+PL_API int pl_sim_get(const pl_sim *sim, const char *path, char *buf, size_t size, pl_error *err);
 /* Component by path, or NULL. */
-pl_component *pl_sim_component(const pl_sim *sim, const char *path);
+PL_API pl_component *pl_sim_component(const pl_sim *sim, const char *path);
 
-pl_model *pl_sim_model(pl_sim *sim);
-pl_data *pl_sim_data(pl_sim *sim);
-pl_registry *pl_sim_registry(pl_sim *sim);
-pl_timers *pl_sim_timers(pl_sim *sim);
-double pl_sim_time(const pl_sim *sim);
+PL_API pl_model *pl_sim_model(pl_sim *sim);
+PL_API pl_data *pl_sim_data(pl_sim *sim);
+PL_API pl_registry *pl_sim_registry(pl_sim *sim);
+PL_API pl_timers *pl_sim_timers(pl_sim *sim);
+PL_API double pl_sim_time(const pl_sim *sim);
 
 /* Back to the state right after loading. */
-int pl_sim_reset(pl_sim *sim);
+PL_API int pl_sim_reset(pl_sim *sim);
 /* Save/restore the current state to/from a file (binary, exact). */
-int pl_sim_save_state(const pl_sim *sim, const char *path, pl_error *err);
-int pl_sim_restore_state(pl_sim *sim, const char *path, pl_error *err);
+PL_API int pl_sim_save_state(const pl_sim *sim, const char *path, pl_error *err);
+PL_API int pl_sim_restore_state(pl_sim *sim, const char *path, pl_error *err);
 
 /* Installs a per-step callback (NULL removes it). */
-void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
+PL_API void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
 
 /* Paths of the main files exporters wrote (for "output went to ..."). */
-int pl_sim_outputs(const pl_sim *sim, const char **paths, int max);
+PL_API int pl_sim_outputs(const pl_sim *sim, const char **paths, int max);
 
 #ifdef __cplusplus
 }

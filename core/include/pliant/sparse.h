@@ -4,6 +4,7 @@
 #ifndef PLIANT_SPARSE_H
 #define PLIANT_SPARSE_H
 
+#include "api.h"
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -34,14 +35,14 @@ typedef struct pl_csr {
     double *x;    /* nnz values */
 } pl_csr;
 
-int pl_triplets_init(pl_triplets *t, int nrows, int ncols, int cap);
-void pl_triplets_free(pl_triplets *t);
+PL_API int pl_triplets_init(pl_triplets *t, int nrows, int ncols, int cap);
+PL_API void pl_triplets_free(pl_triplets *t);
 /* Appends (i, j, x); returns PL_EINTERNAL on allocation failure. */
-int pl_triplets_add(pl_triplets *t, int i, int j, double x);
+PL_API int pl_triplets_add(pl_triplets *t, int i, int j, double x);
 /* Compresses to CSC, summing duplicates and sorting rows; 0 on success. */
-int pl_triplets_to_csc(const pl_triplets *t, pl_csc *out);
-void pl_csc_free(pl_csc *a);
-void pl_csr_free(pl_csr *a);
+PL_API int pl_triplets_to_csc(const pl_triplets *t, pl_csc *out);
+PL_API void pl_csc_free(pl_csc *a);
+PL_API void pl_csr_free(pl_csr *a);
 static inline int pl_csc_nnz(const pl_csc *a) { return a->p[a->ncols]; }
 static inline int pl_csr_nnz(const pl_csr *a) { return a->p[a->nrows]; }
 

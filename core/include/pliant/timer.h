@@ -8,6 +8,7 @@
 #ifndef PLIANT_TIMER_H
 #define PLIANT_TIMER_H
 
+#include "api.h"
 #include <stdio.h>
 
 #ifdef __cplusplus
@@ -16,44 +17,44 @@ extern "C" {
 
 typedef struct pl_timers pl_timers;
 
-pl_timers *pl_timers_create(void);
-void pl_timers_free(pl_timers *t);
-void pl_timers_clear(pl_timers *t);
+PL_API pl_timers *pl_timers_create(void);
+PL_API void pl_timers_free(pl_timers *t);
+PL_API void pl_timers_clear(pl_timers *t);
 
 /* Monotonic wall clock in seconds. */
-double pl_now(void);
+PL_API double pl_now(void);
 
 /* Id of the phase `name` (created on first use); -1 on allocation failure. */
-int pl_timer_id(pl_timers *t, const char *name);
-void pl_timer_start(pl_timers *t, int id);
-void pl_timer_stop(pl_timers *t, int id);
+PL_API int pl_timer_id(pl_timers *t, const char *name);
+PL_API void pl_timer_start(pl_timers *t, int id);
+PL_API void pl_timer_stop(pl_timers *t, int id);
 /* Adds seconds to a phase directly. */
-void pl_timer_add(pl_timers *t, int id, double seconds);
+PL_API void pl_timer_add(pl_timers *t, int id, double seconds);
 /* Closes the frame: every phase's accumulated time becomes a sample (phases
  * that did not run this frame get no sample). */
-void pl_timers_end_frame(pl_timers *t);
+PL_API void pl_timers_end_frame(pl_timers *t);
 
-int pl_timers_count(const pl_timers *t);
-const char *pl_timers_name(const pl_timers *t, int id);
-int pl_timers_samples(const pl_timers *t, int id);
-double pl_timers_median_ms(const pl_timers *t, int id);
-double pl_timers_max_ms(const pl_timers *t, int id);
-double pl_timers_total_ms(const pl_timers *t, int id);
+PL_API int pl_timers_count(const pl_timers *t);
+PL_API const char *pl_timers_name(const pl_timers *t, int id);
+PL_API int pl_timers_samples(const pl_timers *t, int id);
+PL_API double pl_timers_median_ms(const pl_timers *t, int id);
+PL_API double pl_timers_max_ms(const pl_timers *t, int id);
+PL_API double pl_timers_total_ms(const pl_timers *t, int id);
 
 /* Named statistics ("nnz(S)", "S memory [MB]", "contacts max"). */
-void pl_stat_set(pl_timers *t, const char *name, double value);
+PL_API void pl_stat_set(pl_timers *t, const char *name, double value);
 /* Keeps the maximum of the values given. */
-void pl_stat_max(pl_timers *t, const char *name, double value);
+PL_API void pl_stat_max(pl_timers *t, const char *name, double value);
 /* Appends a value to a named series (e.g. "energy" after each iteration). */
-void pl_series_push(pl_timers *t, const char *name, double value);
-int pl_stat_get(const pl_timers *t, const char *name, double *value);
+PL_API void pl_series_push(pl_timers *t, const char *name, double value);
+PL_API int pl_stat_get(const pl_timers *t, const char *name, double *value);
 /* Values of a series; returns the count (0 if absent). */
-int pl_series_get(const pl_timers *t, const char *name, const double **values);
+PL_API int pl_series_get(const pl_timers *t, const char *name, const double **values);
 
 /* {"phases": {name: {median_ms, max_ms, total_ms, samples}}, "stats": {...}, "series": {...}} */
-int pl_timers_write_json(const pl_timers *t, FILE *f);
+PL_API int pl_timers_write_json(const pl_timers *t, FILE *f);
 /* A human table of the phases. */
-void pl_timers_print(const pl_timers *t, FILE *f);
+PL_API void pl_timers_print(const pl_timers *t, FILE *f);
 
 #ifdef __cplusplus
 }

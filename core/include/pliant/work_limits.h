@@ -42,12 +42,12 @@ typedef struct pl_work_limits {
  * in n or its ancestors, else the defaults; then no more than the model's
  * ceiling (pl_sim_options.max_limits) where it has one.  m and n may be
  * NULL. */
-void pl_work_limits_of(const pl_model *m, const pl_node *n, pl_work_limits *out);
+PL_API void pl_work_limits_of(const pl_model *m, const pl_node *n, pl_work_limits *out);
 
 /* Refuses `amount` of `what` above `cap` for component c: PL_OK, or
  * PL_EINPUT reported at c's file:line naming the field that raises it. */
-int pl_work_limit_check(const pl_component *c, pl_ctx *ctx, double amount, long long cap,
-                        const char *what, const char *limit_field);
+PL_API int pl_work_limit_check(const pl_component *c, pl_ctx *ctx, double amount, long long cap,
+                               const char *what, const char *limit_field);
 
 #ifdef __cplusplus
 }

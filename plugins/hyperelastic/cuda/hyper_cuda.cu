@@ -7,7 +7,7 @@
 #include <limits.h>
 #include <stdlib.h>
 
-#include "hyper_cuda_math2.cuh"
+#include "local_solve.h" /* the local solve the CPU runs too (compiled as CUDA) */
 
 struct pl_hyper_cuda {
     int n, nverts, material;
@@ -18,7 +18,6 @@ struct pl_hyper_cuda {
     int *vptr, *vinc;       /* nverts + 1, 4n */
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
     int *stats;             /* max iterations, missed, first non-finite element */
-    double bytes;
 };
 
 namespace {
@@ -96,11 +95,7 @@ __global__ void __launch_bounds__(kThreads)
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        int it;
-        if constexpr (Dd == 3)
-            it = hcu::local_solve3(material, m, la, what, z, p);
-        else
-            it = hcu::local_solve32(material, m, la, what, z, p);
+        const int it = hm_local_solve(Dd, material, m, la, what, z, p);
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
@@ -171,7 +166,6 @@ int upload(pl_hyper_cuda *g, T **dst, const T *src, size_t count, pl_error *err)
 {
     size_t bytes = (count > 0 ? count : 1) * sizeof(T);
     HC_CK(cudaMalloc((void **)dst, bytes), "cudaMalloc");
-    g->bytes += (double)bytes;
     if (src && count) HC_CK(cudaMemcpy(*dst, src, count * sizeof(T), cudaMemcpyHostToDevice), "upload");
     return PL_OK;
 }
@@ -263,12 +257,3 @@ extern "C" int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream,
     return PL_OK;
 }
 
-extern "C" int pl_hyper_cuda_count(const pl_hyper_cuda *g)
-{
-    return g ? g->n : 0;
-}
-
-extern "C" double pl_hyper_cuda_device_bytes(const pl_hyper_cuda *g)
-{
-    return g ? g->bytes : 0.0;
-}

@@ -55,9 +55,6 @@ int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double 
  * PL_EINTERNAL, naming the first element, if some F was not finite. */
 int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
 
-/* Elements and device bytes held. */
-int pl_hyper_cuda_count(const pl_hyper_cuda *g);
-double pl_hyper_cuda_device_bytes(const pl_hyper_cuda *g);
 
 #ifdef __cplusplus
 }

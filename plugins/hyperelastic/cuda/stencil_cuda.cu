@@ -6,11 +6,12 @@
 #include <cuda_runtime.h>
 #include <stdlib.h>
 
+#include "keep_norm.h" /* the CPU's KEEP_NORM projection (compiled as CUDA) */
+
 struct pl_stencil_cuda {
     int n, nverts, nnz, keep_norm;
     int *ptr, *vert, *vptr, *vinc;
     double *coef, *w, *rest, *targets, *work;
-    double bytes;
 };
 
 namespace {
@@ -27,7 +28,6 @@ int upload(pl_stencil_cuda *g, T **dst, const T *src, size_t count, pl_error *er
     size_t bytes = (count > 0 ? count : 1) * sizeof(T);
     cudaError_t e = cudaMalloc((void **)dst, bytes);
     if (e != cudaSuccess) return cuda_fail(err, e, "cudaMalloc");
-    g->bytes += (double)bytes;
     if (src && count) {
         e = cudaMemcpy(*dst, src, count * sizeof(T), cudaMemcpyHostToDevice);
         if (e != cudaSuccess) return cuda_fail(err, e, "upload");
@@ -57,16 +57,7 @@ __global__ void k_rows(int n, int keep_norm, const int *__restrict__ ptr,
     if (!keep_norm) {
         for (int a = 0; a < 3; ++a) p[a] = targets ? targets[3 * (size_t)r + a] : 0.0;
     } else {
-        const double *y0 = rest + 3 * (size_t)r;
-        double r0 = sqrt(y0[0] * y0[0] + y0[1] * y0[1] + y0[2] * y0[2]);
-        double ny = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-        if (r0 == 0.0) {
-            p[0] = p[1] = p[2] = 0.0;
-        } else if (ny > 1e-300) {
-            for (int a = 0; a < 3; ++a) p[a] = r0 * y[a] / ny;
-        } else {
-            for (int a = 0; a < 3; ++a) p[a] = y0[a];
-        }
+        hm_keep_norm_target(rest + 3 * (size_t)r, y, p);
     }
     const double hw = h2 * w[r];
     for (int k = b; k < e; ++k) {
@@ -156,7 +147,3 @@ extern "C" int pl_stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2
     return e == cudaSuccess ? PL_OK : cuda_fail(err, e, "stencil kernels");
 }
 
-extern "C" double pl_stencil_cuda_device_bytes(const pl_stencil_cuda *g)
-{
-    return g ? g->bytes : 0.0;
-}

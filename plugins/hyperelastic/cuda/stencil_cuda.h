@@ -31,7 +31,6 @@ int pl_stencil_cuda_set_targets(pl_stencil_cuda *g, const double *targets,
 int pl_stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2, const double *q,
                             int with_targets, double *rhs, struct CUstream_st *stream,
                             pl_error *err);
-double pl_stencil_cuda_device_bytes(const pl_stencil_cuda *g);
 
 #ifdef __cplusplus
 }

@@ -88,14 +88,13 @@ int check_io(const pl_spinv_cuda *g, pl_precision io, pl_error *err)
 } // namespace
 
 extern "C" pl_spinv_cuda *pl_spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
-                                               pl_spinv_cuda_path path, pl_error *err)
+                                               pl_error *err)
 {
-    return pl_spinv_cuda_create_tuned(s, precision, path, 0, 0, err);
+    return pl_spinv_cuda_create_tuned(s, precision, 0, 0, err);
 }
 
 extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
-                                                     pl_precision precision,
-                                                     pl_spinv_cuda_path path, int group,
+                                                     pl_precision precision, int group,
                                                      int item_blocks, pl_error *err)
 {
     const pl_spinv_profile *S = s ? pl_sparse_inverse_S(s) : NULL;
@@ -118,7 +117,6 @@ extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
     }
     g->n = S->n;
     g->prec = precision;
-    g->path = path;
     pl_spinv_cuda_layout L;
     int rc = pl_spinv_cuda_layout_build(S, ST, (int)real_size(precision), group, item_blocks, &L,
                                         err);
@@ -135,7 +133,6 @@ extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
     g->bytes_step = 2.0 * (double)S->start[S->n] * (double)real_size(precision);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hb, (size_t)g->n * 3 * sizeof(double), err);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hx, (size_t)g->n * 3 * sizeof(double), err);
-    if (rc == PL_OK && path == PL_SPINV_CUDA_CUSPARSE) rc = spinv_cusparse_create(g, S, ST, err);
     if (rc != PL_OK) {
         pl_spinv_cuda_destroy(g);
         return NULL;
@@ -146,7 +143,6 @@ extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
 extern "C" void pl_spinv_cuda_destroy(pl_spinv_cuda *g)
 {
     if (!g) return;
-    if (g->sp) spinv_cusparse_destroy(g->sp);
     spinv_delassus_destroy(g->dl);
     void *ptrs[] = {g->perm, g->val, g->meta, g->items_S, g->items_ST, g->short_rows, g->rowlist,
                     g->a, g->y4, g->part_S, g->part_ST, g->cnt_S, g->cnt_ST, g->hb, g->hx};
@@ -165,11 +161,6 @@ extern "C" int pl_spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_
     g->last_b = b, g->last_x = x, g->last_io = io;
     cudaStream_t st = stream;
     if ((rc = spinv_cuda_launch_permute(g, b, io, g->perm, st, err))) return rc;
-    if (g->path == PL_SPINV_CUDA_CUSPARSE) {
-        if ((rc = spinv_cusparse_mult(g, 0, st, err)) || (rc = spinv_cusparse_mult(g, 1, st, err)))
-            return rc;
-        return spinv_cuda_launch_unpermute(g, spinv_cusparse_z(g->sp), x, io, st, err);
-    }
     if ((rc = spinv_cuda_launch_S(g, st, err))) return rc;
     return spinv_cuda_launch_ST(g, x, io, g->perm, st, err);
 }
@@ -193,13 +184,6 @@ extern "C" int pl_spinv_cuda_apply_S(pl_spinv_cuda *g, const void *x, void *y,
     int rc = check_io(g, g ? g->prec : PL_F64, err);
     if (rc != PL_OK) return rc;
     if ((rc = spinv_cuda_launch_permute(g, x, g->prec, NULL, stream, err))) return rc;
-    if (g->path == PL_SPINV_CUDA_CUSPARSE) {
-        if ((rc = spinv_cusparse_mult(g, 0, stream, err))) return rc;
-        SPINV_CK(cudaMemcpyAsync(y, spinv_cusparse_y(g->sp), (size_t)g->n * 3 * real_size(g->prec),
-                                 cudaMemcpyDeviceToDevice, stream),
-                 "copy");
-        return PL_OK;
-    }
     if ((rc = spinv_cuda_launch_S(g, stream, err))) return rc;
     return spinv_cuda_launch_from4(g, y, stream, err);
 }
@@ -209,15 +193,6 @@ extern "C" int pl_spinv_cuda_apply_ST(pl_spinv_cuda *g, const void *x, void *y,
 {
     int rc = check_io(g, g ? g->prec : PL_F64, err);
     if (rc != PL_OK) return rc;
-    size_t bytes = (size_t)g->n * 3 * real_size(g->prec);
-    if (g->path == PL_SPINV_CUDA_CUSPARSE) {
-        SPINV_CK(cudaMemcpyAsync(spinv_cusparse_y(g->sp), x, bytes, cudaMemcpyDeviceToDevice, stream),
-                 "copy");
-        if ((rc = spinv_cusparse_mult(g, 1, stream, err))) return rc;
-        SPINV_CK(cudaMemcpyAsync(y, spinv_cusparse_z(g->sp), bytes, cudaMemcpyDeviceToDevice, stream),
-                 "copy");
-        return PL_OK;
-    }
     if ((rc = spinv_cuda_launch_to4(g, x, stream, err))) return rc;
     return spinv_cuda_launch_ST(g, y, g->prec, NULL, stream, err);
 }
@@ -232,10 +207,8 @@ extern "C" int pl_spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage sta
     case PL_SPINV_CUDA_STAGE_PERMUTE:
         return spinv_cuda_launch_permute(g, g->last_b, g->last_io, g->perm, stream, err);
     case PL_SPINV_CUDA_STAGE_S:
-        return g->path == PL_SPINV_CUDA_CUSPARSE ? spinv_cusparse_mult(g, 0, stream, err)
-                                                 : spinv_cuda_launch_S(g, stream, err);
+        return spinv_cuda_launch_S(g, stream, err);
     case PL_SPINV_CUDA_STAGE_ST:
-        if (g->path == PL_SPINV_CUDA_CUSPARSE) return spinv_cusparse_mult(g, 1, stream, err);
         return spinv_cuda_launch_ST(g, g->last_x, g->last_io, g->perm, stream, err);
     }
     return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse (cuda): unknown stage");
@@ -251,11 +224,6 @@ extern "C" pl_precision pl_spinv_cuda_precision(const pl_spinv_cuda *g)
     return g ? g->prec : PL_F64;
 }
 
-extern "C" pl_spinv_cuda_path pl_spinv_cuda_path_of(const pl_spinv_cuda *g)
-{
-    return g ? g->path : PL_SPINV_CUDA_OWN;
-}
-
 extern "C" double pl_spinv_cuda_device_bytes(const pl_spinv_cuda *g)
 {
     return g ? g->bytes_device : 0.0;
@@ -266,8 +234,3 @@ extern "C" double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g)
     return g ? g->bytes_step : 0.0;
 }
 
-extern "C" const char *pl_spinv_cuda_path_name(const pl_spinv_cuda *g)
-{
-    if (!g) return "";
-    return g->path == PL_SPINV_CUDA_CUSPARSE ? spinv_cusparse_alg(g->sp) : "own";
-}

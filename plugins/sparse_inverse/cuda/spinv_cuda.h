@@ -18,8 +18,9 @@
  * order: the result is deterministic.  Nothing in solve allocates or
  * synchronises, so a caller may capture it in a CUDA graph.
  *
- * A cuSPARSE path (CSR matrices S and S^T, SpMM CSR_ALG3 on row-major n x 3
- * blocks, preprocessed) is kept for comparison (PL_SPINV_CUDA_CUSPARSE).
+ * (A cuSPARSE path, SpMM CSR_ALG3 on CSR copies of S and S^T, was measured
+ * 3.5 to 6 times slower with 4 times the memory, docs/benchmarks.md, and
+ * deleted: no scene chose it.)
  *
  * All pointers passed to solve are DEVICE pointers to n x 3 row-major
  * blocks in the original (unpermuted) numbering; x may equal b.  Work is
@@ -38,11 +39,6 @@ extern "C" {
 
 struct CUstream_st; /* cudaStream_t without including the CUDA headers */
 
-typedef enum pl_spinv_cuda_path {
-    PL_SPINV_CUDA_OWN = 0,      /* the profile kernels above */
-    PL_SPINV_CUDA_CUSPARSE = 1  /* cuSPARSE SpMM on CSR copies of S and S^T */
-} pl_spinv_cuda_path;
-
 typedef struct pl_spinv_cuda pl_spinv_cuda;
 
 /* Copies S (and perm) of a factored sparse-mode solver to the current
@@ -50,7 +46,7 @@ typedef struct pl_spinv_cuda pl_spinv_cuda;
  * err set when s has no S (direct mode, not factored), on a bad precision,
  * out of device memory or on a CUDA error. */
 pl_spinv_cuda *pl_spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
-                                    pl_spinv_cuda_path path, pl_error *err);
+                                    pl_error *err);
 void pl_spinv_cuda_destroy(pl_spinv_cuda *g);
 
 /* x = A^-1 b on device n x 3 blocks whose element type is io (PL_F64 or
@@ -65,15 +61,11 @@ int pl_spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
 
 int pl_spinv_cuda_size(const pl_spinv_cuda *g);
 pl_precision pl_spinv_cuda_precision(const pl_spinv_cuda *g);
-pl_spinv_cuda_path pl_spinv_cuda_path_of(const pl_spinv_cuda *g);
 /* Device bytes held (matrix, metadata, workspaces). */
 double pl_spinv_cuda_device_bytes(const pl_spinv_cuda *g);
-/* Bytes of matrix values (and column indices, for cuSPARSE) one global
- * step must read: the floor on its memory traffic. */
+/* Bytes of matrix values one global step must read: the floor on its
+ * memory traffic. */
 double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g);
-/* "own" or the cuSPARSE algorithm used ("CSR_ALG3", or "DEFAULT" when
- * CSR_ALG3 was refused). */
-const char *pl_spinv_cuda_path_name(const pl_spinv_cuda *g);
 
 /* ---- the Delassus operator ------------------------------------------- */
 
@@ -109,7 +101,7 @@ int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double
  * one warp at most `group` (1, 2, 4, 8; 0 = default), ROWS items of
  * item_blocks blocks of 8 columns (0 = default). */
 pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s, pl_precision precision,
-                                          pl_spinv_cuda_path path, int group, int item_blocks,
+                                          int group, int item_blocks,
                                           pl_error *err);
 
 /* y = S x or y = S^T x on device n x 3 blocks (element type: the object's

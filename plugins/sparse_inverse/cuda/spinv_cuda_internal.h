@@ -16,14 +16,12 @@ int spinv_cuda_fail(pl_error *err, cudaError_t e, const char *what);
         if (ck_e_ != cudaSuccess) return spinv_cuda_fail(err, ck_e_, what); \
     } while (0)
 
-struct spinv_cusparse; /* spinv_cuda_cusparse.cu */
 struct spinv_delassus; /* spinv_cuda_delassus.cu: cuBLAS handle and buffers, made on first use */
 extern "C" void spinv_delassus_destroy(struct spinv_delassus *d);
 
 struct pl_spinv_cuda {
     int n, npad;
     pl_precision prec;
-    pl_spinv_cuda_path path;
     /* sizes of the layout (the host arrays are freed after upload) */
     int nitems_S, nitems_ST, nparts_S, nparts_ST, ntiles, vc, tile;
     int group, item_blocks;          /* rows per ROWS item at most, blocks per ROWS item */
@@ -40,7 +38,6 @@ struct pl_spinv_cuda {
     void *part_S, *part_ST;          /* partial sums of split rows and tiles */
     int *cnt_S, *cnt_ST;             /* arrival counters (reset by the last warp) */
     double *hb, *hx;                 /* n x 3 float64 staging for solve_host */
-    struct spinv_cusparse *sp;       /* PL_SPINV_CUDA_CUSPARSE only */
     struct spinv_delassus *dl;       /* pl_spinv_cuda_delassus's state */
     /* the last solve's buffers, for run_stage */
     const void *last_b;
@@ -58,20 +55,5 @@ int spinv_cuda_launch_ST(pl_spinv_cuda *g, void *x, pl_precision io, const int *
 /* y4 (n x 4) <- x (n x 3) and y (n x 3) <- y4, in the object's precision. */
 int spinv_cuda_launch_to4(pl_spinv_cuda *g, const void *x, cudaStream_t st, pl_error *err);
 int spinv_cuda_launch_from4(pl_spinv_cuda *g, void *y, cudaStream_t st, pl_error *err);
-/* x[perm[i]] = z[i] (z: n x 3 in the object's precision, x: io). */
-int spinv_cuda_launch_unpermute(pl_spinv_cuda *g, const void *z, void *x, pl_precision io,
-                                cudaStream_t st, pl_error *err);
-
-/* The cuSPARSE path (spinv_cuda_cusparse.cu). */
-int spinv_cusparse_create(pl_spinv_cuda *g, const pl_spinv_profile *S, const pl_spinv_runs *ST,
-                          pl_error *err);
-void spinv_cusparse_destroy(struct spinv_cusparse *sp);
-/* y = S a (which = 0) or z = S^T y (which = 1) on the path's n x 3 buffers;
- * a is g->a. */
-int spinv_cusparse_mult(pl_spinv_cuda *g, int which, cudaStream_t st, pl_error *err);
-/* The path's n x 3 buffers y = S a and z = S^T y. */
-void *spinv_cusparse_y(struct spinv_cusparse *sp);
-void *spinv_cusparse_z(struct spinv_cusparse *sp);
-const char *spinv_cusparse_alg(const struct spinv_cusparse *sp);
 
 #endif

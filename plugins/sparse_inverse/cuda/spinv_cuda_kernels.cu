@@ -280,17 +280,6 @@ __global__ void k_permute_in(int n, int npad, const int *__restrict__ perm,
     a[3 * (size_t)i] = v0, a[3 * (size_t)i + 1] = v1, a[3 * (size_t)i + 2] = v2;
 }
 
-/* x[perm[i]] = z[i] (To <- T). */
-template <typename T, typename To>
-__global__ void k_unpermute(int n, const int *__restrict__ perm, const T *__restrict__ z,
-                            To *__restrict__ x)
-{
-    const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (i >= n) return;
-    const size_t r = 3 * (size_t)perm[i], s = 3 * (size_t)i;
-    x[r] = (To)z[s], x[r + 1] = (To)z[s + 1], x[r + 2] = (To)z[s + 2];
-}
-
 template <typename T>
 __global__ void k_to4(int n, const T *__restrict__ x, T *__restrict__ y4)
 {
@@ -339,13 +328,6 @@ void mult_ST(pl_spinv_cuda *g, void *x, const int *perm, cudaStream_t st)
             g->items_ST, g->rowlist, static_cast<const T *>(g->val),
             static_cast<const T *>(g->y4), g->n, perm, static_cast<To *>(x),
             static_cast<T *>(g->part_ST), g->cnt_ST);
-}
-
-template <typename T, typename To>
-void unpermute(pl_spinv_cuda *g, const void *z, void *x, cudaStream_t st)
-{
-    k_unpermute<T, To><<<blocks_for(g->n), kThreads, 0, st>>>(g->n, g->perm, static_cast<const T *>(z),
-                                                              static_cast<To *>(x));
 }
 
 } // namespace
@@ -424,13 +406,3 @@ int spinv_cuda_launch_from4(pl_spinv_cuda *g, void *y, cudaStream_t st, pl_error
     return launched(err, "copy kernel");
 }
 
-int spinv_cuda_launch_unpermute(pl_spinv_cuda *g, const void *z, void *x, pl_precision io,
-                                cudaStream_t st, pl_error *err)
-{
-    if (g->prec == PL_F32)
-        io == PL_F32 ? unpermute<float, float>(g, z, x, st) : unpermute<float, double>(g, z, x, st);
-    else
-        io == PL_F32 ? unpermute<double, float>(g, z, x, st)
-                     : unpermute<double, double>(g, z, x, st);
-    return launched(err, "unpermute kernel");
-}

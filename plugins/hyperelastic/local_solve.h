@@ -1,0 +1,215 @@
+/* local_solve.h - the per-element local step, the one implementation for
+ * the CPU (local_solve.c, pl_hyper_local_solve) and the GPU
+ * (cuda/hyper_cuda.cu); compiled as C and as CUDA (pliant/hostdevice.h).
+ *
+ * ARAP: the projection on rotations (closest proper rotation, closest 3x2
+ * matrix with orthonormal columns for membranes).
+ *
+ * ADMM-PD: p = argmin psi(p) + what/2 ||p - z||^2.  psi is isotropic, so by
+ * von Neumann's trace inequality (in its signed form for 3x3) p shares the
+ * singular vectors of z and only the d singular values are unknown:
+ *   minimise f(s) = psi_hat(s) + what/2 ||s - z_hat||^2.
+ * Newton on f with the Hessian's eigenvalues clamped positive and an Armijo
+ * backtracking line search; for Neo-Hookean every step is also shortened to
+ * keep s > 0 (ln J is the barrier).  Corotational f is quadratic: one step.
+ *
+ * d (3: tetrahedra, F 3x3; 2: membranes, F 3x2) is a parameter that every
+ * caller passes as a constant, so that on the GPU the small arrays stay in
+ * registers. */
+#ifndef PLIANT_HYPER_LOCAL_SOLVE_H
+#define PLIANT_HYPER_LOCAL_SOLVE_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "hyperelastic.h"
+#include "material_law.h"
+#include "pliant/hostdevice.h"
+#include "svd.h"
+#include "sym_eigen.h"
+
+/* f(s), or +INFINITY outside the law's domain. */
+PL_HD double hm_objective(const int d, int mat, double mu, double la, double what, const double *s,
+                          const double *zh)
+{
+    double psi, q = 0.0;
+    if (hm_sv_eval(d, mat, mu, la, s, &psi, NULL, NULL) != 0) return INFINITY;
+    PL_UNROLL
+    for (int i = 0; i < d; ++i) q += (s[i] - zh[i]) * (s[i] - zh[i]);
+    return psi + 0.5 * what * q;
+}
+
+/* r = grad f(s) and H = psi_hat's Hessian; returns max |r_i|, +INFINITY
+ * outside the domain. */
+PL_HD double hm_residual(const int d, int mat, double mu, double la, double what, const double *s,
+                         const double *zh, double *r, double *H)
+{
+    double psi, g[3], rn = 0.0;
+    if (hm_sv_eval(d, mat, mu, la, s, &psi, g, H) != 0) return INFINITY;
+    PL_UNROLL
+    for (int i = 0; i < d; ++i) {
+        r[i] = g[i] + what * (s[i] - zh[i]);
+        rn = fmax(rn, fabs(r[i]));
+    }
+    return rn;
+}
+
+PL_HD double hm_inf_norm(const int d, const double *v)
+{
+    double m = fabs(v[0]);
+    PL_UNROLL
+    for (int i = 1; i < d; ++i) m = fmax(m, fabs(v[i]));
+    return m;
+}
+
+/* dx = -H^-1 r by Cholesky when H (symmetric d x d) is comfortably positive
+ * definite (the usual case: what I is added); otherwise through its
+ * eigen-decomposition with eigenvalues clamped from below by floor_, which
+ * still gives a descent direction. */
+PL_HD void hm_newton_direction(const int d, const double *H, const double *r, double floor_,
+                               double *dx)
+{
+    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    bool pd = true;
+    PL_UNROLL
+    for (int j = 0; j < d; ++j) {
+        if (!pd) break;
+        double v = H[j * d + j];
+        PL_UNROLL
+        for (int k = 0; k < j; ++k) v -= L[j * d + k] * L[j * d + k];
+        if (!(v > floor_)) {
+            pd = false;
+            break;
+        }
+        L[j * d + j] = sqrt(v);
+        PL_UNROLL
+        for (int i = j + 1; i < d; ++i) {
+            double w = H[i * d + j];
+            PL_UNROLL
+            for (int k = 0; k < j; ++k) w -= L[i * d + k] * L[j * d + k];
+            L[i * d + j] = w / L[j * d + j];
+        }
+    }
+    if (pd) {
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) { /* L y = -r, then L^T dx = y */
+            double v = -r[i];
+            PL_UNROLL
+            for (int k = 0; k < i; ++k) v -= L[i * d + k] * dx[k];
+            dx[i] = v / L[i * d + i];
+        }
+        PL_UNROLL
+        for (int i = d - 1; i >= 0; --i) {
+            double v = dx[i];
+            PL_UNROLL
+            for (int k = i + 1; k < d; ++k) v -= L[k * d + i] * dx[k];
+            dx[i] = v / L[i * d + i];
+        }
+        return;
+    }
+    double lam[3], Q[9], M[9];
+    hm_sym_eigen(d, H, M, lam, Q);
+    PL_UNROLL
+    for (int i = 0; i < d; ++i) dx[i] = 0.0;
+    PL_UNROLL
+    for (int k = 0; k < d; ++k) {
+        double proj = 0.0;
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) proj += Q[i * d + k] * r[i];
+        double l = fmax(lam[k], floor_);
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) dx[i] -= Q[i * d + k] * proj / l;
+    }
+}
+
+/* Minimises f over the d singular values from z_hat; returns the
+ * iterations or -1. */
+PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, double what,
+                                   const double *zh, double *s)
+{
+    const int max_iter = 100;
+    const double scale = hm_inf_norm(d, zh);
+    const double tol = 1e-13 * what * fmax(1.0, scale);
+    /* start at z_hat; Neo-Hookean needs s > 0 (its barrier keeps the minimiser
+     * of an inverted or collapsed z near 0.5, so start no lower than 0.1) */
+    PL_UNROLL
+    for (int i = 0; i < d; ++i)
+        s[i] = mat == PL_HYPER_NEOHOOKEAN ? fmax(zh[i], 0.1 * fmax(1.0, scale)) : zh[i];
+    double f = hm_objective(d, mat, mu, la, what, s, zh);
+    for (int it = 0; it < max_iter; ++it) {
+        double H[9], r[3], rt[3];
+        double rn = hm_residual(d, mat, mu, la, what, s, zh, r, H);
+        if (rn <= tol) return it;
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) H[i * d + i] += what;
+        double dx[3];
+        hm_newton_direction(d, H, r, 1e-8 * what, dx);
+        double alpha = 1.0;
+        if (mat == PL_HYPER_NEOHOOKEAN) /* stay inside s > 0 */
+            PL_UNROLL
+            for (int i = 0; i < d; ++i)
+                if (dx[i] < 0.0) alpha = fmin(alpha, -0.95 * s[i] / dx[i]);
+        double slope = r[0] * dx[0], trial[3], ft = INFINITY;
+        PL_UNROLL
+        for (int i = 1; i < d; ++i) slope += r[i] * dx[i];
+        bool accepted = false;
+        for (int ls = 0; ls < 60; ++ls) {
+            PL_UNROLL
+            for (int i = 0; i < d; ++i) trial[i] = s[i] + alpha * dx[i];
+            ft = hm_objective(d, mat, mu, la, what, trial, zh);
+            if (ft <= f + 1e-4 * alpha * slope) {
+                accepted = true;
+            } else if (ls == 0 && fabs(ft - f) <= 1e-11 * fabs(f)) {
+                /* near the minimum the decrease of f drowns in its round-off;
+                 * there the residual judges the full Newton step */
+                double Ht[9];
+                accepted = hm_residual(d, mat, mu, la, what, trial, zh, rt, Ht) < rn;
+            }
+            if (accepted) break;
+            alpha *= 0.5;
+        }
+        if (!accepted || alpha * hm_inf_norm(d, dx) <= 1e-16 * hm_inf_norm(d, s))
+            return rn <= 1e4 * tol ? it : -1; /* no representable progress */
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) s[i] = trial[i];
+        f = ft;
+    }
+    return -1;
+}
+
+/* p (3 x d) = the local step of z (3 x d), both row-major: the closest
+ * rotation (ARAP; closest orthonormal columns for d = 2) or the prox of the
+ * law `mat` with weight what.  Returns the Newton iterations (0 for ARAP),
+ * or -1 if z is not finite or the Newton iteration missed its tolerance
+ * (p is then its last iterate). */
+PL_HD int hm_local_solve(const int d, int mat, double mu, double la, double what, const double *z,
+                         double *p)
+{
+    PL_UNROLL
+    for (int i = 0; i < 3 * d; ++i)
+        if (!isfinite(z[i])) return -1;
+    double U[9], zh[3], V[9]; /* U: 3 x d */
+    if (d == 3)
+        hm_svd3(z, U, zh, V);
+    else
+        hm_svd32(z, U, zh, V);
+    if (mat == PL_HYPER_ARAP) {
+        hm_polar_from_svd(d, U, V, p);
+        return 0;
+    }
+    double s[3];
+    int it = hm_solve_singular_values(d, mat, mu, la, what, zh, s);
+    PL_UNROLL
+    for (int a = 0; a < 3; ++a)
+        PL_UNROLL
+        for (int b = 0; b < d; ++b) {
+            double v = 0.0;
+            PL_UNROLL
+            for (int i = 0; i < d; ++i) v += U[a * d + i] * s[i] * V[b * d + i];
+            p[a * d + b] = v;
+        }
+    return it;
+}
+
+#endif
