@@ -16,6 +16,7 @@
  * solvers gathered at the root. */
 #include "sofa_lower.h"
 
+#include <ctype.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -259,6 +260,35 @@ static int sofa_flavoured(sofa_lower *L, xmlNode *node)
         }
     }
     return 0;
+}
+
+/* Loads the Pliant plugins the scene requires before the vocabulary is
+ * consulted, so that a name a required plugin provides (CollisionPipeline of
+ * the collision plugin) is Pliant's.  Only plain names; scene_xml.c loads them
+ * again (a no-op) and reports what fails or what its policy refuses. */
+static void preload_plugins(sofa_lower *L, xmlNode *node)
+{
+    for (xmlNode *e = node->children; e; e = e->next) {
+        if (sofa_is_node(e)) {
+            preload_plugins(L, e);
+            continue;
+        }
+        if (!sofa_tag_is(e, "RequiredPlugin")) continue;
+        char *v = sofa_get(e, "pluginName");
+        if (!v) v = sofa_get(e, "name");
+        char *save = NULL, *copy = v ? strdup(v) : NULL;
+        for (char *p = copy ? strtok_r(copy, " \t\n,", &save) : NULL; p;
+             p = strtok_r(NULL, " \t\n,", &save)) {
+            const char *why;
+            int plain = 1;
+            for (const char *q = p; *q; ++q)
+                plain &= isalnum((unsigned char)*q) || *q == '_' || *q == '-';
+            pl_error err;
+            if (plain && pl_sofa_module(p, &why) == 0) pl_registry_load_plugin(L->reg, p, &err);
+        }
+        free(copy);
+        xmlFree(v);
+    }
 }
 
 /* ---- Node attributes -------------------------------------------------------- */
@@ -603,6 +633,7 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     L.diag = diag;
     if (!sofa_is_node(L.root)) return;
     check_templates(&L, L.root);
+    preload_plugins(&L, L.root);
     if (!sofa_flavoured(&L, L.root)) return;
     sofa_lower_plugins(&L);
     sofa_lower_mapped_nodes(&L, L.root);
