@@ -97,6 +97,7 @@ bench: build
 
 docs: build
 	$(BUILD)/bin/pliant doc docs/components.md
+	$(BUILD)/bin/pliant doc --sofa docs/sofa-vocabulary.md
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(FUZZ_COV_BUILD) out

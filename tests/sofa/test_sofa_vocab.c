@@ -17,6 +17,7 @@
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cable/cable_test_util.h"
@@ -210,6 +211,29 @@ START_TEST(pliant_scenes_untouched)
 }
 END_TEST
 
+/* The table as programs read it (pliant/sofa.h): one line per entry. */
+START_TEST(vocabulary_as_tsv)
+{
+    FILE *f = tmpfile();
+    ck_assert_ptr_nonnull(f);
+    ck_assert_int_eq(pl_sofa_write_vocabulary(f, "tsv"), 0);
+    ck_assert_int_eq(pl_sofa_write_vocabulary(f, "yaml"), -1);
+    long n = ftell(f);
+    rewind(f);
+    char *text = calloc(1, (size_t)n + 1);
+    ck_assert_uint_eq(fread(text, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+    ck_assert_ptr_nonnull(strstr(text, "component\tTetrahedronFEMForceField\trenamed\t"
+                                       "Corotational\thyperelastic\t"));
+    ck_assert_ptr_nonnull(strstr(text, "component\tSurfacePressureConstraint\trefused\t"));
+    ck_assert_ptr_nonnull(strstr(text, "attribute\tCGLinearSolver\titerations\tignored\t"));
+    int lines = 0;
+    for (char *p = text; *p; ++p) lines += *p == '\n';
+    ck_assert_int_gt(lines, 150);
+    free(text);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("sofa_vocab");
@@ -222,6 +246,7 @@ int main(void)
     tcase_add_test(tc, triangle_mass_per_area);
     tcase_add_test(tc, notes_once);
     tcase_add_test(tc, pliant_scenes_untouched);
+    tcase_add_test(tc, vocabulary_as_tsv);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
