@@ -7,8 +7,12 @@
  * keyframes interpolated linearly and held outside their times; c is the
  * rotation centre at t = 0 (it travels with s).  Like fixed vertices, they
  * are not unknowns: the right-hand side gets -A_fp q_p and A_ff stays
- * constant. */
+ * constant.  The motion (velocity, angularVelocity and the keyframes) is an
+ * input: its values live in each pl_data, so two simulations of one scene
+ * can move the vertices differently (the pose is a function of t: a value
+ * changed during a run moves them to the new pose at once). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "pliant/util.h"
@@ -39,54 +43,64 @@ static const pl_field FIELDS[] = {
     PL_FIELD(prescribed_motion, center, "center", PL_F_DOUBLES, NULL,
              "a point of the rotation axis [m] (default: centroid of the selected vertices)", 0),
     PL_FIELD(prescribed_motion, angular_velocity, "angularVelocity", PL_F_DOUBLE, "0",
-             "rotation speed about the axis [rad/s]", 0),
+             "rotation speed about the axis [rad/s]", PL_FIELD_INPUT),
     PL_FIELD(prescribed_motion, velocity, "velocity", PL_F_VEC3, "0 0 0",
-             "translation velocity [m/s]", 0),
+             "translation velocity [m/s]", PL_FIELD_INPUT),
     PL_FIELD(prescribed_motion, times, "times", PL_F_DOUBLES, NULL,
              "keyframe times [s], increasing, of a sequence of rigid poses (with translations "
              "and/or angles; added to velocity and angularVelocity)",
-             0),
+             PL_FIELD_INPUT),
     PL_FIELD(prescribed_motion, translations, "translations", PL_F_DOUBLES, NULL,
-             "keyframed translation [m], x y z per time (linear in between, held outside)", 0),
+             "keyframed translation [m], x y z per time (linear in between, held outside)",
+             PL_FIELD_INPUT),
     PL_FIELD(prescribed_motion, angles, "angles", PL_F_DOUBLES, NULL,
              "keyframed rotation angle [rad] about axis through center, one per time (linear in "
              "between, held outside)",
-             0),
+             PL_FIELD_INPUT),
 };
 
-/* The keyframe fields: increasing finite times; 3 translations and 1 angle
- * per time when given. */
-static int check_keys(const prescribed_motion *p, pl_component *c, pl_ctx *ctx)
+/* The keyframes as d holds them (d NULL: the scene's). */
+typedef struct keys {
+    pl_doubles times, translations, angles;
+} keys;
+
+static keys keys_of(const prescribed_motion *p, const pl_data *d)
 {
-    int nt = p->times.n;
+    const pl_component *c = &p->base;
+    keys k = {pl_input_doubles(d, c, &p->times), pl_input_doubles(d, c, &p->translations),
+              pl_input_doubles(d, c, &p->angles)};
+    return k;
+}
+
+/* The keyframes: increasing finite times; 3 translations and 1 angle per
+ * time when given.  PL_EINPUT with a message in msg. */
+static int check_keys(const keys *k, char *msg, size_t size)
+{
+    int nt = k->times.n;
     if (nt == 0) {
-        if (p->translations.n || p->angles.n)
-            return pl_component_error(c, ctx, PL_EINPUT,
-                                      "translations and angles need times (one keyframe per time)");
+        if (k->translations.n || k->angles.n)
+            return snprintf(msg, size, "translations and angles need times (one keyframe per "
+                                       "time)"), PL_EINPUT;
         return PL_OK;
     }
     for (int i = 0; i < nt; ++i)
-        if (!isfinite(p->times.v[i]) || (i > 0 && !(p->times.v[i] > p->times.v[i - 1])))
-            return pl_component_error(c, ctx, PL_EINPUT,
-                                      "times must be finite and strictly increasing (value %d: %g)",
-                                      i + 1, p->times.v[i]);
-    if (p->translations.n != 0 && p->translations.n != 3 * nt)
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "translations: expected 3 values per time (%d), found %d", 3 * nt,
-                                  p->translations.n);
-    if (p->angles.n != 0 && p->angles.n != nt)
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "angles: expected one value per time (%d), found %d", nt,
-                                  p->angles.n);
-    if (!p->translations.n && !p->angles.n)
-        return pl_component_error(c, ctx, PL_EINPUT, "times given without translations or angles");
-    for (int i = 0; i < p->translations.n; ++i)
-        if (!isfinite(p->translations.v[i]))
-            return pl_component_error(c, ctx, PL_EINPUT, "translations: value %d is not finite",
-                                      i + 1);
-    for (int i = 0; i < p->angles.n; ++i)
-        if (!isfinite(p->angles.v[i]))
-            return pl_component_error(c, ctx, PL_EINPUT, "angles: value %d is not finite", i + 1);
+        if (!isfinite(k->times.v[i]) || (i > 0 && !(k->times.v[i] > k->times.v[i - 1])))
+            return snprintf(msg, size, "times must be finite and strictly increasing (value %d: "
+                                       "%g)", i + 1, k->times.v[i]), PL_EINPUT;
+    if (k->translations.n != 0 && k->translations.n != 3 * nt)
+        return snprintf(msg, size, "translations: expected 3 values per time (%d), found %d",
+                        3 * nt, k->translations.n), PL_EINPUT;
+    if (k->angles.n != 0 && k->angles.n != nt)
+        return snprintf(msg, size, "angles: expected one value per time (%d), found %d", nt,
+                        k->angles.n), PL_EINPUT;
+    if (!k->translations.n && !k->angles.n)
+        return snprintf(msg, size, "times given without translations or angles"), PL_EINPUT;
+    for (int i = 0; i < k->translations.n; ++i)
+        if (!isfinite(k->translations.v[i]))
+            return snprintf(msg, size, "translations: value %d is not finite", i + 1), PL_EINPUT;
+    for (int i = 0; i < k->angles.n; ++i)
+        if (!isfinite(k->angles.v[i]))
+            return snprintf(msg, size, "angles: value %d is not finite", i + 1), PL_EINPUT;
     return PL_OK;
 }
 
@@ -99,7 +113,10 @@ static int pm_bind(pl_component *c, pl_ctx *ctx)
     double len = sqrt(p->axis[0] * p->axis[0] + p->axis[1] * p->axis[1] + p->axis[2] * p->axis[2]);
     if (!(len > 0)) return pl_component_error(c, ctx, PL_EINPUT, "axis must not be zero");
     for (int k = 0; k < 3; ++k) p->unit_axis[k] = p->axis[k] / len;
-    if (check_keys(p, c, ctx) != PL_OK) return PL_EINPUT;
+    char msg[256];
+    keys k = keys_of(p, NULL);
+    if (check_keys(&k, msg, sizeof msg) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
     if (!(p->state = pl_util_state(c, ctx, 1))) return PL_EINPUT;
     const double *x = pl_util_rest(p->state, &n);
     p->nsel = pl_util_select_checked(c, ctx, p->state, &p->box, &p->indices, &p->sel);
@@ -132,19 +149,23 @@ static int pm_indices(const pl_component *c, const int **idx)
 static int pm_positions(const pl_component *c, const pl_data *d, double t, double *out,
                         pl_error *err)
 {
-    (void)d, (void)err;
     const prescribed_motion *p = (const prescribed_motion *)c;
     int n;
-    double R[9], s[3], theta = p->angular_velocity * t;
-    for (int j = 0; j < 3; ++j) s[j] = p->velocity[j] * t;
-    if (p->times.n > 0) {
+    char msg[256];
+    keys k = keys_of(p, d);
+    if (check_keys(&k, msg, sizeof msg) != PL_OK) /* d's inputs may have changed */
+        return pl_component_fail(c, err, PL_EINPUT, "%s", msg);
+    const double *vel = pl_input_vec3(d, c, p->velocity);
+    double R[9], s[3], theta = pl_input_double(d, c, &p->angular_velocity) * t;
+    for (int j = 0; j < 3; ++j) s[j] = vel[j] * t;
+    if (k.times.n > 0) {
         double key[3];
-        if (p->translations.n) {
-            pl_keyframes_eval(p->times.v, p->times.n, p->translations.v, 3, 0, t, key);
+        if (k.translations.n) {
+            pl_keyframes_eval(k.times.v, k.times.n, k.translations.v, 3, 0, t, key);
             for (int j = 0; j < 3; ++j) s[j] += key[j];
         }
-        if (p->angles.n) {
-            pl_keyframes_eval(p->times.v, p->times.n, p->angles.v, 1, 0, t, key);
+        if (k.angles.n) {
+            pl_keyframes_eval(k.times.v, k.times.n, k.angles.v, 1, 0, t, key);
             theta += key[0];
         }
     }

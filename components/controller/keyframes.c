@@ -1,11 +1,11 @@
-/* keyframes.c - Keyframes: drives one RUNTIME field of another component
+/* keyframes.c - Keyframes: drives one input field of another component
  * (target="@cable.value") through keyframes, interpolated linearly or held
  * stepwise.  At the start of every step (time t) the controller writes the
- * value at t into the field as text, through the field's own parser, so the
- * target sees exactly what a scene or `pliant --set` would give it.  Only
- * RUNTIME fields may be driven: changing any other field would need the
- * model rebuilt (a refactorisation), which a controller never triggers. */
-#include <math.h>
+ * numbers at t into the data being stepped (pl_input_set: integer fields
+ * take them rounded, as their parser would), so two data of one model
+ * follow their own times.  Only input fields may be driven: their value
+ * lives in the data, while any other field is the model's, which a step
+ * never writes (input.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,17 +23,20 @@ typedef struct keyframes {
     pl_component *comp;
     const pl_field *field;
     int k;                   /* values per time */
-    double *cur;             /* k scratch values */
-    char *text;              /* formatted value */
-    size_t text_size;
 } keyframes;
+
+/* Per data: the k values of the step. */
+typedef struct keyframes_ws {
+    double *cur;
+} keyframes_ws;
 
 static const char *const INTERPOLATIONS[] = {"linear", "step", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(keyframes, target, "target", PL_F_STRING, NULL,
              "the driven field: @component.field (component path as in links, e.g. "
-             "@cable.value or @../finger/cable.value); the field must be RUNTIME",
+             "@cable.value or @../finger/cable.value); the field must be an input field, whose "
+             "value lives in each simulation's state",
              PL_FIELD_REQUIRED),
     PL_FIELD(keyframes, times, "times", PL_F_DOUBLES, NULL, "keyframe times [s], increasing",
              PL_FIELD_REQUIRED),
@@ -129,7 +132,20 @@ static int resolve_target(keyframes *kf, pl_ctx *ctx)
     return PL_OK;
 }
 
-/* The field kind must take k numbers and may change at run time. */
+/* The names of t's input fields, for messages ("value, pullPoint"). */
+static void input_names(const pl_type *t, char *buf, size_t size)
+{
+    size_t w = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < t->nfields && w < size; ++i)
+        if (t->fields[i].flags & PL_FIELD_INPUT) {
+            int n = snprintf(buf + w, size - w, "%s%s", w ? ", " : "", t->fields[i].name);
+            if (n < 0) break;
+            w += (size_t)n;
+        }
+}
+
+/* The field kind must take k numbers and live in the data. */
 static int check_field(keyframes *kf, pl_ctx *ctx)
 {
     pl_component *c = &kf->base;
@@ -137,11 +153,15 @@ static int check_field(keyframes *kf, pl_ctx *ctx)
     if (f->flags & PL_FIELD_OUTPUT)
         return pl_component_error(c, ctx, PL_EINPUT, "target: '%s' is an output of %s",
                                   f->name, kf->comp->type->name);
-    if (!(f->flags & PL_FIELD_RUNTIME))
+    if (!(f->flags & PL_FIELD_INPUT)) {
+        char names[256];
+        input_names(kf->comp->type, names, sizeof names);
         return pl_component_error(c, ctx, PL_EINPUT,
-                                  "target: %s.%s is not a RUNTIME field (changing it would "
-                                  "rebuild the model); Keyframes drives RUNTIME fields only",
-                                  kf->comp->type->name, f->name);
+                                  "target: %s.%s is not an input field (a model value, which a "
+                                  "step never changes); Keyframes drives input fields only%s%s%s",
+                                  kf->comp->type->name, f->name,
+                                  names[0] ? " (" : "", names, names[0] ? ")" : "");
+    }
     int want = -1; /* -1: any count */
     switch (f->type) {
     case PL_F_DOUBLE:
@@ -163,23 +183,15 @@ static int check_field(keyframes *kf, pl_ctx *ctx)
     return PL_OK;
 }
 
-/* Writes the value at time t into the target field. */
-static int kf_write(keyframes *kf, double t, pl_error *err)
+/* Writes the values at time t into the target's input in d. */
+static int kf_write(const keyframes *kf, pl_data *d, double t, pl_error *err)
 {
+    keyframes_ws *w = pl_data_workspace(d, &kf->base);
+    if (!w || (!w->cur && !(w->cur = malloc((size_t)kf->k * sizeof *w->cur))))
+        return pl_component_fail(&kf->base, err, PL_EINTERNAL, "out of memory");
     pl_keyframes_eval(kf->times.v, kf->times.n, kf->values.v, kf->k,
-                      kf->interpolation == INTERP_STEP, t, kf->cur);
-    int integer = kf->field->type == PL_F_INT || kf->field->type == PL_F_INTS;
-    size_t w = 0;
-    for (int j = 0; j < kf->k; ++j) {
-        int n = integer ? snprintf(kf->text + w, kf->text_size - w, "%s%ld", j ? " " : "",
-                                   lround(kf->cur[j]))
-                        : snprintf(kf->text + w, kf->text_size - w, "%s%.17g", j ? " " : "",
-                                   kf->cur[j]);
-        if (n < 0 || (size_t)n >= kf->text_size - w)
-            return pl_component_fail(&kf->base, err, PL_EINTERNAL, "value text too long");
-        w += (size_t)n;
-    }
-    int rc = pl_field_parse(kf->field, kf->comp, kf->text, err);
+                      kf->interpolation == INTERP_STEP, t, w->cur);
+    int rc = pl_input_set(d, kf->comp, kf->field, w->cur, kf->k, err);
     if (rc) {
         char p[160];
         snprintf(err->where, sizeof err->where, "Keyframes %.170s",
@@ -194,30 +206,22 @@ static int kf_bind(pl_component *c, pl_ctx *ctx)
     int rc = resolve_target(kf, ctx);
     if (!rc) rc = check_field(kf, ctx);
     if (rc) return rc;
-    free(kf->cur);
-    free(kf->text);
-    kf->cur = malloc((size_t)kf->k * sizeof *kf->cur);
-    kf->text_size = (size_t)kf->k * 32 + 1;
-    kf->text = malloc(kf->text_size);
-    if (!kf->cur || !kf->text) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     /* the target holds the value of the initial time from the start */
     pl_error err;
-    if (kf_write(kf, ctx->data->time, &err) != PL_OK)
+    if (kf_write(kf, ctx->data, ctx->data->time, &err) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "target: %s", err.msg);
     return PL_OK;
 }
 
-static void kf_destroy(pl_component *c)
+static void kf_workspace_free(const pl_component *c, void *ws)
 {
-    keyframes *kf = (keyframes *)c;
-    free(kf->cur);
-    free(kf->text);
+    (void)c;
+    free(((keyframes_ws *)ws)->cur);
 }
 
-static int kf_apply(pl_component *c, pl_ctx *ctx, double t, pl_error *err)
+static int kf_apply(const pl_component *c, pl_ctx *ctx, double t, pl_error *err)
 {
-    (void)ctx;
-    return kf_write((keyframes *)c, t, err);
+    return kf_write((const keyframes *)c, ctx->data, t, err);
 }
 
 static const pl_controller_ops CONTROLLER = {.version = PL_CONTROLLER_OPS_VERSION,
@@ -226,11 +230,12 @@ static const pl_controller_ops CONTROLLER = {.version = PL_CONTROLLER_OPS_VERSIO
 const pl_type pl_keyframes_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "Keyframes",
-    .help = "Drives a RUNTIME field of another component (target=\"@cable.value\") through "
+    .help = "Drives an input field of another component (target=\"@cable.value\") through "
             "keyframes (times, values), linearly interpolated or stepwise.",
     .size = sizeof(keyframes),
+    .workspace_size = sizeof(keyframes_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.init = kf_init, .bind = kf_bind, .destroy = kf_destroy},
+    .ops = {.init = kf_init, .bind = kf_bind, .workspace_free = kf_workspace_free},
     .roles = {[PL_ROLE_CONTROLLER] = &CONTROLLER},
 };

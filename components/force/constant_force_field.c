@@ -9,7 +9,8 @@
  * its own: through the scene's device service (pl_device_ops) it keeps a
  * CSR R over its state's vertices with R(sel[k], k) = -1 and the block
  * h^2 f on the device, and sub_csr (rhs -= R (h^2 f)) adds h^2 f to the
- * selected rows of rhs, in selection order, with the CPU's rounding. */
+ * selected rows of rhs, in selection order, with the CPU's rounding.  Those
+ * device copies are made per pl_data, in its workspace. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,14 +27,18 @@ typedef struct constant_force_field {
     int *sel;
     int nsel;
     double *f;   /* nsel x 3 [N] */
-    /* device copies (made on the first device project) */
+} constant_force_field;
+
+/* Per data (pl_data_workspace): the device copies, made on the first device
+ * project with that data. */
+typedef struct cf_ws {
     pl_component *dev;
     const pl_device_ops *dops;
     pl_csr R;    /* device arrays: rows = selected vertices' range, R(sel[k], k) = -1 */
     double *hf;  /* device nsel x 3: h2 f */
     double *hf_host;
     double h2;   /* the h2 of hf (0: not uploaded yet) */
-} constant_force_field;
+} cf_ws;
 
 static const pl_field FIELDS[] = {
     PL_FIELD(constant_force_field, indices, "indices", PL_F_INTS, NULL,
@@ -69,7 +74,7 @@ static int cf_bind(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
-static void cf_device_free(constant_force_field *f)
+static void cf_device_free(cf_ws *f)
 {
     if (f->dev) {
         pl_error err;
@@ -87,9 +92,14 @@ static void cf_device_free(constant_force_field *f)
 static void cf_destroy(pl_component *c)
 {
     constant_force_field *f = (constant_force_field *)c;
-    cf_device_free(f);
     free(f->sel);
     free(f->f);
+}
+
+static void cf_workspace_free(const pl_component *c, void *ws)
+{
+    (void)c;
+    cf_device_free(ws);
 }
 
 static pl_component *cf_state(const pl_component *c)
@@ -110,11 +120,11 @@ static const pl_device_ops *find_device(const pl_component *c, pl_component **de
     return ops && ops->version >= 1 && ops->sub_csr && ops->alloc && ops->copy ? ops : NULL;
 }
 
-/* R and the device block, from the selection (once). */
-static int device_prepare(constant_force_field *f, pl_error *err)
+/* R and the device block in w, from the selection (once per data). */
+static int device_prepare(const constant_force_field *f, cf_ws *w, pl_error *err)
 {
-    pl_component *c = &f->base;
-    if (f->dev) return PL_OK;
+    const pl_component *c = &f->base;
+    if (w->dev) return PL_OK;
     pl_component *dev;
     const pl_device_ops *o = find_device(c, &dev);
     if (!o)
@@ -134,8 +144,8 @@ static int device_prepare(constant_force_field *f, pl_error *err)
         if (f->sel[k] + 1 > rows) rows = f->sel[k] + 1;
     int *p = calloc((size_t)rows + 1, sizeof *p), *j = malloc((size_t)f->nsel * sizeof *j);
     double *x = malloc((size_t)f->nsel * sizeof *x);
-    f->hf_host = malloc((size_t)f->nsel * 3 * sizeof *f->hf_host);
-    int rc = p && j && x && f->hf_host ? PL_OK
+    w->hf_host = malloc((size_t)f->nsel * 3 * sizeof *w->hf_host);
+    int rc = p && j && x && w->hf_host ? PL_OK
                                        : pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     if (!rc) {
         /* row v lists the k with sel[k] = v in increasing k: the CPU's order */
@@ -151,26 +161,26 @@ static int device_prepare(constant_force_field *f, pl_error *err)
         }
         free(next);
     }
-    f->dev = dev, f->dops = o;
-    f->R.nrows = rows, f->R.ncols = f->nsel;
+    w->dev = dev, w->dops = o;
+    w->R.nrows = rows, w->R.ncols = f->nsel;
     size_t ip = ((size_t)rows + 1) * sizeof(int), ij = (size_t)f->nsel * sizeof(int);
     size_t ix = (size_t)f->nsel * sizeof(double);
-    if (!rc && (!(f->R.p = o->alloc(dev, ip, err)) || !(f->R.j = o->alloc(dev, ij, err)) ||
-                !(f->R.x = o->alloc(dev, ix, err)) || !(f->hf = o->alloc(dev, 3 * ix, err))))
+    if (!rc && (!(w->R.p = o->alloc(dev, ip, err)) || !(w->R.j = o->alloc(dev, ij, err)) ||
+                !(w->R.x = o->alloc(dev, ix, err)) || !(w->hf = o->alloc(dev, 3 * ix, err))))
         rc = err->code ? err->code : PL_EINTERNAL;
-    if (!rc) rc = o->copy(dev, f->R.p, PL_DEVICE, p, PL_HOST, ip, err);
-    if (!rc) rc = o->copy(dev, f->R.j, PL_DEVICE, j, PL_HOST, ij, err);
-    if (!rc) rc = o->copy(dev, f->R.x, PL_DEVICE, x, PL_HOST, ix, err);
+    if (!rc) rc = o->copy(dev, w->R.p, PL_DEVICE, p, PL_HOST, ip, err);
+    if (!rc) rc = o->copy(dev, w->R.j, PL_DEVICE, j, PL_HOST, ij, err);
+    if (!rc) rc = o->copy(dev, w->R.x, PL_DEVICE, x, PL_HOST, ix, err);
     if (!rc) rc = o->sync(dev, err); /* p, j, x go below */
     free(p), free(j), free(x);
-    if (rc) cf_device_free(f);
+    if (rc) cf_device_free(w);
     return rc;
 }
 
-static int cf_project_device(constant_force_field *f, int offset, double h2, pl_buffer *rhs,
-                             pl_error *err)
+static int cf_project_device(const constant_force_field *f, pl_data *d, int offset, double h2,
+                             pl_buffer *rhs, pl_error *err)
 {
-    pl_component *c = &f->base;
+    const pl_component *c = &f->base;
     const pl_state_ops *so = pl_component_role(f->state, PL_ROLE_STATE);
     int n = so->count(f->state);
     if (rhs->location != PL_DEVICE || rhs->precision != PL_F64 || rhs->cols != 3 || offset < 0 ||
@@ -178,27 +188,29 @@ static int cf_project_device(constant_force_field *f, int offset, double h2, pl_
         return pl_component_fail(c, err, PL_EINPUT,
                                  "project: expected a device float64 block of at least %d x 3",
                                  offset + n);
-    int rc = device_prepare(f, err);
+    cf_ws *w = pl_data_workspace(d, c);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    int rc = device_prepare(f, w, err);
     if (rc) return rc;
-    if (h2 != f->h2) {
+    if (h2 != w->h2) {
         /* h2 f as the CPU forms it; only when h2 changes (not while a graph
          * is being recorded: h2 is the same in every iteration) */
-        for (int k = 0; k < 3 * f->nsel; ++k) f->hf_host[k] = h2 * f->f[k];
-        rc = f->dops->copy(f->dev, f->hf, PL_DEVICE, f->hf_host, PL_HOST,
+        for (int k = 0; k < 3 * f->nsel; ++k) w->hf_host[k] = h2 * f->f[k];
+        rc = w->dops->copy(w->dev, w->hf, PL_DEVICE, w->hf_host, PL_HOST,
                            (size_t)f->nsel * 3 * sizeof(double), err);
-        if (!rc) rc = f->dops->sync(f->dev, err);
+        if (!rc) rc = w->dops->sync(w->dev, err);
         if (rc) return rc;
-        f->h2 = h2;
+        w->h2 = h2;
     }
-    return f->dops->sub_csr(f->dev, &f->R, f->hf, (double *)rhs->data + 3 * (size_t)offset, err);
+    return w->dops->sub_csr(w->dev, &w->R, w->hf, (double *)rhs->data + 3 * (size_t)offset, err);
 }
 
-static int cf_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+static int cf_project(const pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
                       pl_buffer *rhs, pl_error *err)
 {
-    constant_force_field *f = (constant_force_field *)c;
-    (void)d, (void)q;
-    if (rhs->location == PL_DEVICE) return cf_project_device(f, offset, h2, rhs, err);
+    const constant_force_field *f = (const constant_force_field *)c;
+    (void)q;
+    if (rhs->location == PL_DEVICE) return cf_project_device(f, d, offset, h2, rhs, err);
     double *r = pl_buffer_f64(rhs);
     if (!r) return pl_component_fail(c, err, PL_EINTERNAL, "needs a host float64 buffer");
     for (int k = 0; k < f->nsel; ++k)
@@ -257,8 +269,9 @@ const pl_type pl_constant_force_field_type = {
     .name = "ConstantForceField",
     .help = "Constant forces on selected vertices (a tip load, a pull).",
     .size = sizeof(constant_force_field),
+    .workspace_size = sizeof(cf_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.bind = cf_bind, .destroy = cf_destroy},
+    .ops = {.bind = cf_bind, .destroy = cf_destroy, .workspace_free = cf_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &OPS},
 };

@@ -181,17 +181,6 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
                                       "its MechanicalObject is not below the solver %s",
                                       owner->name);
     }
-    size_t n3 = (size_t)d->n * 3, f3 = (size_t)(d->nfree ? d->nfree : 1) * 3;
-    d->q = calloc(n3, sizeof(double));
-    d->q_t = calloc(n3, sizeof(double));
-    d->v_t = calloc(n3, sizeof(double));
-    d->sn = calloc(n3, sizeof(double));
-    d->rhs = calloc(n3, sizeof(double));
-    d->qp = calloc(n3, sizeof(double));
-    d->b_free = calloc(f3, sizeof(double));
-    d->q_free = calloc(f3, sizeof(double));
-    if (!d->q || !d->q_t || !d->v_t || !d->sn || !d->rhs || !d->qp || !d->b_free || !d->q_free)
-        return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
     d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL, d->mass};
     return with_matrix ? assemble(d, owner, ctx) : PL_OK;
 }
@@ -208,36 +197,55 @@ void pl_dynamics_free(pl_dynamics *d)
     free(d->free_vertex);
     pl_csc_free(&d->A_ff);
     pl_csc_free(&d->A_fp);
-    free(d->q);
-    free(d->q_t);
-    free(d->v_t);
-    free(d->sn);
-    free(d->rhs);
-    free(d->qp);
-    free(d->b_free);
-    free(d->q_free);
     memset(d, 0, sizeof *d);
 }
 
-void pl_dynamics_gather(pl_dynamics *d, const pl_data *data)
+int pl_dyn_work_alloc(pl_dyn_work *w, const pl_dynamics *d)
+{
+    size_t n3 = (size_t)(d->n ? d->n : 1) * 3, f3 = (size_t)(d->nfree ? d->nfree : 1) * 3;
+    pl_dyn_work_free(w);
+    w->q = calloc(n3, sizeof(double));
+    w->q_t = calloc(n3, sizeof(double));
+    w->v_t = calloc(n3, sizeof(double));
+    w->sn = calloc(n3, sizeof(double));
+    w->rhs = calloc(n3, sizeof(double));
+    w->qp = calloc(n3, sizeof(double));
+    w->b_free = calloc(f3, sizeof(double));
+    w->q_free = calloc(f3, sizeof(double));
+    if (!w->q || !w->q_t || !w->v_t || !w->sn || !w->rhs || !w->qp || !w->b_free || !w->q_free) {
+        pl_dyn_work_free(w);
+        return PL_EINTERNAL;
+    }
+    return PL_OK;
+}
+
+void pl_dyn_work_free(pl_dyn_work *w)
+{
+    double *all[] = {w->q, w->q_t, w->v_t, w->sn, w->rhs, w->qp, w->b_free, w->q_free};
+    for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
+    memset(w, 0, sizeof *w);
+}
+
+void pl_dynamics_gather(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data)
 {
     for (int k = 0; k < d->nstates; ++k) {
         const pl_state_ops *ops = state_ops(d->states[k]);
         pl_buffer x = ops->positions(d->states[k], data), v = ops->velocities(d->states[k], data);
         size_t bytes = x.rows * 3 * sizeof(double);
         int off = ops->offset(d->states[k]);
-        memcpy(&d->q_t[3 * off], x.data, bytes);
-        memcpy(&d->v_t[3 * off], v.data, bytes);
+        memcpy(&w->q_t[3 * off], x.data, bytes);
+        memcpy(&w->v_t[3 * off], v.data, bytes);
     }
 }
 
-void pl_dynamics_predict(pl_dynamics *d)
+void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
 {
     double h = d->h;
-    for (int i = 0; i < 3 * d->n; ++i) d->sn[i] = d->q_t[i] + h * d->v_t[i] + h * h * d->gravity[i];
+    for (int i = 0; i < 3 * d->n; ++i) w->sn[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
 }
 
-int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double *q, pl_error *err)
+int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, double t,
+                          double *q, pl_error *err)
 {
     for (int k = 0; k < d->nprescribed; ++k) {
         const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
@@ -246,14 +254,15 @@ int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double 
         int m = ops->indices(d->prescribed[k], &idx);
         if (off < 0 || m == 0) continue;
         /* qp is scratch big enough for every vertex */
-        int rc = ops->positions_at(d->prescribed[k], data, t, d->qp, err);
+        int rc = ops->positions_at(d->prescribed[k], data, t, w->qp, err);
         if (rc) return rc;
-        for (int j = 0; j < m; ++j) memcpy(&q[3 * (off + idx[j])], &d->qp[3 * j], 3 * sizeof(double));
+        for (int j = 0; j < m; ++j) memcpy(&q[3 * (off + idx[j])], &w->qp[3 * j], 3 * sizeof(double));
     }
     return PL_OK;
 }
 
-void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double damping)
+void pl_dynamics_scatter(const pl_dynamics *d, const pl_dyn_work *w, pl_data *data,
+                         const double *q, double damping)
 {
     double scale = 1.0 / (1.0 + d->h * damping);
     for (int k = 0; k < d->nstates; ++k) {
@@ -263,19 +272,21 @@ void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double 
         int off = ops->offset(d->states[k]);
         for (size_t i = 0; i < 3 * x.rows; ++i) {
             size_t g = 3 * (size_t)off + i;
-            pv[i] = scale * (q[g] - d->q_t[g]) / d->h;
+            pv[i] = scale * (q[g] - w->q_t[g]) / d->h;
             px[i] = q[g];
         }
     }
 }
 
-double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const double *q)
+double pl_dynamics_energy(const pl_dynamics *d, const pl_dyn_work *w, const pl_data *data,
+                          const double *q)
 {
     double e = 0.0, h2 = d->h * d->h;
+    const double *sn = w->sn;
     for (int i = 0; i < d->n; ++i) {
         if (d->free_index[i] < 0) continue;
-        double dx = q[3 * i] - d->sn[3 * i], dy = q[3 * i + 1] - d->sn[3 * i + 1],
-               dz = q[3 * i + 2] - d->sn[3 * i + 2];
+        double dx = q[3 * i] - sn[3 * i], dy = q[3 * i + 1] - sn[3 * i + 1],
+               dz = q[3 * i + 2] - sn[3 * i + 2];
         e += 0.5 * d->mass[i] * (dx * dx + dy * dy + dz * dz) / h2;
     }
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
@@ -286,15 +297,16 @@ double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const doubl
     return e;
 }
 
-void pl_dynamics_reduce_rhs(pl_dynamics *d, const double *rhs, const double *q)
+void pl_dynamics_reduce_rhs(const pl_dynamics *d, pl_dyn_work *w, const double *rhs,
+                            const double *q)
 {
     for (int f = 0; f < d->nfree; ++f)
-        memcpy(&d->b_free[3 * f], &rhs[3 * d->free_vertex[f]], 3 * sizeof(double));
+        memcpy(&w->b_free[3 * f], &rhs[3 * d->free_vertex[f]], 3 * sizeof(double));
     /* - A_fp q_p: columns of A_fp are global vertices, non-empty only when prescribed */
     for (int j = 0; j < d->n; ++j)
         for (int p = d->A_fp.p[j]; p < d->A_fp.p[j + 1]; ++p) {
             int f = d->A_fp.i[p];
-            for (int c = 0; c < 3; ++c) d->b_free[3 * f + c] -= d->A_fp.x[p] * q[3 * j + c];
+            for (int c = 0; c < 3; ++c) w->b_free[3 * f + c] -= d->A_fp.x[p] * q[3 * j + c];
         }
 }
 
@@ -311,16 +323,16 @@ double pl_dynamics_bbox_diagonal(const double *q, int n)
     return d2 > 0 ? sqrt(d2) : 1.0;
 }
 
-void pl_dynamics_store_forces(pl_dynamics *d, pl_data *data, const pl_rows *rows,
-                              const double *lambda)
+void pl_dynamics_store_forces(const pl_dynamics *d, pl_dyn_work *w, pl_data *data,
+                              const pl_rows *rows, const double *lambda)
 {
-    memset(d->rhs, 0, (size_t)d->n * 3 * sizeof(double));
-    if (rows && lambda && rows->n) pl_rows_add_transpose(rows, lambda, 1.0, d->rhs);
+    memset(w->rhs, 0, (size_t)d->n * 3 * sizeof(double));
+    if (rows && lambda && rows->n) pl_rows_add_transpose(rows, lambda, 1.0, w->rhs);
     for (int k = 0; k < d->nstates; ++k) {
         const pl_state_ops *ops = state_ops(d->states[k]);
         if (!ops->constraint_forces) continue;
         pl_buffer f = ops->constraint_forces(d->states[k], data);
         double *pf = pl_buffer_f64(&f);
-        if (pf) memcpy(pf, &d->rhs[3 * ops->offset(d->states[k])], f.rows * 3 * sizeof(double));
+        if (pf) memcpy(pf, &w->rhs[3 * ops->offset(d->states[k])], f.rows * 3 * sizeof(double));
     }
 }

@@ -30,10 +30,14 @@ typedef struct pl_dynamics {
     pl_csc A_ff;              /* nfree x nfree, both triangles */
     pl_csc A_fp;              /* nfree x n, only prescribed columns non-empty */
     pl_system sys;
-    /* per-step work (n x 3 unless said) */
+} pl_dynamics;
+
+/* A step's vectors, per pl_data (in the solver's workspace): n x 3 unless
+ * said. */
+typedef struct pl_dyn_work {
     double *q, *q_t, *v_t, *sn, *rhs, *qp;
     double *b_free, *q_free;  /* nfree x 3 */
-} pl_dynamics;
+} pl_dyn_work;
 
 /* Collects the states, masses, prescribed DOFs and local terms of the
  * subtree of `owner`'s node, numbers the vertices and (if with_matrix)
@@ -42,26 +46,33 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
                       int with_matrix);
 void pl_dynamics_free(pl_dynamics *d);
 
+/* Allocates w's vectors for d (zeroed); PL_OK or PL_EINTERNAL. */
+int pl_dyn_work_alloc(pl_dyn_work *w, const pl_dynamics *d);
+void pl_dyn_work_free(pl_dyn_work *w);
+
 /* q_t, v_t <- the states in data. */
-void pl_dynamics_gather(pl_dynamics *d, const pl_data *data);
+void pl_dynamics_gather(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data);
 /* sn <- q_t + h v_t + h^2 g. */
-void pl_dynamics_predict(pl_dynamics *d);
+void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w);
 /* Writes the prescribed vertices' positions at time t into q (n x 3). */
-int pl_dynamics_prescribe(pl_dynamics *d, const pl_data *data, double t, double *q,
-                          pl_error *err);
+int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, double t,
+                          double *q, pl_error *err);
 /* The states in data <- positions q and velocities (q - q_t)/h / (1 + h c),
  * c = damping [1/s]. */
-void pl_dynamics_scatter(pl_dynamics *d, pl_data *data, const double *q, double damping);
+void pl_dynamics_scatter(const pl_dynamics *d, const pl_dyn_work *w, pl_data *data,
+                         const double *q, double damping);
 /* Writes every state's constraint forces H^T lambda [N] (zero when rows
- * is NULL or empty). */
-void pl_dynamics_store_forces(pl_dynamics *d, pl_data *data, const pl_rows *rows,
-                              const double *lambda);
-/* The incremental potential E(q) [J] at q (n x 3). */
-double pl_dynamics_energy(const pl_dynamics *d, const pl_data *data, const double *q);
+ * is NULL or empty); uses w->rhs as scratch. */
+void pl_dynamics_store_forces(const pl_dynamics *d, pl_dyn_work *w, pl_data *data,
+                              const pl_rows *rows, const double *lambda);
+/* The incremental potential E(q) [J] at q (n x 3), around w->sn. */
+double pl_dynamics_energy(const pl_dynamics *d, const pl_dyn_work *w, const pl_data *data,
+                          const double *q);
 /* Length of the bounding-box diagonal of n points (1 if they coincide):
  * the scale of tolerances on positions. */
 double pl_dynamics_bbox_diagonal(const double *q, int n);
-/* b_free <- rhs restricted to the unknowns minus A_fp qp. */
-void pl_dynamics_reduce_rhs(pl_dynamics *d, const double *rhs, const double *qp);
+/* w->b_free <- rhs restricted to the unknowns minus A_fp qp. */
+void pl_dynamics_reduce_rhs(const pl_dynamics *d, pl_dyn_work *w, const double *rhs,
+                            const double *qp);
 
 #endif

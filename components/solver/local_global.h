@@ -1,30 +1,44 @@
-/* local_global.h - the LocalGlobalSolver's state, shared by its CPU path
- * (local_global_solver.c) and its device path (local_global_device.c).
- * Internal to libpliant's solver folder. */
+/* local_global.h - the LocalGlobalSolver's model and per-data workspace,
+ * shared by its CPU path (local_global_solver.c) and its device path
+ * (local_global_device.c).  Internal to libpliant's solver folder. */
 #ifndef PLIANT_LOCAL_GLOBAL_H
 #define PLIANT_LOCAL_GLOBAL_H
 
 #include "dynamics.h"
 
-/* Device copies of the loop's vectors (float64, n x 3 unless said), made
- * through the scene's device service (pl_device_ops); dev == NULL: the loop
- * runs on the CPU. */
+/* The model's device copies (built at reinit through the scene's device
+ * service, pl_device_ops); dev == NULL: the loop runs on the CPU. */
 typedef struct lg_device {
     pl_component *dev;
+    const pl_device_ops *ops;
+    double *mass;              /* n */
+    int *free_vertex;          /* nfree */
+    pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
+    int fp_nnz;                /* its entries (0: nothing prescribed) */
+} lg_device;
+
+/* One data's device vectors (float64, n x 3 unless said) and graph, in the
+ * workspace; made through the device they name. */
+typedef struct lg_device_ws {
+    pl_component *dev;         /* NULL: none made */
     const pl_device_ops *ops;
     int flags;                 /* PL_DEVICE_GRAPHS / PL_DEVICE_PROFILE */
     double *q, *sn, *rhs;
     double *b_free, *q_free;   /* nfree x 3 */
-    double *mass;              /* n */
     double *change;            /* 1: largest position change of an iteration */
-    int *free_vertex;          /* nfree */
-    pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
-    int fp_nnz;                /* its entries (0: nothing prescribed) */
     void *graph;               /* one iteration, captured (PL_DEVICE_GRAPHS) */
     int graph_rows;            /* the graph holds the contact solver's iterate */
     int nrows;                 /* constraint rows of the step being taken */
-    int pinned;                /* dyn.q and dyn.sn are page-locked */
-} lg_device;
+    double *pinned_q, *pinned_sn; /* the host vectors page-locked (NULL: not) */
+} lg_device_ws;
+
+/* The workspace (pl_data_workspace): what a step of one data writes. */
+typedef struct lg_ws {
+    int ready;                 /* w allocated for the model */
+    pl_dyn_work w;
+    pl_rows rows;              /* the step's constraint rows */
+    lg_device_ws gpu;
+} lg_ws;
 
 typedef struct local_global_solver {
     pl_component base;
@@ -35,12 +49,12 @@ typedef struct local_global_solver {
     pl_link solver_link;
     pl_link contact_link;
     int device;                /* 0 cpu, 1 cuda, 2 auto */
+    /* model */
     pl_dynamics dyn;
     pl_component *solver;
     pl_component *contact;     /* contact solver, or NULL */
     pl_component **constraints;
     int nconstraints;
-    pl_rows rows;
     int ready;
     int t_local, t_global, t_assembly;
     lg_device gpu;
@@ -48,18 +62,23 @@ typedef struct local_global_solver {
 
 /* After the dynamics are set up and A_ff factored: resolves `device`
  * (auto: cuda when a device service is found in this node or above and
- * every part of the loop can run there) and allocates the device copies.
- * Errors (device="cuda" with a part that cannot run there) are recorded
- * against the solver in ctx. */
+ * every part of the loop can run there) and copies the model's arrays to
+ * it.  Errors (device="cuda" with a part that cannot run there) are
+ * recorded against the solver in ctx. */
 int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx);
-/* Frees the device copies and graph; call before pl_dynamics_free. */
+/* Frees the model's device copies; call before pl_dynamics_free. */
 void pl_lg_device_free(local_global_solver *s);
+/* Makes a workspace's device vectors (once per workspace). */
+int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err);
+/* Frees them (and the graph). */
+void pl_lg_device_ws_free(lg_ws *ws);
 /* One time step with the iterations on the device. */
-int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err);
+int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err);
 /* The step's constraint rows and the contact solver's begin (host, q_t):
  * the number of rows, or minus an error code.  local_global_solver.c. */
-int pl_lg_begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err);
+int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,
+                            pl_error *err);
 /* The multipliers to the state (constraint forces) and to their emitters. */
-void pl_lg_end_constraints(local_global_solver *s, pl_ctx *ctx);
+void pl_lg_end_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx);
 
 #endif

@@ -15,6 +15,9 @@
  *           replayed as a graph when the device asks for graphs (the first
  *           iteration of each step stays eager: terms upload their per-step
  *           data, such as ADMM duals, when first called in a step);
+ * The model's arrays (masses, the free-vertex map, A_fp) go to the device
+ * once, at reinit; each pl_data has its own vectors and graph, in the
+ * solver's workspace, so several data step over one model on the device.
  *   copy:   q back to the host once, then v = (q - q_t) / h and the
  *           scatter into the states on the host.
  * q comes back every iteration only when tolerance > 0 (the change, one
@@ -125,10 +128,11 @@ static pl_component *find_device(local_global_solver *s, char *why, size_t size)
     return dev;
 }
 
-static void *dalloc(lg_device *g, size_t bytes, int *rc, pl_error *err)
+static void *dalloc(pl_component *dev, const pl_device_ops *ops, size_t bytes, int *rc,
+                    pl_error *err)
 {
     if (*rc) return NULL;
-    void *p = g->ops->alloc(g->dev, bytes, err);
+    void *p = ops->alloc(dev, bytes, err);
     if (!p) *rc = err->code ? err->code : PL_EINTERNAL;
     return p;
 }
@@ -163,21 +167,15 @@ static int fp_rows(const pl_csc *A, pl_csr *R)
     return PL_OK;
 }
 
+/* The model's arrays on the device. */
 static int allocate(local_global_solver *s, pl_error *err)
 {
     pl_dynamics *d = &s->dyn;
     lg_device *g = &s->gpu;
-    size_t n3 = (size_t)d->n * 3 * sizeof(double);
-    size_t f3 = (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double);
     int rc = PL_OK;
-    g->q = dalloc(g, n3, &rc, err);
-    g->sn = dalloc(g, n3, &rc, err);
-    g->rhs = dalloc(g, n3, &rc, err);
-    g->b_free = dalloc(g, f3, &rc, err);
-    g->q_free = dalloc(g, f3, &rc, err);
-    g->mass = dalloc(g, (size_t)d->n * sizeof(double), &rc, err);
-    g->change = dalloc(g, sizeof(double), &rc, err);
-    g->free_vertex = dalloc(g, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
+    g->mass = dalloc(g->dev, g->ops, (size_t)d->n * sizeof(double), &rc, err);
+    g->free_vertex =
+        dalloc(g->dev, g->ops, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
     put(g, g->mass, d->mass, (size_t)d->n * sizeof(double), &rc, err);
     put(g, g->free_vertex, d->free_vertex, (size_t)d->nfree * sizeof(int), &rc, err);
     if (rc) return rc;
@@ -189,24 +187,64 @@ static int allocate(local_global_solver *s, pl_error *err)
     int nnz = pl_csr_nnz(&R);
     g->fp_nnz = nnz;
     g->A_fp.nrows = R.nrows, g->A_fp.ncols = R.ncols;
-    g->A_fp.p = dalloc(g, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
-    g->A_fp.j = dalloc(g, (size_t)(nnz ? nnz : 1) * sizeof(int), &rc, err);
-    g->A_fp.x = dalloc(g, (size_t)(nnz ? nnz : 1) * sizeof(double), &rc, err);
+    g->A_fp.p = dalloc(g->dev, g->ops, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
+    g->A_fp.j = dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(int), &rc, err);
+    g->A_fp.x = dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(double), &rc, err);
     put(g, g->A_fp.p, R.p, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
     put(g, g->A_fp.j, R.j, (size_t)nnz * sizeof(int), &rc, err);
     put(g, g->A_fp.x, R.x, (size_t)nnz * sizeof(double), &rc, err);
     pl_csr_free(&R);
     if (!rc) rc = g->ops->sync(g->dev, err); /* the host arrays above may go */
-    if (rc) return rc;
+    return rc;
+}
+
+int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err)
+{
+    const pl_dynamics *d = &s->dyn;
+    lg_device_ws *g = &ws->gpu;
+    size_t n3 = (size_t)d->n * 3 * sizeof(double);
+    size_t f3 = (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double);
+    int rc = PL_OK;
+    pl_lg_device_ws_free(ws);
+    g->dev = s->gpu.dev;
+    g->ops = s->gpu.ops;
+    g->flags = g->ops->flags ? g->ops->flags(g->dev) : 0;
+    g->q = dalloc(g->dev, g->ops, n3, &rc, err);
+    g->sn = dalloc(g->dev, g->ops, n3, &rc, err);
+    g->rhs = dalloc(g->dev, g->ops, n3, &rc, err);
+    g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
+    g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
+    g->change = dalloc(g->dev, g->ops, sizeof(double), &rc, err);
+    if (rc) {
+        pl_lg_device_ws_free(ws);
+        return rc;
+    }
     /* page-locked q and sn: their copies are the per-step traffic */
     pl_error pe;
-    if (g->ops->pin && g->ops->pin(g->dev, d->q, n3, &pe) == PL_OK) {
-        if (g->ops->pin(g->dev, d->sn, n3, &pe) == PL_OK)
-            g->pinned = 1;
-        else
-            g->ops->unpin(g->dev, d->q);
+    if (g->ops->pin && g->ops->pin(g->dev, ws->w.q, n3, &pe) == PL_OK) {
+        if (g->ops->pin(g->dev, ws->w.sn, n3, &pe) == PL_OK) {
+            g->pinned_q = ws->w.q;
+            g->pinned_sn = ws->w.sn;
+        } else {
+            g->ops->unpin(g->dev, ws->w.q);
+        }
     }
     return PL_OK;
+}
+
+void pl_lg_device_ws_free(lg_ws *ws)
+{
+    lg_device_ws *g = &ws->gpu;
+    if (!g->dev) return;
+    const pl_device_ops *o = g->ops;
+    pl_error err;
+    o->sync(g->dev, &err); /* nothing may still use the buffers */
+    if (g->graph) o->graph_free(g->dev, g->graph);
+    void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change};
+    for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
+    if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
+    if (g->pinned_sn) o->unpin(g->dev, g->pinned_sn);
+    memset(g, 0, sizeof *g);
 }
 
 int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx)
@@ -229,7 +267,6 @@ int pl_lg_device_setup(local_global_solver *s, pl_ctx *ctx)
     lg_device *g = &s->gpu;
     g->dev = dev;
     g->ops = pl_component_role(dev, PL_ROLE_DEVICE);
-    g->flags = g->ops->flags ? g->ops->flags(dev) : 0;
     pl_error err;
     pl_error_clear(&err);
     int rc = allocate(s, &err);
@@ -247,31 +284,26 @@ void pl_lg_device_free(local_global_solver *s)
     const pl_device_ops *o = g->ops;
     pl_error err;
     o->sync(g->dev, &err); /* nothing may still use the buffers */
-    if (g->graph) o->graph_free(g->dev, g->graph);
-    void *bufs[] = {g->q,      g->sn,          g->rhs,    g->b_free, g->q_free, g->mass,
-                    g->change, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
+    void *bufs[] = {g->mass, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
-    if (g->pinned) {
-        o->unpin(g->dev, s->dyn.q);
-        o->unpin(g->dev, s->dyn.sn);
-    }
     memset(g, 0, sizeof *g);
 }
 
 /* Waits for the device when profiling, so that the phase timer is right. */
-static int phase_end(local_global_solver *s, pl_ctx *ctx, int timer, pl_error *err)
+static int phase_end(const lg_device_ws *g, pl_ctx *ctx, int timer, pl_error *err)
 {
-    int rc = s->gpu.ops->sync(s->gpu.dev, err);
+    int rc = g->ops->sync(g->dev, err);
     pl_timer_stop(ctx->timers, timer);
     return rc;
 }
 
 /* One iteration queued on the device: rhs, local step, reduction to the
  * unknowns, global step, positions.  profile: time each phase (syncs). */
-static int iteration(local_global_solver *s, pl_ctx *ctx, int profile, pl_error *err)
+static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int profile,
+                     pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
-    lg_device *g = &s->gpu;
+    const pl_dynamics *d = &s->dyn;
+    const lg_device *m = &s->gpu;
     const pl_device_ops *o = g->ops;
     pl_component *dev = g->dev;
     pl_buffer qb = {g->q, (size_t)d->n, 3, PL_DEVICE, PL_F64};
@@ -280,17 +312,17 @@ static int iteration(local_global_solver *s, pl_ctx *ctx, int profile, pl_error 
     pl_buffer xb = {g->q_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     if (profile) pl_timer_start(ctx->timers, s->t_local);
     int rc = o->zero(dev, g->change, sizeof(double), err);
-    if (!rc) rc = o->scale_rows(dev, d->n, g->mass, g->sn, g->rhs, err);
+    if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);
     }
-    if (profile && !rc) rc = phase_end(s, ctx, s->t_local, err);
+    if (profile && !rc) rc = phase_end(g, ctx, s->t_local, err);
     if (rc || d->nfree == 0) return rc;
     if (profile) pl_timer_start(ctx->timers, s->t_assembly);
-    rc = o->gather_rows(dev, d->nfree, g->free_vertex, g->rhs, g->b_free, err);
-    if (!rc && g->fp_nnz) rc = o->sub_csr(dev, &g->A_fp, g->q, g->b_free, err);
-    if (profile && !rc) rc = phase_end(s, ctx, s->t_assembly, err);
+    rc = o->gather_rows(dev, d->nfree, m->free_vertex, g->rhs, g->b_free, err);
+    if (!rc && m->fp_nnz) rc = o->sub_csr(dev, &m->A_fp, g->q, g->b_free, err);
+    if (profile && !rc) rc = phase_end(g, ctx, s->t_assembly, err);
     if (rc) return rc;
     if (g->nrows > 0) {
         /* Algorithm 4: the contact solver's constrained global step (it
@@ -301,24 +333,24 @@ static int iteration(local_global_solver *s, pl_ctx *ctx, int profile, pl_error 
         if (profile) pl_timer_start(ctx->timers, s->t_global);
         const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
         rc = gs->solve(s->solver, &bb, &xb, err);
-        if (profile && !rc) rc = phase_end(s, ctx, s->t_global, err);
+        if (profile && !rc) rc = phase_end(g, ctx, s->t_global, err);
     }
-    if (!rc) rc = o->scatter_rows(dev, d->nfree, g->free_vertex, g->q_free, g->q, g->change, err);
+    if (!rc) rc = o->scatter_rows(dev, d->nfree, m->free_vertex, g->q_free, g->q, g->change, err);
     return rc;
 }
 
 /* Iteration `it` of a step: eager, or through the captured graph. */
-static int run_iteration(local_global_solver *s, pl_ctx *ctx, int it, pl_error *err)
+static int run_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int it,
+                         pl_error *err)
 {
-    lg_device *g = &s->gpu;
     int profile = (g->flags & PL_DEVICE_PROFILE) != 0;
     if (profile || !(g->flags & PL_DEVICE_GRAPHS) || it == 0)
-        return iteration(s, ctx, profile, err);
+        return iteration(s, g, ctx, profile, err);
     if (!g->graph) {
         int rc = g->ops->capture_begin(g->dev, err);
         if (rc) return rc;
         g->graph_rows = g->nrows > 0;
-        rc = iteration(s, ctx, 0, err);
+        rc = iteration(s, g, ctx, 0, err);
         pl_error e2;
         int rc2 = g->ops->capture_end(g->dev, &g->graph, rc ? &e2 : err);
         if (rc || rc2) {
@@ -330,22 +362,23 @@ static int run_iteration(local_global_solver *s, pl_ctx *ctx, int it, pl_error *
     return g->ops->replay(g->dev, g->graph, err);
 }
 
-int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
-    lg_device *g = &s->gpu;
+    const pl_dynamics *d = &s->dyn;
+    lg_device_ws *g = &ws->gpu;
+    pl_dyn_work *w = &ws->w;
     const pl_device_ops *o = g->ops;
-    pl_component *c = &s->base;
+    const pl_component *c = &s->base;
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
     int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
-    pl_dynamics_gather(d, ctx->data);
-    pl_dynamics_predict(d);
-    memcpy(d->q, d->sn, n3);
-    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    pl_dynamics_gather(d, w, ctx->data);
+    pl_dynamics_predict(d, w);
+    memcpy(w->q, w->sn, n3);
+    int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (rc) return rc;
     g->nrows = 0;
     if (s->nconstraints) {
-        g->nrows = pl_lg_begin_constraints(s, ctx, err);
+        g->nrows = pl_lg_begin_constraints(s, ws, ctx, err);
         if (g->nrows < 0) return -g->nrows;
     }
     /* a graph with the contact solver's iterate holds this step's row
@@ -358,20 +391,21 @@ int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
         g->graph_rows = 0;
     }
     g->flags = flags;
-    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(d->q_t, d->n) : 1.0;
+    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
-        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
-    rc = o->copy(g->dev, g->sn, PL_DEVICE, d->sn, PL_HOST, n3, err);
-    if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, d->q, PL_HOST, n3, err);
+        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
+    rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
+    if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
     for (int it = 0; !rc && it < s->iterations; ++it) {
-        rc = run_iteration(s, ctx, it, err);
+        rc = run_iteration(s, g, ctx, it, err);
         if (rc || !(s->tolerance > 0 || s->compute_energy) || d->nfree == 0) continue;
         double change = 0.0;
         if (s->tolerance > 0)
             rc = o->copy(g->dev, &change, PL_HOST, g->change, PL_DEVICE, sizeof change, err);
         if (!rc && s->compute_energy) {
-            rc = o->copy(g->dev, d->q, PL_HOST, g->q, PL_DEVICE, n3, err);
-            if (!rc) pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
+            rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+            if (!rc)
+                pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, w, ctx->data, w->q));
         }
         if (rc) break;
         if (!isfinite(change))
@@ -380,19 +414,19 @@ int pl_lg_device_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
                                      it + 1, ctx->data->step + 1);
         if (s->tolerance > 0 && change < s->tolerance * scale) break;
     }
-    if (!rc) rc = o->copy(g->dev, d->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+    if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
     if (rc) return rc;
     for (int f = 0; f < d->nfree; ++f) {
-        const double *x = &d->q[3 * d->free_vertex[f]];
+        const double *x = &w->q[3 * d->free_vertex[f]];
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
             return pl_component_fail(c, err, PL_EINTERNAL,
                                      "the solution became NaN/inf during step %ld (vertex %d)",
                                      ctx->data->step + 1, d->free_vertex[f]);
     }
     if (g->nrows > 0)
-        pl_lg_end_constraints(s, ctx);
+        pl_lg_end_constraints(s, ws, ctx);
     else if (s->nconstraints)
-        pl_dynamics_store_forces(d, ctx->data, NULL, NULL); /* no contact this step */
-    pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
+        pl_dynamics_store_forces(d, w, ctx->data, NULL, NULL); /* no contact this step */
+    pl_dynamics_scatter(d, w, ctx->data, w->q, pl_input_double(ctx->data, c, &s->damping));
     return PL_OK;
 }

@@ -30,7 +30,7 @@ static const pl_field FIELDS[] = {
              "tolerance times the bounding-box diagonal (0: always run `iterations`)",
              PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, damping, "damping", PL_F_DOUBLE, "0",
-             "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_RUNTIME),
+             "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_INPUT),
     PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
              "record the incremental potential after each iteration (series \"energy\" in the "
              "timings file; \"energy0\": at the initial guess of each step; costs one energy "
@@ -131,56 +131,79 @@ static void lg_destroy(pl_component *c)
     local_global_solver *s = (local_global_solver *)c;
     pl_lg_device_free(s);
     pl_dynamics_free(&s->dyn);
-    pl_rows_free(&s->rows);
     free(s->constraints);
+}
+
+static void lg_workspace_free(const pl_component *c, void *ws)
+{
+    lg_ws *w = ws;
+    (void)c;
+    pl_lg_device_ws_free(w);
+    pl_dyn_work_free(&w->w);
+    pl_rows_free(&w->rows);
+}
+
+/* This data's workspace, made for the model on first use; NULL with err
+ * set when memory runs out. */
+static lg_ws *workspace(const local_global_solver *s, pl_data *d, pl_error *err)
+{
+    lg_ws *ws = pl_data_workspace(d, &s->base);
+    if (ws && !ws->ready) {
+        if (pl_dyn_work_alloc(&ws->w, &s->dyn) != PL_OK) ws = NULL;
+        else if (s->gpu.dev && pl_lg_device_ws_alloc(s, ws, err) != PL_OK) return NULL;
+        else ws->ready = 1;
+    }
+    if (!ws) pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory (workspace)");
+    return ws;
 }
 
 /* Rows of every constraint at the start of the step; the contact solver's
  * begin when there are any.  Returns the number of rows (or < 0).  Shared
  * with the device path (local_global.h). */
-int pl_lg_begin_constraints(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
-    pl_rows_clear(&s->rows);
-    pl_buffer qt = pl_buffer_host_f64(d->q_t, (size_t)d->n, 3);
+    const pl_dynamics *d = &s->dyn;
+    pl_rows_clear(&ws->rows);
+    pl_buffer qt = pl_buffer_host_f64(ws->w.q_t, (size_t)d->n, 3);
     for (int k = 0; k < s->nconstraints; ++k) {
         const pl_constraint_ops *ops = pl_component_role(s->constraints[k], PL_ROLE_CONSTRAINT);
-        int rc = ops->build_rows(s->constraints[k], ctx, &d->sys, &qt, &s->rows, err);
+        int rc = ops->build_rows(s->constraints[k], ctx, &d->sys, &qt, &ws->rows, err);
         if (rc) return -rc;
     }
-    if (s->rows.n == 0) return 0;
+    if (ws->rows.n == 0) return 0;
     const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
-    int rc = cs->begin(s->contact, ctx, &d->sys, &s->rows, &qt, err);
-    return rc ? -rc : s->rows.n;
+    int rc = cs->begin(s->contact, ctx, &d->sys, &ws->rows, &qt, err);
+    return rc ? -rc : ws->rows.n;
 }
 
 /* Hands every constraint component the multipliers of its own rows. */
-void pl_lg_end_constraints(local_global_solver *s, pl_ctx *ctx)
+void pl_lg_end_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx)
 {
     const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
+    const pl_rows *rows = &ws->rows;
     int count = 0;
-    const double *lambda = cs->multipliers(s->contact, &count);
-    if (!lambda || count != s->rows.n) return;
-    pl_dynamics_store_forces(&s->dyn, ctx->data, &s->rows, lambda);
-    for (int first = 0; first < s->rows.n;) {
+    const double *lambda = cs->multipliers(s->contact, ctx->data, &count);
+    if (!lambda || count != rows->n) return;
+    pl_dynamics_store_forces(&s->dyn, &ws->w, ctx->data, rows, lambda);
+    for (int first = 0; first < rows->n;) {
         int last = first;
-        while (last + 1 < s->rows.n && s->rows.owner[last + 1] == s->rows.owner[first]) last++;
-        pl_component *owner = s->rows.owner[first];
+        while (last + 1 < rows->n && rows->owner[last + 1] == rows->owner[first]) last++;
+        const pl_component *owner = rows->owner[first];
         const pl_constraint_ops *ops = owner ? pl_component_role(owner, PL_ROLE_CONSTRAINT) : NULL;
         if (ops && ops->accept_multipliers)
-            ops->accept_multipliers(owner, ctx->data, &s->rows, lambda, first, last - first + 1);
+            ops->accept_multipliers(owner, ctx->data, rows, lambda, first, last - first + 1);
         first = last + 1;
     }
 }
 
 /* One local step: rhs <- M sn + h^2 sum w G^T (p - u). */
-static int local_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
+static int local_step(const local_global_solver *s, pl_dyn_work *w, pl_ctx *ctx, pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
+    const pl_dynamics *d = &s->dyn;
     for (int i = 0; i < d->n; ++i)
-        for (int k = 0; k < 3; ++k) d->rhs[3 * i + k] = d->mass[i] * d->sn[3 * i + k];
-    pl_buffer qb = pl_buffer_host_f64(d->q, (size_t)d->n, 3);
-    pl_buffer rb = pl_buffer_host_f64(d->rhs, (size_t)d->n, 3);
+        for (int k = 0; k < 3; ++k) w->rhs[3 * i + k] = d->mass[i] * w->sn[3 * i + k];
+    pl_buffer qb = pl_buffer_host_f64(w->q, (size_t)d->n, 3);
+    pl_buffer rb = pl_buffer_host_f64(w->rhs, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         int rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);
@@ -189,43 +212,46 @@ static int local_step(local_global_solver *s, pl_ctx *ctx, pl_error *err)
     return PL_OK;
 }
 
-static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
+static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
-    local_global_solver *s = (local_global_solver *)c;
-    pl_dynamics *d = &s->dyn;
+    const local_global_solver *s = (const local_global_solver *)c;
+    const pl_dynamics *d = &s->dyn;
     if (!s->ready) return pl_component_fail(c, err, PL_EINTERNAL, "not initialised");
     if (fabs(dt - d->h) > 1e-15 * d->h)
         return pl_component_fail(c, err, PL_EINPUT,
                                  "dt changed from %g to %g s: the system must be refactored "
                                  "(set dt before loading)",
                                  d->h, dt);
-    if (s->gpu.dev) return pl_lg_device_step(s, ctx, err);
+    lg_ws *ws = workspace(s, ctx->data, err);
+    if (!ws) return err->code;
+    if (s->gpu.dev) return pl_lg_device_step(s, ws, ctx, err);
+    pl_dyn_work *w = &ws->w;
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
-    pl_dynamics_gather(d, ctx->data);
-    pl_dynamics_predict(d);
-    memcpy(d->q, d->sn, (size_t)d->n * 3 * sizeof(double));
-    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    pl_dynamics_gather(d, w, ctx->data);
+    pl_dynamics_predict(d, w);
+    memcpy(w->q, w->sn, (size_t)d->n * 3 * sizeof(double));
+    int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (rc) return rc;
     int nrows = 0;
     if (s->nconstraints) {
-        nrows = pl_lg_begin_constraints(s, ctx, err);
+        nrows = pl_lg_begin_constraints(s, ws, ctx, err);
         if (nrows < 0) return -nrows;
     }
     const pl_contact_solver_ops *cs =
         nrows ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    pl_buffer qk = pl_buffer_host_f64(d->q, (size_t)d->n, 3);
-    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(d->q_t, d->n) : 1.0;
+    pl_buffer qk = pl_buffer_host_f64(w->q, (size_t)d->n, 3);
+    double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
-        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, ctx->data, d->q));
-    pl_buffer bb = pl_buffer_host_f64(d->b_free, (size_t)d->nfree, 3);
-    pl_buffer xb = pl_buffer_host_f64(d->q_free, (size_t)d->nfree, 3);
+        pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
+    pl_buffer bb = pl_buffer_host_f64(w->b_free, (size_t)d->nfree, 3);
+    pl_buffer xb = pl_buffer_host_f64(w->q_free, (size_t)d->nfree, 3);
     for (int it = 0; it < s->iterations; ++it) {
         pl_timer_start(ctx->timers, s->t_local);
-        rc = local_step(s, ctx, err);
+        rc = local_step(s, w, ctx, err);
         pl_timer_stop(ctx->timers, s->t_local);
         if (rc) return rc;
         pl_timer_start(ctx->timers, s->t_assembly);
-        pl_dynamics_reduce_rhs(d, d->rhs, d->q);
+        pl_dynamics_reduce_rhs(d, w, w->rhs, w->q);
         pl_timer_stop(ctx->timers, s->t_assembly);
         if (cs) {
             /* Algorithm 4: lambda update and corrected global step (timed inside) */
@@ -239,7 +265,7 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         double change = 0.0;
         for (int f = 0; f < d->nfree; ++f)
             for (int k = 0; k < 3; ++k) {
-                double *qi = &d->q[3 * d->free_vertex[f] + k], nv = d->q_free[3 * f + k];
+                double *qi = &w->q[3 * d->free_vertex[f] + k], nv = w->q_free[3 * f + k];
                 if (!isfinite(nv))
                     return pl_component_fail(c, err, PL_EINTERNAL,
                                              "the solution became NaN/inf at iteration %d of "
@@ -250,14 +276,14 @@ static int lg_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
                 *qi = nv;
             }
         if (s->compute_energy)
-            pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, ctx->data, d->q));
+            pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, w, ctx->data, w->q));
         if (s->tolerance > 0 && change < s->tolerance * scale) break;
     }
     if (cs)
-        pl_lg_end_constraints(s, ctx);
+        pl_lg_end_constraints(s, ws, ctx);
     else if (s->nconstraints)
-        pl_dynamics_store_forces(d, ctx->data, NULL, NULL); /* no contact this step */
-    pl_dynamics_scatter(d, ctx->data, d->q, s->damping);
+        pl_dynamics_store_forces(d, w, ctx->data, NULL, NULL); /* no contact this step */
+    pl_dynamics_scatter(d, w, ctx->data, w->q, pl_input_double(ctx->data, c, &s->damping));
     return PL_OK;
 }
 
@@ -270,8 +296,9 @@ const pl_type pl_local_global_solver_type = {
     .help = "Implicit Euler by local-global iterations (Projective Dynamics / ADMM-PD) over the "
             "bodies below it, with a constant system solved by the scene's global solver.",
     .size = sizeof(local_global_solver),
+    .workspace_size = sizeof(lg_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.reinit = lg_reinit, .destroy = lg_destroy},
+    .ops = {.reinit = lg_reinit, .destroy = lg_destroy, .workspace_free = lg_workspace_free},
     .roles = {[PL_ROLE_ANIMATION_LOOP] = &LOOP},
 };

@@ -22,10 +22,15 @@ typedef struct newton_solver {
     int project;
     pl_dynamics dyn;
     int ready;
+} newton_solver;
+
+/* Per data (pl_data_workspace): the step's vectors and CHOLMOD's common. */
+typedef struct newton_ws {
+    int ready;
+    pl_dyn_work w;
     double *grad, *dx, *trial;
     cholmod_common cm;
-    int cm_started;
-} newton_solver;
+} newton_ws;
 
 static const pl_field FIELDS[] = {
     PL_FIELD(newton_solver, max_iterations, "maxIterations", PL_F_INT, "100",
@@ -52,10 +57,6 @@ static int ns_reinit(pl_component *c, pl_ctx *ctx)
                             "maxIterations (per time step)", "maxIterations"))
         return PL_EINPUT;
     pl_dynamics_free(&s->dyn);
-    free(s->grad);
-    free(s->dx);
-    free(s->trial);
-    s->grad = s->dx = s->trial = NULL;
     int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 0);
     if (rc) return rc;
     for (int t = 0; t < s->dyn.nterms; ++t) {
@@ -66,35 +67,50 @@ static int ns_reinit(pl_component *c, pl_ctx *ctx)
                                       "cannot use it",
                                       s->dyn.terms[t]->type->name, s->dyn.terms[t]->name);
     }
-    size_t n3 = (size_t)s->dyn.n * 3;
-    s->grad = calloc(n3, sizeof(double));
-    s->dx = calloc(n3, sizeof(double));
-    s->trial = calloc(n3, sizeof(double));
-    if (!s->grad || !s->dx || !s->trial)
-        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    if (!s->cm_started) {
-        cholmod_start(&s->cm);
-        s->cm.print = 0;
-        s->cm_started = 1;
-    }
     s->ready = 1;
     return PL_OK;
 }
 
 static void ns_destroy(pl_component *c)
 {
-    newton_solver *s = (newton_solver *)c;
-    pl_dynamics_free(&s->dyn);
-    free(s->grad);
-    free(s->dx);
-    free(s->trial);
-    if (s->cm_started) cholmod_finish(&s->cm);
+    pl_dynamics_free(&((newton_solver *)c)->dyn);
 }
 
-static double potential(const newton_solver *s, const pl_data *data, const double *q)
+static void ns_workspace_free(const pl_component *c, void *ws)
+{
+    newton_ws *w = ws;
+    (void)c;
+    pl_dyn_work_free(&w->w);
+    free(w->grad);
+    free(w->dx);
+    free(w->trial);
+    w->grad = w->dx = w->trial = NULL;
+    if (w->ready) cholmod_finish(&w->cm);
+    w->ready = 0;
+}
+
+/* This data's workspace, made on first use; NULL when memory runs out. */
+static newton_ws *workspace(const newton_solver *s, pl_data *d)
+{
+    newton_ws *w = pl_data_workspace(d, &s->base);
+    if (!w || w->ready) return w;
+    size_t n3 = (size_t)(s->dyn.n ? s->dyn.n : 1) * 3;
+    ns_workspace_free(&s->base, w); /* what a failed attempt left */
+    w->grad = calloc(n3, sizeof(double));
+    w->dx = calloc(n3, sizeof(double));
+    w->trial = calloc(n3, sizeof(double));
+    if (!w->grad || !w->dx || !w->trial || pl_dyn_work_alloc(&w->w, &s->dyn) != PL_OK) return NULL;
+    cholmod_start(&w->cm);
+    w->cm.print = 0;
+    w->ready = 1;
+    return w;
+}
+
+static double potential(const newton_solver *s, const newton_ws *w, const pl_data *data,
+                        const double *q)
 {
     const pl_dynamics *d = &s->dyn;
-    if (!s->quasi_static) return pl_dynamics_energy(d, data, q);
+    if (!s->quasi_static) return pl_dynamics_energy(d, &w->w, data, q);
     double e = 0.0;
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {
@@ -107,17 +123,18 @@ static double potential(const newton_solver *s, const pl_data *data, const doubl
     return e;
 }
 
-static int gradient(newton_solver *s, const pl_data *data, const double *q, pl_error *err)
+static int gradient(const newton_solver *s, newton_ws *w, const pl_data *data, const double *q,
+                    pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
+    const pl_dynamics *d = &s->dyn;
     double h2 = d->h * d->h;
     for (int i = 0; i < d->n; ++i)
         for (int k = 0; k < 3; ++k)
-            s->grad[3 * i + k] = s->quasi_static
+            w->grad[3 * i + k] = s->quasi_static
                                      ? -d->mass[i] * d->gravity[3 * i + k]
-                                     : d->mass[i] * (q[3 * i + k] - d->sn[3 * i + k]) / h2;
+                                     : d->mass[i] * (q[3 * i + k] - w->w.sn[3 * i + k]) / h2;
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
-    pl_buffer gb = pl_buffer_host_f64(s->grad, (size_t)d->n, 3);
+    pl_buffer gb = pl_buffer_host_f64(w->grad, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         int rc = ops->add_gradient(d->terms[t], data, d->term_offset[t], &qb, &gb, err);
@@ -128,9 +145,11 @@ static int gradient(newton_solver *s, const pl_data *data, const double *q, pl_e
 
 /* dx (over all vertices; zero on prescribed ones) = -H^-1 g, H the
  * PSD-projected Hessian restricted to the unknowns. */
-static int newton_direction(newton_solver *s, const pl_data *data, const double *q, pl_error *err)
+static int newton_direction(const newton_solver *s, newton_ws *w, const pl_data *data,
+                            const double *q, pl_error *err)
 {
-    pl_dynamics *d = &s->dyn;
+    const pl_dynamics *d = &s->dyn;
+    cholmod_common *cm = &w->cm;
     int nf3 = 3 * d->nfree;
     pl_triplets H;
     if (pl_triplets_init(&H, 3 * d->n, 3 * d->n, 64 * d->n) != PL_OK)
@@ -149,7 +168,7 @@ static int newton_direction(newton_solver *s, const pl_data *data, const double 
     }
     /* keep the lower triangle of the free block, in free numbering */
     cholmod_triplet *T = cholmod_allocate_triplet((size_t)nf3, (size_t)nf3, (size_t)H.nnz + nf3,
-                                                  -1, CHOLMOD_REAL, &s->cm);
+                                                  -1, CHOLMOD_REAL, cm);
     if (!T) {
         pl_triplets_free(&H);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
@@ -167,71 +186,75 @@ static int newton_direction(newton_solver *s, const pl_data *data, const double 
      * eigenvalue (e.g. quasi-static rigid modes are removed by the boundary) */
     for (int r = 0; r < nf3; ++r) Ti[T->nnz] = r, Tj[T->nnz] = r, Tx[T->nnz] = 1e-12, T->nnz++;
     pl_triplets_free(&H);
-    cholmod_sparse *A = cholmod_triplet_to_sparse(T, T->nnz, &s->cm);
-    cholmod_free_triplet(&T, &s->cm);
-    cholmod_dense *b = cholmod_zeros((size_t)nf3, 1, CHOLMOD_REAL, &s->cm);
+    cholmod_sparse *A = cholmod_triplet_to_sparse(T, T->nnz, cm);
+    cholmod_free_triplet(&T, cm);
+    cholmod_dense *b = cholmod_zeros((size_t)nf3, 1, CHOLMOD_REAL, cm);
     int rc = PL_OK;
     if (!A || !b) {
         rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     } else {
         double *bx = b->x;
         for (int f = 0; f < d->nfree; ++f)
-            for (int k = 0; k < 3; ++k) bx[3 * f + k] = -s->grad[3 * d->free_vertex[f] + k];
-        cholmod_factor *L = cholmod_analyze(A, &s->cm);
-        if (L) cholmod_factorize(A, L, &s->cm);
-        cholmod_dense *x = (L && s->cm.status == CHOLMOD_OK) ? cholmod_solve(CHOLMOD_A, L, b, &s->cm)
-                                                             : NULL;
+            for (int k = 0; k < 3; ++k) bx[3 * f + k] = -w->grad[3 * d->free_vertex[f] + k];
+        cholmod_factor *L = cholmod_analyze(A, cm);
+        if (L) cholmod_factorize(A, L, cm);
+        cholmod_dense *x = (L && cm->status == CHOLMOD_OK) ? cholmod_solve(CHOLMOD_A, L, b, cm)
+                                                           : NULL;
         if (!x) {
             rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
                               "NewtonSolver: the Hessian could not be factored (CHOLMOD status %d)",
-                              s->cm.status);
+                              cm->status);
         } else {
-            memset(s->dx, 0, (size_t)d->n * 3 * sizeof(double));
+            memset(w->dx, 0, (size_t)d->n * 3 * sizeof(double));
             const double *xx = x->x;
             for (int f = 0; f < d->nfree; ++f)
-                for (int k = 0; k < 3; ++k) s->dx[3 * d->free_vertex[f] + k] = xx[3 * f + k];
-            cholmod_free_dense(&x, &s->cm);
+                for (int k = 0; k < 3; ++k) w->dx[3 * d->free_vertex[f] + k] = xx[3 * f + k];
+            cholmod_free_dense(&x, cm);
         }
-        cholmod_free_factor(&L, &s->cm);
+        cholmod_free_factor(&L, cm);
     }
-    cholmod_free_sparse(&A, &s->cm);
-    cholmod_free_dense(&b, &s->cm);
+    cholmod_free_sparse(&A, cm);
+    cholmod_free_dense(&b, cm);
     return rc;
 }
 
-static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
+static int ns_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
-    newton_solver *s = (newton_solver *)c;
-    pl_dynamics *d = &s->dyn;
+    const newton_solver *s = (const newton_solver *)c;
+    const pl_dynamics *d = &s->dyn;
     if (!s->ready) return pl_component_fail(c, err, PL_EINTERNAL, "not initialised");
-    pl_dynamics_gather(d, ctx->data);
-    pl_dynamics_predict(d);
+    newton_ws *w = workspace(s, ctx->data);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    double *q = w->w.q;
+    pl_dynamics_gather(d, &w->w, ctx->data);
+    pl_dynamics_predict(d, &w->w);
     /* start from the current positions: a valid (non-inverted) configuration */
-    memcpy(d->q, d->q_t, (size_t)d->n * 3 * sizeof(double));
-    int rc = pl_dynamics_prescribe(d, ctx->data, ctx->data->time + d->h, d->q, err);
+    memcpy(q, w->w.q_t, (size_t)d->n * 3 * sizeof(double));
+    int rc = pl_dynamics_prescribe(d, &w->w, ctx->data, ctx->data->time + d->h, q, err);
     if (rc) return rc;
-    double scale = pl_dynamics_bbox_diagonal(d->q_t, d->n), e = potential(s, ctx->data, d->q);
+    double scale = pl_dynamics_bbox_diagonal(w->w.q_t, d->n), e = potential(s, w, ctx->data, q);
     int it;
     for (it = 0; it < s->max_iterations; ++it) {
-        if ((rc = gradient(s, ctx->data, d->q, err)) || (rc = newton_direction(s, ctx->data, d->q, err)))
+        if ((rc = gradient(s, w, ctx->data, q, err)) ||
+            (rc = newton_direction(s, w, ctx->data, q, err)))
             return rc;
         double slope = 0.0, step_max = 0.0;
         for (int i = 0; i < 3 * d->n; ++i) {
-            slope += s->grad[i] * s->dx[i];
-            step_max = fmax(step_max, fabs(s->dx[i]));
+            slope += w->grad[i] * w->dx[i];
+            step_max = fmax(step_max, fabs(w->dx[i]));
         }
         if (step_max < s->tolerance * scale) break;
         double alpha = 1.0, e_new = INFINITY;
         for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
-            for (int i = 0; i < 3 * d->n; ++i) s->trial[i] = d->q[i] + alpha * s->dx[i];
-            e_new = potential(s, ctx->data, s->trial);
+            for (int i = 0; i < 3 * d->n; ++i) w->trial[i] = q[i] + alpha * w->dx[i];
+            e_new = potential(s, w, ctx->data, w->trial);
             if (isfinite(e_new) && e_new <= e + 1e-4 * alpha * slope) break;
         }
         if (!isfinite(e_new) || e_new > e + 1e-4 * alpha * slope) {
             /* no descent left: we are at the minimum to round-off */
             break;
         }
-        memcpy(d->q, s->trial, (size_t)d->n * 3 * sizeof(double));
+        memcpy(q, w->trial, (size_t)d->n * 3 * sizeof(double));
         /* round-off floor: once a step changes the energy only in its last
          * digits, the line search accepts noise and no step tolerance can be met */
         if (getenv("PL_NEWTON_DEBUG"))
@@ -243,7 +266,7 @@ static int ns_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     }
     pl_stat_set(ctx->timers, "newton iterations", it);
     pl_stat_set(ctx->timers, "newton energy", e);
-    pl_dynamics_scatter(d, ctx->data, d->q, 0.0);
+    pl_dynamics_scatter(d, &w->w, ctx->data, q, 0.0);
     return PL_OK;
 }
 
@@ -257,8 +280,9 @@ const pl_type pl_newton_solver_type = {
             "Hessians, CHOLMOD and a backtracking line search, to a tight tolerance. Slow; for "
             "tests and convergence studies.",
     .size = sizeof(newton_solver),
+    .workspace_size = sizeof(newton_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.reinit = ns_reinit, .destroy = ns_destroy},
+    .ops = {.reinit = ns_reinit, .destroy = ns_destroy, .workspace_free = ns_workspace_free},
     .roles = {[PL_ROLE_ANIMATION_LOOP] = &LOOP},
 };

@@ -93,16 +93,16 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
         for (int k = 0; k < 3 && mo->velocity.n; ++k)
             mo->v0[3 * i + k] = mo->velocity.v[mo->velocity.n == 3 ? k : 3 * i + k];
     }
-    mo->slot_x = pl_model_add_slot(ctx->model, c, "position", bytes);
-    mo->slot_v = pl_model_add_slot(ctx->model, c, "velocity", bytes);
-    mo->slot_f = pl_model_add_slot(ctx->model, c, "constraintForce", bytes);
+    mo->slot_x = pl_model_add_slot(ctx->build, c, "position", bytes);
+    mo->slot_v = pl_model_add_slot(ctx->build, c, "velocity", bytes);
+    mo->slot_f = pl_model_add_slot(ctx->build, c, "constraintForce", bytes);
     mo->offset = -1;
     if (mo->slot_x < 0 || mo->slot_v < 0 || mo->slot_f < 0)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     /* a restored state must not bring NaN or infinity into the solvers */
-    pl_model_set_slot_check(ctx->model, mo->slot_x, pl_slot_check_finite);
-    pl_model_set_slot_check(ctx->model, mo->slot_v, pl_slot_check_finite);
-    pl_model_set_slot_check(ctx->model, mo->slot_f, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->build, mo->slot_x, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->build, mo->slot_v, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->build, mo->slot_f, pl_slot_check_finite);
     return PL_OK;
 }
 

@@ -27,10 +27,11 @@ static void print_type(const cli_type *e, FILE *f)
     for (int k = 0; k < t->nfields; ++k) {
         const pl_field *fd = &t->fields[k];
         cli_field_type_text(fd, ty, sizeof ty);
-        fprintf(f, "    %-20s %-18s %s%s%s%s%s%s\n", fd->name, ty, fd->help ? fd->help : "",
+        fprintf(f, "    %-20s %-18s %s%s%s%s%s%s%s\n", fd->name, ty, fd->help ? fd->help : "",
                 fd->def && fd->def[0] ? " (default " : "", fd->def && fd->def[0] ? fd->def : "",
                 fd->def && fd->def[0] ? ")" : "", (fd->flags & PL_FIELD_REQUIRED) ? " [required]" : "",
-                (fd->flags & PL_FIELD_OUTPUT) ? " [output]" : "");
+                (fd->flags & PL_FIELD_OUTPUT) ? " [output]" : "",
+                (fd->flags & PL_FIELD_INPUT) ? " [input]" : "");
     }
 }
 

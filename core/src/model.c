@@ -1,5 +1,8 @@
-/* model.c - state slots of the model, and pl_data: create, copy, save, load. */
+/* model.c - state slots of the model, and pl_data: create, copy, save,
+ * load, and the per-component workspaces. */
 #include "pliant/model.h"
+#include "model_internal.h"
+#include "walk.h"
 
 #include <limits.h>
 #include <math.h>
@@ -22,6 +25,7 @@ static int add_slot(pl_model *m, pl_component *owner, const char *name, size_t b
     }
     snprintf(full, sizeof full, "%s.%s", owner ? pl_component_path(owner, path, sizeof path) : "",
              name);
+    if (pl_model_find_slot(m, full) >= 0) return -1; /* two slots of one name */
     pl_slot_info *s = &m->slots[m->nslots];
     memset(s, 0, sizeof *s);
     if (!(s->name = strdup(full))) return -1;
@@ -29,6 +33,7 @@ static int add_slot(pl_model *m, pl_component *owner, const char *name, size_t b
     s->initial_bytes = bytes;
     s->elem_size = elem_size;
     s->max_elems = max_elems;
+    s->field = NULL;
     return m->nslots++;
 }
 
@@ -92,7 +97,8 @@ pl_data *pl_data_create(const pl_model *m)
         return NULL;
     }
     for (int k = 0; k < m->nslots; ++k)
-        if (resize(d, k, m->slots[k].initial_bytes) != 0) {
+        if (resize(d, k, m->slots[k].initial_bytes) != 0 ||
+            (m->slots[k].field && pl_input_fill(d, k) != PL_OK)) {
             pl_data_free(d);
             return NULL;
         }
@@ -102,9 +108,70 @@ pl_data *pl_data_create(const pl_model *m)
 void pl_data_free(pl_data *d)
 {
     if (!d) return;
+    pl_data_free_workspaces(d);
+    free(d->workspaces);
     for (int k = 0; k < d->nslots; ++k) free(d->slots[k].ptr);
     free(d->slots);
     free(d);
+}
+
+/* ---- workspaces ---------------------------------------------------------- */
+
+static int by_address(const void *a, const void *b)
+{
+    uintptr_t x = (uintptr_t) * (pl_component *const *)a, y = (uintptr_t) * (pl_component *const *)b;
+    return (x > y) - (x < y);
+}
+
+static int collect(pl_component *c, void *user)
+{
+    pl_model *m = user;
+    pl_component **all = realloc(m->components, (size_t)(m->ncomponents + 1) * sizeof *all);
+    if (!all) return 1;
+    m->components = all;
+    m->components[m->ncomponents++] = c;
+    return 0;
+}
+
+int pl_model_index_components(pl_model *m)
+{
+    free(m->components);
+    m->components = NULL;
+    m->ncomponents = 0;
+    if (m->root && walk_pre(m->root, collect, m)) return PL_EINTERNAL;
+    if (m->ncomponents)
+        qsort(m->components, (size_t)m->ncomponents, sizeof *m->components, by_address);
+    return PL_OK;
+}
+
+void pl_data_free_workspaces(pl_data *d)
+{
+    const pl_model *m = d->model;
+    if (!d->workspaces) return;
+    for (int k = 0; k < m->ncomponents; ++k) {
+        void *ws = d->workspaces[k];
+        const pl_component *c = m->components[k];
+        if (!ws) continue;
+        if (c->type->ops.workspace_free) c->type->ops.workspace_free(c, ws);
+        free(ws);
+        d->workspaces[k] = NULL;
+    }
+}
+
+void *pl_data_workspace(pl_data *d, const pl_component *c)
+{
+    const pl_model *m = d->model;
+    if (!c || !c->type->workspace_size || !m->ncomponents) return NULL;
+    pl_component *const *hit =
+        bsearch(&c, m->components, (size_t)m->ncomponents, sizeof *m->components, by_address);
+    if (!hit) return NULL;
+    if (d->workspaces && d->ws_generation != m->generation) pl_data_free_workspaces(d);
+    if (!d->workspaces && !(d->workspaces = calloc((size_t)m->ncomponents, sizeof(void *))))
+        return NULL;
+    d->ws_generation = m->generation;
+    size_t k = (size_t)(hit - m->components);
+    if (!d->workspaces[k]) d->workspaces[k] = calloc(1, c->type->workspace_size);
+    return d->workspaces[k];
 }
 
 /* Resizes without asking whether the size is allowed. */

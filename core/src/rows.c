@@ -53,7 +53,7 @@ static int grow_rows(pl_rows *r)
     return 0;
 }
 
-int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner)
+int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
 {
     if (r->n == r->cap && grow_rows(r) != 0) return -1;
     int k = r->n++;

@@ -3,6 +3,7 @@
 #include "pliant/sim.h"
 #include "pliant/log.h"
 #include "pliant/roles.h"
+#include "model_internal.h"
 #include "pliant/work_limits.h"
 #include "scene.h"
 #include "walk.h"
@@ -25,12 +26,21 @@ struct pl_sim {
     pl_work_limits ceiling;  /* pl_sim_options.max_limits, model.ceiling points here */
     pl_sim_callback callback;
     void *callback_user;
+    pl_data *stepping;       /* the data whose step runs the callback, or NULL */
     int frame_timer;
 };
 
+/* A step's context: the model read-only. */
 static pl_ctx make_ctx(pl_sim *s, pl_data *d, pl_diag *diag)
 {
-    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag};
+    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag, NULL};
+    return ctx;
+}
+
+/* The context of init, bind and reinit: the model may be built. */
+static pl_ctx build_ctx(pl_sim *s, pl_data *d, pl_diag *diag)
+{
+    pl_ctx ctx = {&s->model, d, s->registry, s->timers, diag, &s->model};
     return ctx;
 }
 
@@ -69,6 +79,12 @@ static int honour(pl_component *c, pl_ctx *ctx, const char *what, int rc, int er
 static int call_init(pl_component *c, void *user)
 {
     pl_ctx *ctx = user;
+    pl_error err;
+    /* the slots of its input fields first: init may look them up */
+    if (pl_input_declare(ctx->build, c, &err) != PL_OK) {
+        pl_component_error(c, ctx, err.code, "%s", err.msg);
+        return 0;
+    }
     int before = ctx->diag->nerrors;
     return c->type->ops.init ? honour(c, ctx, "init", c->type->ops.init(c, ctx), before) : 0;
 }
@@ -113,8 +129,10 @@ static int find_loop(pl_component *c, void *user)
 static int load_tree(pl_sim *s, pl_diag *diag)
 {
     pl_node *root = s->model.root;
-    pl_ctx ctx = make_ctx(s, NULL, diag);
+    pl_ctx ctx = build_ctx(s, NULL, diag);
     if (diag->nerrors) return PL_EINPUT;
+    if (pl_model_index_components(&s->model) != PL_OK)
+        return pl_diag_error(diag, PL_EINTERNAL, s->model.file, 0, NULL, "out of memory");
     /* links first: init may follow them to components above it in the scene */
     walk_pre(root, resolve_links, &ctx);
     if (diag->nerrors) return pl_diag_status(diag);
@@ -126,6 +144,7 @@ static int load_tree(pl_sim *s, pl_diag *diag)
     walk_pre(root, call_bind, &ctx);
     if (diag->nerrors) return pl_diag_status(diag);
     walk_post(root, call_reinit, &ctx);
+    s->model.generation++;
     if (diag->nerrors) return pl_diag_status(diag);
     if (pl_node_count_role(root, PL_ROLE_ANIMATION_LOOP) > 1)
         return pl_diag_error(diag, PL_EINPUT, s->model.file, 0, NULL,
@@ -242,11 +261,13 @@ void pl_sim_free(pl_sim *s)
 {
     if (!s) return;
     if (s->data && s->model.root) pl_sim_finish(s, NULL);
+    /* the data first: their workspaces are freed by the components */
+    pl_data_free(s->model.initial);
+    pl_data_free(s->data);
     pl_scene_free(s->model.root);
     for (int k = 0; k < s->model.nslots; ++k) free(s->model.slots[k].name);
     free(s->model.slots);
-    pl_data_free(s->model.initial);
-    pl_data_free(s->data);
+    free(s->model.components);
     free(s->model.file);
     if (s->own_registry) pl_registry_free(s->registry);
     pl_timers_free(s->timers);
@@ -317,7 +338,10 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
     step_walk w = {make_ctx(s, d, NULL), err, 0, d->time, NULL, 0};
     pl_error_clear(err);
     pl_timer_start(s->timers, s->frame_timer);
-    if (s->callback && s->callback(s, d->time, s->callback_user) != 0)
+    s->stepping = d; /* pl_sim_set/get in the callback address this data */
+    int cb = s->callback ? s->callback(s, d->time, s->callback_user) : 0;
+    s->stepping = NULL;
+    if (cb != 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "callback",
                             "the embedding program's step callback failed at t = %g s", d->time);
     if (walk_pre(s->model.root, call_begin, &w)) return w.rc;
@@ -332,7 +356,8 @@ static int step_once(pl_sim *s, pl_data *d, pl_error *err)
     if (walk_pre(s->model.root, call_end, &w)) return w.rc;
     pl_timer_stop(s->timers, s->frame_timer);
     pl_timers_end_frame(s->timers);
-    return export_all(s, d, 0, err);
+    /* exporters write the sim's own data: another data would mix its frames in */
+    return d == s->data ? export_all(s, d, 0, err) : PL_OK;
 }
 
 int pl_sim_step_data(pl_sim *s, pl_data *d, int nsteps, pl_error *err)
@@ -362,25 +387,44 @@ int pl_sim_finish(pl_sim *s, pl_error *err)
 
 /* ---- access ------------------------------------------------------------- */
 
-int pl_sim_set(pl_sim *s, const char *path, const char *value, pl_error *err)
+int pl_sim_set_data(pl_sim *s, pl_data *d, const char *path, const char *value, pl_error *err)
 {
     int runtime = 0;
-    int rc = pl_walk_set_runtime(s->model.root, path, value, &runtime, err);
+    pl_error local;
+    if (!err) err = &local;
+    if (d && d->model != &s->model)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "this state belongs to another model");
+    int rc = pl_walk_set_runtime(s->model.root, d, path, value, &runtime, err);
     if (rc != PL_OK || runtime) return rc;
-    /* a model field changed: rebuild derived data (weights, factors) */
+    /* a model field changed: rebuild derived data (weights, factors); every
+     * data's workspaces are remade when next used */
     pl_diag diag;
     pl_diag_init(&diag);
-    pl_ctx ctx = make_ctx(s, s->data, &diag);
+    pl_ctx ctx = build_ctx(s, s->data, &diag);
     walk_post(s->model.root, call_reinit, &ctx);
+    s->model.generation++;
     rc = pl_diag_status(&diag);
     if (rc != PL_OK && diag.count) *err = diag.items[0];
     pl_diag_free(&diag);
     return rc;
 }
 
+int pl_sim_set(pl_sim *s, const char *path, const char *value, pl_error *err)
+{
+    return pl_sim_set_data(s, s->stepping ? s->stepping : s->data, path, value, err);
+}
+
+int pl_sim_get_data(const pl_sim *s, const pl_data *d, const char *path, char *buf, size_t size,
+                    pl_error *err)
+{
+    if (d->model != &s->model)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "this state belongs to another model");
+    return pl_walk_get(s->model.root, d, path, buf, size, err);
+}
+
 int pl_sim_get(const pl_sim *s, const char *path, char *buf, size_t size, pl_error *err)
 {
-    return pl_walk_get(s->model.root, s->data, path, buf, size, err);
+    return pl_walk_get(s->model.root, s->stepping ? s->stepping : s->data, path, buf, size, err);
 }
 
 pl_component *pl_sim_component(const pl_sim *s, const char *path)

@@ -64,7 +64,7 @@ void pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg
      * initialises it again; CudaDevice's init is idempotent. */
     pl_diag scratch;
     pl_diag_init(&scratch);
-    pl_ctx ctx = {model, NULL, reg, NULL, &scratch};
+    pl_ctx ctx = {model, NULL, reg, NULL, &scratch, model};
     int rc = c->type->ops.init ? c->type->ops.init(c, &ctx) : PL_OK;
     if (rc != PL_OK || scratch.nerrors || !pl_util_device(c)) {
         /* an error, or a device service without a device (no GPU answers,

@@ -1,5 +1,6 @@
 /* walk.c - traversals, and "node/component.field" paths. */
 #include "walk.h"
+#include "pliant/input.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -171,8 +172,8 @@ static pl_component *component_or_node_hint(pl_node *root, const char *obj, cons
     return c;
 }
 
-int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int *runtime,
-                        pl_error *err)
+int pl_walk_set_runtime(pl_node *root, pl_data *d, const char *path, const char *value,
+                        int *runtime, pl_error *err)
 {
     char obj[512];
     const char *field;
@@ -203,19 +204,21 @@ int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int 
     if (f->flags & PL_FIELD_OUTPUT)
         return pl_error_set(err, PL_EINPUT, NULL, 0, path, "'%s' is an output and cannot be set",
                             field);
-    int rc = pl_field_parse(f, c, value, err);
+    /* an input field's value lives in the data (the component keeps the scene's) */
+    int input = d && (f->flags & PL_FIELD_INPUT);
+    int rc = input ? pl_input_set_text(d, c, f, value, err) : pl_field_parse(f, c, value, err);
     if (rc) {
         snprintf(err->where, sizeof err->where, "%s", path);
         return rc;
     }
-    *runtime = (f->flags & PL_FIELD_RUNTIME) != 0;
+    *runtime = (f->flags & (PL_FIELD_RUNTIME | PL_FIELD_INPUT)) != 0;
     return PL_OK;
 }
 
 int pl_walk_set(pl_node *root, const char *path, const char *value, pl_error *err)
 {
     int runtime;
-    return pl_walk_set_runtime(root, path, value, &runtime, err);
+    return pl_walk_set_runtime(root, NULL, path, value, &runtime, err);
 }
 
 int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, size_t size,
@@ -243,6 +246,12 @@ int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, si
     if (!f)
         return pl_error_set(err, PL_EINPUT, NULL, 0, path, "%s has no field '%s'", c->type->name,
                             field);
+    if (d && (f->flags & PL_FIELD_INPUT) && pl_input_slot(d->model, c, f) >= 0) {
+        if (pl_input_format(d, c, f, buf, size) != PL_OK)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, path,
+                                "the value does not fit in %zu bytes", size);
+        return PL_OK;
+    }
     if (pl_field_format(f, c, buf, size) != PL_OK)
         return pl_error_set(err, PL_EINPUT, NULL, 0, path, "the value does not fit in %zu bytes",
                             size);

@@ -23,13 +23,15 @@ int pl_walk_suggest_node(pl_node *root, const char *path, char *buf, size_t size
 const char *pl_walk_suggest_component(const pl_node *n, const char *name);
 int pl_walk_suggest_anywhere(pl_node *root, const char *name, char *buf, size_t size);
 
-/* Sets "component.field" (or "node.dt", "node.gravity") from text. */
+/* Sets "component.field" (or "node.dt", "node.gravity") from text, in the
+ * component (the model). */
 int pl_walk_set(pl_node *root, const char *path, const char *value, pl_error *err);
-/* Same; *runtime tells whether the field may change without a rebuild. */
-int pl_walk_set_runtime(pl_node *root, const char *path, const char *value, int *runtime,
-                        pl_error *err);
-/* Formats the current value of "component.field" (state-backed values come
- * from d through the component's get hook). */
+/* Same, but an input field goes into d (when d is not NULL); *runtime tells
+ * whether the field may change without a rebuild. */
+int pl_walk_set_runtime(pl_node *root, pl_data *d, const char *path, const char *value,
+                        int *runtime, pl_error *err);
+/* Formats the current value of "component.field" (state-backed values and
+ * input fields come from d). */
 int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, size_t size,
                 pl_error *err);
 

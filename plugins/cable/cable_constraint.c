@@ -24,7 +24,10 @@
  * has no role for configuration-dependent external loads.
  * Outputs (lifecycle `get`, from the state): cableLength [m], displacement =
  * cableInitialLength - cableLength [m] (> 0 when pulled), force [N] (the
- * multipliers of the last step, kept in the pl_data slot "force"). */
+ * multipliers of the last step, kept in the pl_data slot "force").
+ * value, valueIndex, valueType and pullPoint are input fields: their values
+ * live in each pl_data (input.h), so two simulations of one scene can pull
+ * differently; the row's scratch is the data's workspace. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,10 +59,29 @@ typedef struct cable_constraint {
     pl_cable_path path;
     double L0;                    /* cable length that displacement 0 means [m] */
     int slot;                     /* "force": the tension of the last step [N] */
-    double *g;                    /* npoints x 3 scratch: dL/dP_i */
-    int *row_vert;                /* 4 npoints scratch: merged row entries */
-    double *row_coef;
 } cable_constraint;
+
+/* Per data (pl_data_workspace): the step's scratch. */
+typedef struct cable_ws {
+    double *g;                    /* npoints x 3: dL/dP_i */
+    int *row_vert;                /* 4 npoints: merged row entries */
+    double *row_coef;
+} cable_ws;
+
+/* The input fields' current values (in a data, or the scene's). */
+typedef struct cable_inputs {
+    pl_doubles value;
+    int index, type;
+    const double *pull;
+} cable_inputs;
+
+static cable_inputs inputs_of(const cable_constraint *cc, const pl_data *d)
+{
+    const pl_component *c = &cc->base;
+    cable_inputs in = {pl_input_doubles(d, c, &cc->value), pl_input_int(d, c, &cc->value_index),
+                       pl_input_int(d, c, &cc->value_type), pl_input_vec3(d, c, cc->pull_point)};
+    return in;
+}
 
 static const char *const VALUE_TYPES[] = {"displacement", "force", NULL};
 
@@ -79,7 +101,7 @@ static const pl_field FIELDS[] = {
              "SoftRobots' centers)",
              0),
     PL_FIELD(CC, pull_point, "pullPoint", PL_F_VEC3, "0 0 0",
-             "fixed point the cable is pulled from [m]", PL_FIELD_RUNTIME),
+             "fixed point the cable is pulled from [m]", PL_FIELD_INPUT),
     PL_FIELD(CC, has_pull_point, "hasPullPoint", PL_F_BOOL, "1",
              "0: no fixed pull point, the cable starts at its first point (needs two points)", 0),
     PL_FIELD(CC, initial_length, "cableInitialLength", PL_F_DOUBLES, NULL,
@@ -89,13 +111,13 @@ static const pl_field FIELDS[] = {
     PL_FIELD(CC, value, "value", PL_F_DOUBLES, "0",
              "displacement [m] (shortening, > 0 pulls) or tension [N] to impose; a list, "
              "value[valueIndex] is used",
-             PL_FIELD_RUNTIME),
+             PL_FIELD_INPUT),
     PL_FIELD(CC, value_index, "valueIndex", PL_F_INT, "0", "index of the entry of value to impose",
-             PL_FIELD_RUNTIME),
+             PL_FIELD_INPUT),
     PL_FIELD_ENUM(CC, value_type, "valueType", VALUE_TYPES, "displacement",
                   "displacement: drive the length to cableInitialLength - value; force: pull "
                   "with the tension value",
-                  PL_FIELD_RUNTIME),
+                  PL_FIELD_INPUT),
     PL_FIELD(CC, min_force, "minForce", PL_F_DOUBLES, NULL,
              "lowest tension [N] (one number, empty = none): 0 makes a cable that pulls but "
              "never pushes",
@@ -135,8 +157,9 @@ static const pl_field FIELDS[] = {
 /* An optional scalar given as a list: empty = unset. */
 static int opt_set(const pl_doubles *d) { return d->n > 0; }
 
-/* Checks the fields that may change while running; fills msg. */
-static int check_values(const cable_constraint *cc, char *msg, size_t size)
+/* Checks the fields that may change while running (the inputs as in);
+ * fills msg. */
+static int check_values(const cable_constraint *cc, const cable_inputs *in, char *msg, size_t size)
 {
     const struct {
         const pl_doubles *d;
@@ -152,13 +175,13 @@ static int check_values(const cable_constraint *cc, char *msg, size_t size)
                      opts[k].d->n);
             return PL_EINPUT;
         }
-    if (cc->value.n < 1) {
+    if (in->value.n < 1) {
         snprintf(msg, size, "value: expected at least one number");
         return PL_EINPUT;
     }
-    if (cc->value_index < 0 || cc->value_index >= cc->value.n) {
-        snprintf(msg, size, "valueIndex: %d is out of range (value has %d entries)",
-                 cc->value_index, cc->value.n);
+    if (in->index < 0 || in->index >= in->value.n) {
+        snprintf(msg, size, "valueIndex: %d is out of range (value has %d entries)", in->index,
+                 in->value.n);
         return PL_EINPUT;
     }
     if (opt_set(&cc->min_force) && opt_set(&cc->max_force) &&
@@ -206,11 +229,12 @@ static int cc_init(pl_component *c, pl_ctx *ctx)
     if (cc->initial_length.n > 1 || (cc->initial_length.n == 1 && !(cc->initial_length.v[0] > 0)))
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "cableInitialLength: expected one positive length [m]");
-    if (check_values(cc, msg, sizeof msg) != PL_OK)
+    cable_inputs in = inputs_of(cc, NULL); /* the scene's values */
+    if (check_values(cc, &in, msg, sizeof msg) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", msg);
-    cc->slot = pl_model_add_slot(ctx->model, c, "force", sizeof(double));
+    cc->slot = pl_model_add_slot(ctx->build, c, "force", sizeof(double));
     if (cc->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->model, cc->slot, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->build, cc->slot, pl_slot_check_finite);
     return PL_OK;
 }
 
@@ -277,14 +301,6 @@ static int cc_bind(pl_component *c, pl_ctx *ctx)
     int rc = build_path(cc, ctx, x, n);
     if (rc) return rc;
     int np = cc->path.npoints;
-    free(cc->g);
-    free(cc->row_vert);
-    free(cc->row_coef);
-    cc->g = malloc((size_t)np * 3 * sizeof *cc->g);
-    cc->row_vert = malloc((size_t)np * 4 * sizeof *cc->row_vert);
-    cc->row_coef = malloc((size_t)np * 12 * sizeof *cc->row_coef);
-    if (!cc->g || !cc->row_vert || !cc->row_coef)
-        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     double Lrest = pl_cable_length(&cc->path, x);
     cc->L0 = cc->initial_length.n ? cc->initial_length.v[0] : Lrest;
     if (!(cc->L0 > 0.0))
@@ -301,11 +317,29 @@ static int cc_bind(pl_component *c, pl_ctx *ctx)
 
 static void cc_destroy(pl_component *c)
 {
-    cable_constraint *cc = (cable_constraint *)c;
-    pl_cable_path_free(&cc->path);
-    free(cc->g);
-    free(cc->row_vert);
-    free(cc->row_coef);
+    pl_cable_path_free(&((cable_constraint *)c)->path);
+}
+
+static void cc_workspace_free(const pl_component *c, void *ws)
+{
+    cable_ws *w = ws;
+    (void)c;
+    free(w->g);
+    free(w->row_vert);
+    free(w->row_coef);
+}
+
+/* The step's scratch in d, sized for the path; NULL when out of memory. */
+static cable_ws *workspace(const cable_constraint *cc, pl_data *d)
+{
+    cable_ws *w = pl_data_workspace(d, &cc->base);
+    size_t np = (size_t)cc->path.npoints;
+    if (w && !w->g) {
+        w->g = malloc(np * 3 * sizeof *w->g);
+        w->row_vert = malloc(np * 4 * sizeof *w->row_vert);
+        w->row_coef = malloc(np * 12 * sizeof *w->row_coef);
+    }
+    return w && w->g && w->row_vert && w->row_coef ? w : NULL;
 }
 
 static int cc_get(const pl_component *c, const pl_data *d, const char *field, char *buf,
@@ -321,8 +355,8 @@ static int cc_get(const pl_component *c, const pl_data *d, const char *field, ch
     } else if (!strcmp(field, "cableLength") || !strcmp(field, "displacement")) {
         const pl_state_ops *sops = pl_component_role(cc->state, PL_ROLE_STATE);
         pl_buffer xb = sops->positions(cc->state, d);
-        pl_cable_path p = cc->path; /* with the pull point as the field says now */
-        memcpy(p.pull, cc->pull_point, sizeof p.pull);
+        pl_cable_path p = cc->path; /* with the pull point as d's input says now */
+        memcpy(p.pull, pl_input_vec3(d, c, cc->pull_point), sizeof p.pull);
         double L = pl_cable_length(&p, pl_buffer_f64(&xb));
         v = field[0] == 'c' ? L : cc->L0 - L;
     } else {
@@ -334,20 +368,20 @@ static int cc_get(const pl_component *c, const pl_data *d, const char *field, ch
 
 /* ---- PL_ROLE_CONSTRAINT ---------------------------------------------------- */
 
-/* Appends one row H = -dL/dx (entries already in cc->row_*), with
+/* Appends one row H = -dL/dx (entries already in w->row_*), with
  * delta = L_target - L_lin(q). */
-static int emit_row(cable_constraint *cc, pl_rows *rows, int offset, int nent, const double *x,
-                    double L, pl_row_kind kind, double target, double lo, double hi,
-                    double compliance)
+static int emit_row(const cable_constraint *cc, const cable_ws *w, pl_rows *rows, int offset,
+                    int nent, const double *x, double L, pl_row_kind kind, double target,
+                    double lo, double hi, double compliance)
 {
     int r = pl_rows_begin(rows, kind, &cc->base);
     if (r < 0) return PL_EINTERNAL;
     double Hx = 0.0;
     for (int k = 0; k < nent; ++k) {
-        const double *cf = cc->row_coef + 3 * k;
-        const double *xv = x + 3 * cc->row_vert[k];
+        const double *cf = w->row_coef + 3 * k;
+        const double *xv = x + 3 * w->row_vert[k];
         Hx += cf[0] * xv[0] + cf[1] * xv[1] + cf[2] * xv[2];
-        if (pl_rows_add(rows, offset + cc->row_vert[k], cf[0], cf[1], cf[2]) != PL_OK)
+        if (pl_rows_add(rows, offset + w->row_vert[k], cf[0], cf[1], cf[2]) != PL_OK)
             return PL_EINTERNAL;
     }
     /* delta = H q - d must be target - L_lin(q) = target - L(q_t) + H (q - q_t)
@@ -361,28 +395,32 @@ static int emit_row(cable_constraint *cc, pl_rows *rows, int offset, int nent, c
     return PL_OK;
 }
 
-static int cc_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                         pl_rows *rows, pl_error *err)
+static int cc_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                         const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    cable_constraint *cc = (cable_constraint *)c;
+    const cable_constraint *cc = (const cable_constraint *)c;
     char msg[256];
-    if (check_values(cc, msg, sizeof msg) != PL_OK)
+    cable_inputs in = inputs_of(cc, ctx->data);
+    if (check_values(cc, &in, msg, sizeof msg) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", msg);
+    cable_ws *w = workspace(cc, ctx->data);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     const pl_state_ops *sops = pl_component_role(cc->state, PL_ROLE_STATE);
     int offset = sops->offset(cc->state);
     const double *qa = pl_buffer_f64(q);
     if (!qa || offset < 0 || (size_t)(offset + sops->count(cc->state)) > q->rows)
         return pl_component_fail(c, err, PL_EINTERNAL, "positions do not cover its state");
     const double *x = qa + 3 * (size_t)offset;
-    memcpy(cc->path.pull, cc->pull_point, sizeof cc->path.pull); /* pullPoint is RUNTIME */
-    double L = pl_cable_gradient(&cc->path, x, cc->g);
-    int nent = pl_cable_row(&cc->path, cc->g, cc->row_vert, cc->row_coef);
+    pl_cable_path path = cc->path; /* pullPoint is an input: this data's */
+    memcpy(path.pull, in.pull, sizeof path.pull);
+    double L = pl_cable_gradient(&path, x, w->g);
+    int nent = pl_cable_row(&path, w->g, w->row_vert, w->row_coef);
     if (nent < 0) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    double v = cc->value.v[cc->value_index];
+    double v = in.value.v[in.index];
     double lo = opt_set(&cc->min_force) ? cc->min_force.v[0] : -INFINITY;
     double hi = opt_set(&cc->max_force) ? cc->max_force.v[0] : INFINITY;
     int rc;
-    if (cc->value_type == MODE_DISPLACEMENT) {
+    if (in.type == MODE_DISPLACEMENT) {
         /* SoftRobots' order: the variation limit first, then the absolute ones */
         if (opt_set(&cc->max_disp_variation)) {
             double now = cc->L0 - L, dv = cc->max_disp_variation.v[0];
@@ -394,8 +432,9 @@ static int cc_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
         if (opt_set(&cc->max_negative_disp) && v < -cc->max_negative_disp.v[0])
             v = -cc->max_negative_disp.v[0];
         int bounded = opt_set(&cc->min_force) || opt_set(&cc->max_force);
-        rc = emit_row(cc, rows, offset, nent, x, L, bounded ? PL_ROW_BOUNDED : PL_ROW_BILATERAL,
-                      cc->L0 - v, lo, hi, cc->compliance);
+        rc = emit_row(cc, w, rows, offset, nent, x, L,
+                      bounded ? PL_ROW_BOUNDED : PL_ROW_BILATERAL, cc->L0 - v, lo, hi,
+                      cc->compliance);
     } else {
         if (v > hi) v = hi;
         if (v < lo) v = lo;
@@ -407,23 +446,22 @@ static int cc_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
         if (pos && neg)
             pos = now >= 0.5 * (cc->max_positive_disp.v[0] - cc->max_negative_disp.v[0]);
         if (pos)
-            rc = emit_row(cc, rows, offset, nent, x, L, PL_ROW_BOUNDED,
+            rc = emit_row(cc, w, rows, offset, nent, x, L, PL_ROW_BOUNDED,
                           cc->L0 - cc->max_positive_disp.v[0], lo, v, 0.0);
         else if (neg)
-            rc = emit_row(cc, rows, offset, nent, x, L, PL_ROW_BOUNDED,
+            rc = emit_row(cc, w, rows, offset, nent, x, L, PL_ROW_BOUNDED,
                           cc->L0 + cc->max_negative_disp.v[0], v, hi, 0.0);
         else
-            rc = emit_row(cc, rows, offset, nent, x, L, PL_ROW_BOUNDED, L, v, v, 0.0);
+            rc = emit_row(cc, w, rows, offset, nent, x, L, PL_ROW_BOUNDED, L, v, v, 0.0);
     }
-    (void)ctx;
     (void)sys;
     return rc ? pl_component_fail(c, err, PL_EINTERNAL, "out of memory") : PL_OK;
 }
 
-static void cc_accept(pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda,
+static void cc_accept(const pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda,
                       int first, int count)
 {
-    cable_constraint *cc = (cable_constraint *)c;
+    const cable_constraint *cc = (const cable_constraint *)c;
     double f = 0.0;
     for (int k = 0; k < count; ++k) f += lambda[first + k];
     (void)rows;
@@ -441,8 +479,13 @@ const pl_type pl_cable_constraint_type = {
             "imposes a displacement (shortening) [m] or a tension [N]; outputs cableLength, "
             "displacement and force.",
     .size = sizeof(cable_constraint),
+    .workspace_size = sizeof(cable_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.init = cc_init, .bind = cc_bind, .destroy = cc_destroy, .get = cc_get},
+    .ops = {.init = cc_init,
+            .bind = cc_bind,
+            .destroy = cc_destroy,
+            .get = cc_get,
+            .workspace_free = cc_workspace_free},
     .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT},
 };

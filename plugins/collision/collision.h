@@ -130,7 +130,7 @@ int pl_collision_groups(const pl_ints *list, unsigned *mask, pl_error *err);
  * with weights w, the obstacle's closest point p, outward normal n, surface
  * velocity vs, friction mu and contactDistance.  Fills ct's tangents.
  * Returns the normal row's index, or -1 on allocation failure. */
-int pl_collision_emit_contact(pl_rows *rows, pl_component *owner, int nv, const int *vertex,
+int pl_collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
                               const double *weight, const double p[3], const double n[3],
                               const double vs[3], double mu, double contact_distance,
                               double t1[3], double t2[3]);
@@ -156,7 +156,7 @@ typedef struct pl_contact_side {
  * d_f = t . (b.fixed_v - a.fixed_v).  Fills t1 and t2.  Returns the normal
  * row's index, -2 when no entry is left (nothing can move: no rows), -1 on
  * allocation failure. */
-int pl_collision_emit_pair(pl_rows *rows, pl_component *owner, const pl_contact_side *a,
+int pl_collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
                            const pl_contact_side *b, const double n[3], double mu,
                            double contact_distance, double t1[3], double t2[3]);
 

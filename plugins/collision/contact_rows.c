@@ -4,7 +4,7 @@
  * recovered from their multipliers. */
 #include "collision.h"
 
-static int add_row(pl_rows *rows, pl_component *owner, pl_row_kind kind, int nv,
+static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, int nv,
                    const int *vertex, const double *weight, const double c[3], double d)
 {
     int r = pl_rows_begin(rows, kind, owner);
@@ -22,7 +22,7 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int pl_collision_emit_contact(pl_rows *rows, pl_component *owner, int nv, const int *vertex,
+int pl_collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
                               const double *weight, const double p[3], const double n[3],
                               const double vs[3], double mu, double contact_distance,
                               double t1[3], double t2[3])

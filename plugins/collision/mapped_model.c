@@ -24,8 +24,6 @@ typedef struct mapped_model {
     int *edges, nedges;
     int *local;          /* npoints x 4 local vertices of the state */
     double *weight;      /* npoints x 4 barycentric weights */
-    int *vertex;         /* npoints x 4 global vertices (per step) */
-    double *x, *v;       /* per step */
 } mapped_model;
 
 static const pl_field FIELDS[] = {
@@ -61,11 +59,8 @@ static void free_model(mapped_model *m)
     free(m->edges);
     free(m->local);
     free(m->weight);
-    free(m->vertex);
-    free(m->x);
-    free(m->v);
-    m->edges = m->local = m->vertex = NULL;
-    m->weight = m->x = m->v = NULL;
+    m->edges = m->local = NULL;
+    m->weight = NULL;
     m->nedges = 0;
 }
 
@@ -117,10 +112,7 @@ static int mm_bind(pl_component *c, pl_ctx *ctx)
     int *tet_of = malloc(cnt * sizeof *tet_of);
     m->local = malloc(cnt * 4 * sizeof *m->local);
     m->weight = malloc(cnt * 4 * sizeof *m->weight);
-    m->vertex = malloc(cnt * 4 * sizeof *m->vertex);
-    m->x = malloc(cnt * 3 * sizeof *m->x);
-    m->v = malloc(cnt * 3 * sizeof *m->v);
-    if (!tet_of || !m->local || !m->weight || !m->vertex || !m->x || !m->v ||
+    if (!tet_of || !m->local || !m->weight ||
         pl_triangle_edges(m->surface.tris, m->surface.ntris, &m->edges, &m->nedges)) {
         free(tet_of);
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
@@ -144,12 +136,14 @@ static int mm_reinit(pl_component *c, pl_ctx *ctx) { return check_fields((mapped
 
 static void mm_destroy(pl_component *c) { free_model((mapped_model *)c); }
 
-static int mm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collision_geometry *out,
-                     pl_error *err)
+static int mm_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
+                     pl_collision_geometry *out, pl_error *err)
 {
-    mapped_model *m = (mapped_model *)c;
+    const mapped_model *m = (const mapped_model *)c;
     const pl_state_ops *so = pl_component_role(m->state, PL_ROLE_STATE);
     int off = so->offset(m->state), n = so->count(m->state);
+    coll_geom_ws *ws = coll_geom_ws_get(c, ctx->data, m->surface.nverts, 1);
+    if (!ws) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     const double *qx = pl_buffer_f64(q);
     if (off < 0)
         return pl_component_fail(c, err, PL_EINTERNAL,
@@ -164,21 +158,21 @@ static int mm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
         for (int k = 0; k < 4; ++k) {
             int l = m->local[4 * i + k];
             double w = m->weight[4 * i + k];
-            m->vertex[4 * i + k] = off + l;
+            ws->vertex[4 * i + k] = off + l;
             for (int j = 0; j < 3; ++j) {
                 x[j] += w * qx[3 * (off + l) + j];
                 if (vs) v[j] += w * vs[3 * l + j];
             }
         }
-        memcpy(&m->x[3 * i], x, sizeof x);
-        memcpy(&m->v[3 * i], v, sizeof v);
+        memcpy(&ws->x[3 * i], x, sizeof x);
+        memcpy(&ws->v[3 * i], v, sizeof v);
     }
     pl_error ge;
     unsigned groups;
     if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
-    *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = m->x, .v = m->v,
-                                   .map_vertex = m->vertex, .map_weight = m->weight,
+    *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = ws->x, .v = ws->v,
+                                   .map_vertex = ws->vertex, .map_weight = m->weight,
                                    .ntris = m->surface.ntris, .tris = m->surface.tris,
                                    .nedges = m->nedges, .edges = m->edges,
                                    .is_obstacle = 0, .mu = m->mu, .groups = groups};
@@ -196,8 +190,13 @@ const pl_type coll_mapped_model_type = {
     .help = "A separate collision surface (file, loader, or triangles in the scene) that follows "
             "a deformable body through a barycentric mapping into its tetrahedra.",
     .size = sizeof(mapped_model),
+    .workspace_size = sizeof(coll_geom_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.init = mm_init, .bind = mm_bind, .reinit = mm_reinit, .destroy = mm_destroy},
+    .ops = {.init = mm_init,
+            .bind = mm_bind,
+            .reinit = mm_reinit,
+            .destroy = mm_destroy,
+            .workspace_free = coll_geom_ws_free},
     .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS},
 };

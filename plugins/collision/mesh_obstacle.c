@@ -26,7 +26,6 @@ typedef struct mesh_obstacle {
     double center[3];          /* centre of the bounding box */
     int *map_vertex;           /* all -1: no DOFs */
     double *map_weight;
-    double *x, *v;             /* per-step pose and surface velocity */
 } mesh_obstacle;
 
 static const char *const SIDES[] = {"auto", "one", "two", NULL};
@@ -97,10 +96,8 @@ static void free_model(mesh_obstacle *o)
     free(o->edges);
     free(o->map_vertex);
     free(o->map_weight);
-    free(o->x);
-    free(o->v);
     o->edges = o->map_vertex = NULL;
-    o->map_weight = o->x = o->v = NULL;
+    o->map_weight = NULL;
     o->nedges = 0;
 }
 
@@ -126,9 +123,7 @@ static int mo_bind(pl_component *c, pl_ctx *ctx)
     size_t n = (size_t)(o->mesh.nverts ? o->mesh.nverts : 1);
     o->map_vertex = malloc(n * 4 * sizeof *o->map_vertex);
     o->map_weight = calloc(n * 4, sizeof *o->map_weight);
-    o->x = malloc(n * 3 * sizeof *o->x);
-    o->v = malloc(n * 3 * sizeof *o->v);
-    if (!o->map_vertex || !o->map_weight || !o->x || !o->v)
+    if (!o->map_vertex || !o->map_weight)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     for (size_t k = 0; k < n * 4; ++k) o->map_vertex[k] = -1;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -157,11 +152,13 @@ static void mo_destroy(pl_component *c) { free_model((mesh_obstacle *)c); }
 
 /* Posed at the end of the step being taken (t + dt): the unknowns are
  * positions at t + dt. */
-static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collision_geometry *out,
-                     pl_error *err)
+static int mo_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
+                     pl_collision_geometry *out, pl_error *err)
 {
     (void)q;
-    mesh_obstacle *o = (mesh_obstacle *)c;
+    const mesh_obstacle *o = (const mesh_obstacle *)c;
+    coll_geom_ws *w = coll_geom_ws_get(c, ctx->data, o->mesh.nverts, 0);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     pl_motion m;
     pl_error e;
     unsigned groups = 0;
@@ -170,12 +167,12 @@ static int mo_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     pl_motion_pose(&m, t1, R, tr);
     for (int i = 0; i < o->mesh.nverts; ++i) {
         const double *p = &o->mesh.verts[3 * i];
-        double *x = &o->x[3 * i];
+        double *x = &w->x[3 * i];
         for (int k = 0; k < 3; ++k)
             x[k] = R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2] + tr[k];
-        pl_motion_velocity(&m, t1, x, &o->v[3 * i]);
+        pl_motion_velocity(&m, t1, x, &w->v[3 * i]);
     }
-    *out = (pl_collision_geometry){.nverts = o->mesh.nverts, .x = o->x, .v = o->v,
+    *out = (pl_collision_geometry){.nverts = o->mesh.nverts, .x = w->x, .v = w->v,
                                    .map_vertex = o->map_vertex, .map_weight = o->map_weight,
                                    .ntris = o->mesh.ntris, .tris = o->mesh.tris,
                                    .nedges = o->nedges, .edges = o->edges,
@@ -207,8 +204,13 @@ const pl_type coll_mesh_obstacle_type = {
             "with prescribed motion; needs a CollisionPipeline.  Thin open meshes repel on both "
             "sides (knife blades).",
     .size = sizeof(mesh_obstacle),
+    .workspace_size = sizeof(coll_geom_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
-    .ops = {.init = mo_init, .bind = mo_bind, .reinit = mo_reinit, .destroy = mo_destroy},
+    .ops = {.init = mo_init,
+            .bind = mo_bind,
+            .reinit = mo_reinit,
+            .destroy = mo_destroy,
+            .workspace_free = coll_geom_ws_free},
     .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS},
 };

@@ -54,6 +54,20 @@ pl_mesh_sides coll_model_sides(const pl_component *c);
 /* Whether c is a SurfaceCollisionModel of a tetrahedral body. */
 int coll_surface_model_solid(const pl_component *c);
 
+/* A collision model's geometry of one step, in the data being stepped
+ * (model_ws.c; the type's workspace_size is sizeof(coll_geom_ws)). */
+typedef struct coll_geom_ws {
+    double *x, *v;        /* n x 3 positions [m] and velocities [m/s] */
+    int *vertex;          /* n x 4 global vertices, or NULL */
+} coll_geom_ws;
+
+/* c's workspace in d, with room for n points (and their vertices when
+ * with_vertex); NULL when memory runs out.  The model is remade (and the
+ * workspace with it) whenever n could change. */
+coll_geom_ws *coll_geom_ws_get(const pl_component *c, pl_data *d, int n, int with_vertex);
+/* The types' workspace_free. */
+void coll_geom_ws_free(const pl_component *c, void *ws);
+
 extern const pl_type coll_mesh_obstacle_type;
 extern const pl_type coll_mapped_model_type;
 

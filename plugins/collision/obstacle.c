@@ -113,10 +113,10 @@ int coll_obstacle_init(pl_component *c, pl_ctx *ctx, coll_shape_fn make_shape)
 {
     coll_obstacle *o = (coll_obstacle *)c;
     o->make_shape = make_shape;
-    o->slot = pl_model_add_var_slot(ctx->model, c, "contacts", sizeof(pl_obstacle_contact),
+    o->slot = pl_model_add_var_slot(ctx->build, c, "contacts", sizeof(pl_obstacle_contact),
                                     INT_MAX);
     if (o->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->model, o->slot, check_restored);
+    pl_model_set_slot_check(ctx->build, o->slot, check_restored);
     pl_shape s;
     pl_motion m;
     pl_error err;
@@ -145,12 +145,16 @@ void coll_obstacle_destroy(pl_component *c)
 {
     coll_obstacle *o = (coll_obstacle *)c;
     free(o->models);
-    free(o->work);
     o->models = NULL;
-    o->work = NULL;
 }
 
-static pl_obstacle_contact *push_record(coll_obstacle *o)
+void coll_obstacle_workspace_free(const pl_component *c, void *ws)
+{
+    (void)c;
+    free(((coll_obstacle_ws *)ws)->work);
+}
+
+static pl_obstacle_contact *push_record(coll_obstacle_ws *o)
 {
     if (o->nwork == o->capwork) {
         int cap = o->capwork ? 2 * o->capwork : 64;
@@ -183,9 +187,9 @@ static int point_vertices(const pl_collision_geometry *g, int i, const pl_system
 }
 
 /* Contacts of one collision model's points against the posed shape. */
-static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *g,
-                          const pl_shape *s, const pl_motion *m, double t1,
-                          const pl_system *sys, pl_rows *rows, pl_error *err)
+static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
+                          const pl_collision_geometry *g, const pl_shape *s, const pl_motion *m,
+                          double t1, const pl_system *sys, pl_rows *rows, pl_error *err)
 {
     double mu = g->mu >= 0.0 ? g->mu : o->mu;
     for (int i = 0; i < g->nverts; ++i) {
@@ -202,7 +206,7 @@ static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *
                                      "the system (%d vertices)",
                                      o->models[k]->name, i, sys->nverts);
         if (nv == 0) continue;
-        pl_obstacle_contact *r = push_record(o);
+        pl_obstacle_contact *r = push_record(ws);
         if (!r) return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
         memcpy(r->point, p, sizeof r->point);
         memcpy(r->normal, n, sizeof r->normal);
@@ -211,17 +215,20 @@ static int model_contacts(coll_obstacle *o, int k, const pl_collision_geometry *
         r->gap = phi;
         r->vertex = vert[0];
         r->model = k;
-        if (pl_collision_emit_contact(rows, &o->base, nv, vert, w, p, n, r->velocity, mu,
+        if (pl_collision_emit_contact(rows, &o->base, nv, vert, w, p, n,
+                                      r->velocity, mu,
                                       o->contact_distance, r->t1, r->t2) < 0)
             return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
     }
     return PL_OK;
 }
 
-static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                         pl_rows *rows, pl_error *err)
+static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                         const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    coll_obstacle *o = (coll_obstacle *)c;
+    const coll_obstacle *o = (const coll_obstacle *)c;
+    coll_obstacle_ws *ws = pl_data_workspace(ctx->data, c);
+    if (!ws) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     pl_shape s0, s;
     pl_motion m;
     pl_error e;
@@ -235,7 +242,7 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
     unsigned groups;
     if (pl_collision_groups(&o->group, &groups, &e) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
-    o->nwork = 0;
+    ws->nwork = 0;
     for (int k = 0; k < o->nmodels; ++k) {
         pl_component *mc = o->models[k];
         const pl_collision_model_ops *ops = pl_component_role(mc, PL_ROLE_COLLISION_MODEL);
@@ -245,10 +252,10 @@ static int ob_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, con
         if (rc) return rc;
         /* geometry without DOFs cannot respond; groups opt out */
         if (g.is_obstacle || (groups & g.groups)) continue;
-        rc = model_contacts(o, k, &g, &s, &m, t1, sys, rows, err);
+        rc = model_contacts(o, ws, k, &g, &s, &m, t1, sys, rows, err);
         if (rc) return rc;
     }
-    if (pl_data_store(ctx->data, o->slot, o->work, (size_t)o->nwork * sizeof *o->work))
+    if (pl_data_store(ctx->data, o->slot, ws->work, (size_t)ws->nwork * sizeof *ws->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     return PL_OK;
 }
@@ -261,10 +268,10 @@ int coll_obstacle_contacts(const pl_component *c, const pl_data *d,
     return (int)(pl_data_slot_bytes(d, o->slot) / sizeof(pl_obstacle_contact));
 }
 
-static void ob_accept_multipliers(pl_component *c, pl_data *d, const pl_rows *rows,
+static void ob_accept_multipliers(const pl_component *c, pl_data *d, const pl_rows *rows,
                                   const double *lambda, int first, int count)
 {
-    coll_obstacle *o = (coll_obstacle *)c;
+    const coll_obstacle *o = (const coll_obstacle *)c;
     pl_obstacle_contact *items = pl_data_slot(d, o->slot);
     int n = (int)(pl_data_slot_bytes(d, o->slot) / sizeof *items);
     /* our rows are 3 per contact in emission order, starting at first */

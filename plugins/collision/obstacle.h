@@ -36,9 +36,14 @@ struct coll_obstacle {
     pl_component **models;     /* collision models of the scene, scene order */
     int nmodels;
     int slot;                  /* data slot "contacts" */
-    pl_obstacle_contact *work; /* this step's records before they go to the slot */
-    int nwork, capwork;
 };
+
+/* Per data (pl_data_workspace): this step's records before they go to the
+ * slot. */
+typedef struct coll_obstacle_ws {
+    pl_obstacle_contact *work;
+    int nwork, capwork;
+} coll_obstacle_ws;
 
 /* Field table entries every obstacle type starts with (S embeds a
  * coll_obstacle named `ob` as its first member). */
@@ -91,6 +96,7 @@ int coll_obstacle_init(pl_component *c, pl_ctx *ctx, coll_shape_fn make_shape);
 int coll_obstacle_bind(pl_component *c, pl_ctx *ctx);
 int coll_obstacle_reinit(pl_component *c, pl_ctx *ctx);
 void coll_obstacle_destroy(pl_component *c);
+void coll_obstacle_workspace_free(const pl_component *c, void *ws);
 int coll_obstacle_get(const pl_component *c, const pl_data *d, const char *field, char *buf,
                       size_t size);
 extern const pl_constraint_ops coll_obstacle_constraint_ops;

@@ -13,13 +13,15 @@
         .name = tag,                                                                            \
         .help = helptext,                                                                       \
         .size = sizeof(S),                                                                      \
+        .workspace_size = sizeof(coll_obstacle_ws),                                             \
         .fields = table,                                                                        \
         .nfields = sizeof table / sizeof table[0],                                              \
         .ops = {.init = init_fn,                                                                \
                 .bind = coll_obstacle_bind,                                                     \
                 .reinit = coll_obstacle_reinit,                                                 \
                 .destroy = coll_obstacle_destroy,                                               \
-                .get = coll_obstacle_get},                                                      \
+                .get = coll_obstacle_get,                                                       \
+                .workspace_free = coll_obstacle_workspace_free},                                \
         .roles = {[PL_ROLE_CONSTRAINT] = &coll_obstacle_constraint_ops},                        \
     }
 

@@ -50,7 +50,7 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static int add_row(pl_rows *rows, pl_component *owner, pl_row_kind kind, const merged *m,
+static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, const merged *m,
                    const double c[3], double d)
 {
     int r = pl_rows_begin(rows, kind, owner);
@@ -64,7 +64,7 @@ static int add_row(pl_rows *rows, pl_component *owner, pl_row_kind kind, const m
     return r;
 }
 
-int pl_collision_emit_pair(pl_rows *rows, pl_component *owner, const pl_contact_side *a,
+int pl_collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
                            const pl_contact_side *b, const double n[3], double mu,
                            double contact_distance, double t1[3], double t2[3])
 {

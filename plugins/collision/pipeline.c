@@ -92,12 +92,6 @@ static int check(const collision_pipeline *p, pl_error *err)
 
 static void free_models(collision_pipeline *p)
 {
-    for (int k = 0; k < p->nmodels; ++k) {
-        pl_coll_mesh_free(&p->models[k].mesh);
-        free(p->models[k].x0);
-        free(p->models[k].x1);
-        free(p->models[k].active);
-    }
     free(p->models);
     p->models = NULL;
     p->nmodels = 0;
@@ -106,13 +100,10 @@ static void free_models(collision_pipeline *p)
 static int collect_model(pl_component *c, void *user)
 {
     collision_pipeline *p = user;
-    pipe_model *m = realloc(p->models, (size_t)(p->nmodels + 1) * sizeof *m);
+    pl_component **m = realloc(p->models, (size_t)(p->nmodels + 1) * sizeof *m);
     if (!m) return 1;
     p->models = m;
-    memset(&m[p->nmodels], 0, sizeof *m);
-    m[p->nmodels].c = c;
-    pl_coll_mesh_init(&m[p->nmodels].mesh);
-    p->nmodels++;
+    m[p->nmodels++] = c;
     return 0;
 }
 
@@ -141,15 +132,48 @@ static int check_restored(const pl_component *c, const void *data, size_t bytes,
     return PL_OK;
 }
 
+static void cp_workspace_free(const pl_component *c, void *ws)
+{
+    coll_ws *w = ws;
+    const collision_pipeline *p = (const collision_pipeline *)c;
+    for (int k = 0; w->models && k < p->nmodels; ++k) {
+        pl_coll_mesh_free(&w->models[k].mesh);
+        free(w->models[k].x0);
+        free(w->models[k].x1);
+        free(w->models[k].active);
+    }
+    free(w->models);
+    pl_proximities_free(&w->prox);
+    pl_side_hints_free(&w->hints);
+    free(w->prev);
+    free(w->work);
+}
+
+/* This data's workspace, its models made on first use (NULL: out of
+ * memory).  The workspace is remade when the model is (bind collects the
+ * models again only then). */
+static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
+{
+    coll_ws *w = pl_data_workspace(d, &p->base);
+    if (!w || w->models) return w;
+    w->models = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->models);
+    if (!w->models) return NULL;
+    for (int k = 0; k < p->nmodels; ++k) {
+        w->models[k].c = p->models[k];
+        pl_coll_mesh_init(&w->models[k].mesh);
+    }
+    return w;
+}
+
 static int cp_init(pl_component *c, pl_ctx *ctx)
 {
     collision_pipeline *p = (collision_pipeline *)c;
     pl_error err;
     if (check(p, &err)) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
-    p->slot = pl_model_add_var_slot(ctx->model, c, "contacts", sizeof(coll_contact_record),
+    p->slot = pl_model_add_var_slot(ctx->build, c, "contacts", sizeof(coll_contact_record),
                                     INT_MAX);
     if (p->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->model, p->slot, check_restored);
+    pl_model_set_slot_check(ctx->build, p->slot, check_restored);
     return PL_OK;
 }
 
@@ -181,31 +205,26 @@ static int cp_reinit(pl_component *c, pl_ctx *ctx)
 
 static void cp_destroy(pl_component *c)
 {
-    collision_pipeline *p = (collision_pipeline *)c;
-    free_models(p);
-    pl_proximities_free(&p->prox);
-    pl_side_hints_free(&p->hints);
-    free(p->prev);
-    free(p->work);
-    p->work = NULL;
-    p->prev = NULL;
+    free_models((collision_pipeline *)c);
 }
 
-static int cp_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                         pl_rows *rows, pl_error *err)
+static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                         const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    collision_pipeline *p = (collision_pipeline *)c;
+    const collision_pipeline *p = (const collision_pipeline *)c;
     pl_error e;
     if (check(p, &e)) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
+    coll_ws *w = workspace(p, ctx->data);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     pl_timer_start(ctx->timers, p->t_detect);
-    p->nwork = 0;
-    int rc = coll_pipeline_update_models(p, ctx, sys, q, err);
-    if (rc == PL_OK) rc = coll_pipeline_detect(p, ctx->data, err);
-    if (rc == PL_OK) rc = coll_pipeline_emit(p, sys, rows, err);
+    w->nwork = 0;
+    int rc = coll_pipeline_update_models(p, w, ctx, sys, q, err);
+    if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, err);
+    if (rc == PL_OK) rc = coll_pipeline_emit(p, w, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;
-    pl_stat_max(ctx->timers, "detection contacts max", p->nwork);
-    if (pl_data_store(ctx->data, p->slot, p->work, (size_t)p->nwork * sizeof *p->work))
+    pl_stat_max(ctx->timers, "detection contacts max", w->nwork);
+    if (pl_data_store(ctx->data, p->slot, w->work, (size_t)w->nwork * sizeof *w->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     return PL_OK;
 }
@@ -218,10 +237,10 @@ int coll_pipeline_contacts(const pl_component *c, const pl_data *d,
     return (int)(pl_data_slot_bytes(d, p->slot) / sizeof(coll_contact_record));
 }
 
-static void cp_accept_multipliers(pl_component *c, pl_data *d, const pl_rows *rows,
+static void cp_accept_multipliers(const pl_component *c, pl_data *d, const pl_rows *rows,
                                   const double *lambda, int first, int count)
 {
-    collision_pipeline *p = (collision_pipeline *)c;
+    const collision_pipeline *p = (const collision_pipeline *)c;
     coll_contact_record *items = pl_data_slot(d, p->slot);
     int n = (int)(pl_data_slot_bytes(d, p->slot) / sizeof *items);
     /* 3 rows per contact in emission order, starting at first */
@@ -288,12 +307,14 @@ const pl_type coll_pipeline_type = {
             "vertex-triangle and edge-edge proximities within alarmDistance) and emits their "
             "contact rows for the contact solver; timed as \"Detection\".",
     .size = sizeof(collision_pipeline),
+    .workspace_size = sizeof(coll_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
     .ops = {.init = cp_init,
             .bind = cp_bind,
             .reinit = cp_reinit,
             .destroy = cp_destroy,
-            .get = cp_get},
+            .get = cp_get,
+            .workspace_free = cp_workspace_free},
     .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT_OPS},
 };

@@ -20,7 +20,7 @@ typedef struct coll_contact_record {
 /* frictionRule: how two models' mu combine */
 enum { COLL_RULE_MIN, COLL_RULE_MAX, COLL_RULE_MEAN, COLL_RULE_PRODUCT };
 
-/* A collision model as the pipeline keeps it between steps. */
+/* A collision model as a data's workspace keeps it between steps. */
 typedef struct pipe_model {
     pl_component *c;
     pl_collision_geometry g;       /* this step's geometry */
@@ -39,29 +39,35 @@ typedef struct collision_pipeline {
     int out_count, out_ee;
     pl_doubles out_points, out_normals, out_forces;
     /* model */
-    pipe_model *models;
+    pl_component **models;         /* the scene's collision models */
     int nmodels;
     int slot, t_detect;
-    /* per-step scratch */
+} collision_pipeline;
+
+/* Per data (pl_data_workspace): the models' geometry and detection
+ * structures, and the step's lists. */
+typedef struct coll_ws {
+    pipe_model *models;            /* nmodels, made on first use */
     pl_proximities prox;
     pl_side_hints hints;           /* sides of the previous step's contacts */
     pl_proximity *prev;            /* their proximities (copied out of the state) */
     int capprev;
     coll_contact_record *work;
     int nwork, capwork;
-} collision_pipeline;
+} coll_ws;
 
 extern const pl_type coll_pipeline_type;
 
 /* Stage 1: geometry of every model, x0 / x1, prepared meshes. */
-int coll_pipeline_update_models(collision_pipeline *p, pl_ctx *ctx, const pl_system *sys,
-                                const pl_buffer *q, pl_error *err);
-/* Stage 2: proximities of every pair of models that may touch (p->prox);
+int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx *ctx,
+                                const pl_system *sys, const pl_buffer *q, pl_error *err);
+/* Stage 2: proximities of every pair of models that may touch (w->prox);
  * d holds the previous step's contacts (their sides are kept). */
-int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err);
-/* Stage 3: rows and records (p->work) of the proximities. */
-int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *rows,
-                       pl_error *err);
+int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d,
+                         pl_error *err);
+/* Stage 3: rows and records (w->work) of the proximities. */
+int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
+                       pl_rows *rows, pl_error *err);
 
 /* The contacts recorded in d during the last step (count; *items points
  * into d, valid until the next step). */

@@ -54,11 +54,11 @@ static void fill_positions(pipe_model *m, const pl_system *sys)
     }
 }
 
-int coll_pipeline_update_models(collision_pipeline *p, pl_ctx *ctx, const pl_system *sys,
-                                const pl_buffer *q, pl_error *err)
+int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx *ctx,
+                                const pl_system *sys, const pl_buffer *q, pl_error *err)
 {
     for (int k = 0; k < p->nmodels; ++k) {
-        pipe_model *m = &p->models[k];
+        pipe_model *m = &w->models[k];
         const pl_collision_model_ops *ops = pl_component_role(m->c, PL_ROLE_COLLISION_MODEL);
         memset(&m->g, 0, sizeof m->g);
         int rc = ops->update(m->c, ctx, q, &m->g, err);
@@ -95,40 +95,42 @@ static int any_active(const pipe_model *m)
 }
 
 /* The sides of the previous step's contacts (in d: exact on restore). */
-static int build_hints(collision_pipeline *p, const pl_data *d)
+static int build_hints(const collision_pipeline *p, coll_ws *w, const pl_data *d)
 {
     const coll_contact_record *items;
     int n = coll_pipeline_contacts(&p->base, d, &items);
-    if (n > p->capprev) {
-        pl_proximity *prev = realloc(p->prev, (size_t)n * sizeof *prev);
+    if (n > w->capprev) {
+        pl_proximity *prev = realloc(w->prev, (size_t)n * sizeof *prev);
         if (!prev) return PL_EINTERNAL;
-        p->prev = prev;
-        p->capprev = n;
+        w->prev = prev;
+        w->capprev = n;
     }
-    for (int k = 0; k < n; ++k) p->prev[k] = items[k].prox;
-    return pl_side_hints_build(&p->hints, p->prev, n);
+    for (int k = 0; k < n; ++k) w->prev[k] = items[k].prox;
+    return pl_side_hints_build(&w->hints, w->prev, n);
 }
 
-int coll_pipeline_detect(collision_pipeline *p, const pl_data *d, pl_error *err)
+int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d,
+                         pl_error *err)
 {
-    p->prox.n = 0;
-    if (build_hints(p, d)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+    w->prox.n = 0;
+    if (build_hints(p, w, d))
+        return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
     pl_detect_params prm = pl_detect_defaults(p->alarm);
-    prm.hints = &p->hints;
+    prm.hints = &w->hints;
     prm.vertex_face = p->vertex_face;
     prm.edge_edge = p->edge_edge;
     prm.max_per_vertex = p->max_per_vertex;
     for (int k = 0; k < p->nmodels; ++k) {
-        pipe_model *a = &p->models[k];
+        pipe_model *a = &w->models[k];
         int ak = any_active(a);
         for (int l = k; l < p->nmodels; ++l) {
-            pipe_model *b = &p->models[l];
+            pipe_model *b = &w->models[l];
             if (a->g.ntris == 0 && b->g.ntris == 0) continue; /* points against points */
             if (a->g.is_obstacle && b->g.is_obstacle) continue;
             if (l == k && (!p->self || a->g.is_obstacle)) continue;
             if (a->g.groups & b->g.groups) continue; /* they share a group */
             if (!ak && !any_active(b)) continue;
-            if (pl_detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &p->prox))
+            if (pl_detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &w->prox))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         }
     }
@@ -183,25 +185,26 @@ static int make_side(const pipe_model *m, int nv, const int *v, const double *w,
     return PL_OK;
 }
 
-static coll_contact_record *push_record(collision_pipeline *p)
+static coll_contact_record *push_record(coll_ws *w)
 {
-    if (p->nwork == p->capwork) {
-        int cap = p->capwork ? 2 * p->capwork : 256;
-        coll_contact_record *w = realloc(p->work, (size_t)cap * sizeof *w);
-        if (!w) return NULL;
-        p->work = w;
-        p->capwork = cap;
+    if (w->nwork == w->capwork) {
+        int cap = w->capwork ? 2 * w->capwork : 256;
+        coll_contact_record *grown = realloc(w->work, (size_t)cap * sizeof *grown);
+        if (!grown) return NULL;
+        w->work = grown;
+        w->capwork = cap;
     }
-    coll_contact_record *r = &p->work[p->nwork++];
+    coll_contact_record *r = &w->work[w->nwork++];
     memset(r, 0, sizeof *r);
     return r;
 }
 
-int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *rows, pl_error *err)
+int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
+                       pl_rows *rows, pl_error *err)
 {
-    for (int k = 0; k < p->prox.n; ++k) {
-        const pl_proximity *x = &p->prox.items[k];
-        const pipe_model *ma = &p->models[x->model_a], *mb = &p->models[x->model_b];
+    for (int k = 0; k < w->prox.n; ++k) {
+        const pl_proximity *x = &w->prox.items[k];
+        const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
         pl_contact_side sa, sb;
         double pa[3], pb[3];
         if (make_side(ma, x->na, x->a, x->wa, &sa, pa) || make_side(mb, x->nb, x->b, x->wb, &sb, pb))
@@ -221,10 +224,11 @@ int coll_pipeline_emit(collision_pipeline *p, const pl_system *sys, pl_rows *row
                                          mb->c->name, sb.vertex[a], sys->nverts);
         double t1[3], t2[3];
         double mu = pair_mu(p, ma->g.mu, mb->g.mu);
-        int rn = pl_collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu, p->contact, t1, t2);
+        int rn = pl_collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu,
+                                        p->contact, t1, t2);
         if (rn == -2) continue; /* nothing movable */
         if (rn < 0) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
-        coll_contact_record *r = push_record(p);
+        coll_contact_record *r = push_record(w);
         if (!r) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         r->prox = *x;
         memcpy(r->point_a, pa, sizeof pa);

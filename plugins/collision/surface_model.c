@@ -12,6 +12,7 @@
 
 #include "pliant/util.h"
 #include "collision.h"
+#include "models.h"
 #include "pliant/pliant.h"
 
 typedef struct surface_model {
@@ -28,9 +29,7 @@ typedef struct surface_model {
     int ntris, nedges;
     int *tris, *edges;         /* into the points */
     int solid;                 /* the triangles bound tetrahedra: one-sided */
-    /* per-step geometry (scratch) */
-    double *x, *v, *weight;
-    int *vertex;
+    double *weight;            /* per point: 1 0 0 0 (one vertex each) */
 } surface_model;
 
 static const pl_field SURFACE_FIELDS[] = {
@@ -144,12 +143,9 @@ static void free_model(surface_model *m)
     free(m->local);
     free(m->tris);
     free(m->edges);
-    free(m->x);
-    free(m->v);
     free(m->weight);
-    free(m->vertex);
-    m->local = m->tris = m->edges = m->vertex = NULL;
-    m->x = m->v = m->weight = NULL;
+    m->local = m->tris = m->edges = NULL;
+    m->weight = NULL;
     m->npoints = m->ntris = m->nedges = 0;
 }
 
@@ -201,12 +197,9 @@ static int sm_bind(pl_component *c, pl_ctx *ctx)
                                                  : PL_OK)
                              : surface_points(m, c, ctx, n);
     if (rc) return rc;
-    size_t np = (size_t)(m->npoints ? m->npoints : 1);
-    m->x = malloc(np * 3 * sizeof *m->x);
-    m->v = malloc(np * 3 * sizeof *m->v);
+    size_t np = m->npoints > 0 ? (size_t)m->npoints : 1;
     m->weight = malloc(np * 4 * sizeof *m->weight);
-    m->vertex = malloc(np * 4 * sizeof *m->vertex);
-    if (!m->x || !m->v || !m->weight || !m->vertex)
+    if (!m->weight)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     for (int i = 0; i < m->npoints; ++i) {
         m->weight[4 * i] = 1.0;
@@ -221,12 +214,14 @@ static int sm_reinit(pl_component *c, pl_ctx *ctx) { return check_fields((surfac
 
 static void sm_destroy(pl_component *c) { free_model((surface_model *)c); }
 
-static int sm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collision_geometry *out,
-                     pl_error *err)
+static int sm_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
+                     pl_collision_geometry *out, pl_error *err)
 {
-    surface_model *m = (surface_model *)c;
+    const surface_model *m = (const surface_model *)c;
     const pl_state_ops *so = pl_component_role(m->state, PL_ROLE_STATE);
     int off = so->offset(m->state);
+    coll_geom_ws *w = coll_geom_ws_get(c, ctx->data, m->npoints, 1);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     const double *qx = pl_buffer_f64(q);
     if (off < 0)
         return pl_component_fail(c, err, PL_EINTERNAL,
@@ -239,18 +234,18 @@ static int sm_update(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collis
     for (int i = 0; i < m->npoints; ++i) {
         int l = m->local[i], g = off + l;
         for (int k = 0; k < 3; ++k) {
-            m->x[3 * i + k] = qx[3 * g + k];
-            m->v[3 * i + k] = vs ? vs[3 * l + k] : 0.0;
+            w->x[3 * i + k] = qx[3 * g + k];
+            w->v[3 * i + k] = vs ? vs[3 * l + k] : 0.0;
         }
-        m->vertex[4 * i] = g;
-        m->vertex[4 * i + 1] = m->vertex[4 * i + 2] = m->vertex[4 * i + 3] = -1;
+        w->vertex[4 * i] = g;
+        w->vertex[4 * i + 1] = w->vertex[4 * i + 2] = w->vertex[4 * i + 3] = -1;
     }
     pl_error ge;
     unsigned groups;
     if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
-    *out = (pl_collision_geometry){.nverts = m->npoints, .x = m->x, .v = m->v,
-                                   .map_vertex = m->vertex, .map_weight = m->weight,
+    *out = (pl_collision_geometry){.nverts = m->npoints, .x = w->x, .v = w->v,
+                                   .map_vertex = w->vertex, .map_weight = m->weight,
                                    .ntris = m->ntris, .tris = m->tris,
                                    .nedges = m->nedges, .edges = m->edges,
                                    .is_obstacle = 0, .mu = m->mu, .groups = groups};
@@ -281,9 +276,11 @@ const pl_type coll_surface_model_type = {
     .help = "The collision surface of a deformable body: the boundary vertices of its "
             "tetrahedral mesh (or all vertices of a triangle mesh), which obstacles push back.",
     .size = sizeof(surface_model),
+    .workspace_size = sizeof(coll_geom_ws),
     .fields = SURFACE_FIELDS,
     .nfields = sizeof SURFACE_FIELDS / sizeof SURFACE_FIELDS[0],
-    .ops = {.init = sm_init, .bind = sm_bind, .reinit = sm_reinit, .destroy = sm_destroy},
+    .ops = {.init = sm_init, .bind = sm_bind, .reinit = sm_reinit, .destroy = sm_destroy,
+            .workspace_free = coll_geom_ws_free},
     .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS},
 };
 
@@ -293,8 +290,10 @@ const pl_type coll_point_model_type = {
     .help = "Every vertex of the node's state collides (point clouds, or bodies whose inner "
             "vertices may touch obstacles).",
     .size = sizeof(surface_model),
+    .workspace_size = sizeof(coll_geom_ws),
     .fields = POINT_FIELDS,
     .nfields = sizeof POINT_FIELDS / sizeof POINT_FIELDS[0],
-    .ops = {.init = sm_init, .bind = point_bind, .reinit = sm_reinit, .destroy = sm_destroy},
+    .ops = {.init = sm_init, .bind = point_bind, .reinit = sm_reinit, .destroy = sm_destroy,
+            .workspace_free = coll_geom_ws_free},
     .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS},
 };

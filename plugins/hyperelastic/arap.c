@@ -18,6 +18,7 @@ const pl_type hyper_arap_type = {
     .help = "As-rigid-as-possible elasticity (Projective Dynamics): each element is projected"
             " on the closest rotation; w = 2 mu V.",
     .size = sizeof(hyper_fem),
+    .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
     .nfields = HYPER_FEM_NFIELDS,
     .ops = {.init = arap_init,
@@ -25,6 +26,7 @@ const pl_type hyper_arap_type = {
             .reinit = hyper_fem_reinit,
             .begin_step = hyper_fem_begin_step,
             .end_step = hyper_fem_end_step,
-            .destroy = hyper_fem_destroy},
+            .destroy = hyper_fem_destroy,
+            .workspace_free = hyper_term_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &hyper_fem_local_term_ops},
 };

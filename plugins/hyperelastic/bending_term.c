@@ -37,10 +37,7 @@ int hyper_bending_bind(pl_component *c, pl_ctx *ctx)
 int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_bending *b = (hyper_bending *)c;
-    pl_hyper_stencils_free(&b->s);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_stencil_device_free(&b->gpu); /* the device copy of the old stencils */
-#endif
+    pl_hyper_stencils_free(&b->s); /* workspaces (device copies) are remade after a reinit */
     if (!b->state || !b->mesh) return PL_EINPUT;
     int n;
     const double *rest = pl_util_rest(b->state, &n);
@@ -81,9 +78,6 @@ int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 void hyper_bending_destroy(pl_component *c)
 {
     pl_hyper_stencils_free(&((hyper_bending *)c)->s);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_stencil_device_free(&((hyper_bending *)c)->gpu);
-#endif
 }
 
 static pl_component *bend_state(const pl_component *c)
@@ -99,23 +93,27 @@ static int bend_add_matrix(pl_component *c, int offset, double h2, pl_triplets *
     return PL_OK;
 }
 
-static int bend_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
-                        pl_buffer *rhs, pl_error *err)
+static int bend_project(const pl_component *c, pl_data *d, int offset, double h2,
+                        const pl_buffer *q, pl_buffer *rhs, pl_error *err)
 {
-    hyper_bending *b = (hyper_bending *)c;
+    const hyper_bending *b = (const hyper_bending *)c;
     if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
 #ifdef PLIANT_HAVE_CUDA
-        return hyper_stencil_project_device(c, &b->s, &b->gpu, d, NULL, offset, h2, q, rhs, err);
+        hyper_term_ws *w = pl_data_workspace(d, c);
+        if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+        return hyper_stencil_project_device(c, &b->s, &w->stencil, d, NULL, offset, h2, q, rhs,
+                                            err);
 #else
         return pl_component_fail(c, err, PL_EINPUT,
                                  "project: device buffers, but this build has no CUDA");
 #endif
     }
-    (void)d;
     const double *x = hyper_term_block(c, q, offset, b->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, b->s.nverts, "right-hand side", err) : NULL;
     if (!r) return PL_EINTERNAL;
-    return pl_hyper_stencils_project(&b->s, offset, h2, x, NULL, r, err);
+    double *work = hyper_term_work(c, d, pl_hyper_stencils_work_size(&b->s), err);
+    if (!work) return err->code;
+    return pl_hyper_stencils_project(&b->s, offset, h2, x, NULL, work, r, err);
 }
 
 static double bend_energy(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q)

@@ -6,6 +6,7 @@
 
 #include "hyperelastic.h"
 #include "pliant/pliant.h"
+#include "term_ws.h"
 
 typedef enum hyper_bending_kind {
     HYPER_BENDING_ISOMETRIC,
@@ -21,9 +22,6 @@ typedef struct hyper_bending {
     const pl_mesh *mesh;
     pl_component *state;
     pl_hyper_stencils s;
-    /* device copy of the stencils (stencil_device.c, CUDA builds), made
-     * when project() first gets device buffers; NULL until then */
-    struct hyper_stencil_gpu *gpu;
 } hyper_bending;
 
 #define HYPER_BENDING_FIELDS                                                                      \

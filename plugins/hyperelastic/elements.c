@@ -19,7 +19,6 @@ void pl_hyper_elements_free(pl_hyper_elements *e)
     free(e->w);
     free(e->vptr);
     free(e->vinc);
-    free(e->work);
     memset(e, 0, sizeof *e);
 }
 
@@ -72,8 +71,7 @@ int pl_hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, in
     e->mu = malloc(n * sizeof *e->mu);
     e->lambda = malloc(n * sizeof *e->lambda);
     e->w = malloc(n * sizeof *e->w);
-    e->work = malloc(n * 3 * k * sizeof *e->work);
-    if (!e->verts || !e->D || !e->volume || !e->mu || !e->lambda || !e->w || !e->work)
+    if (!e->verts || !e->D || !e->volume || !e->mu || !e->lambda || !e->w)
         return fail(e, err, PL_EINTERNAL, "out of memory building the elements", -1);
     for (int i = 0; i < nelem * k; ++i) {
         if (elems[i] < 0 || elems[i] >= nverts) {

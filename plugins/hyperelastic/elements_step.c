@@ -38,8 +38,14 @@ static void spread(const pl_hyper_elements *e, int i, double scale, const double
         }
 }
 
-int pl_hyper_elements_project(pl_hyper_elements *e, int offset, double h2, const double *q,
-                              double *dual, double *rhs, int stats[2], pl_error *err)
+size_t pl_hyper_elements_work_size(const pl_hyper_elements *e)
+{
+    return (size_t)(e->n > 0 ? e->n : 1) * 3 * (size_t)e->k;
+}
+
+int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
+                              double *dual, double *work, double *rhs, int stats[2],
+                              pl_error *err)
 {
     const int d = e->d, nd = 3 * d, k = e->k;
     if (e->material != PL_HYPER_ARAP && !dual)
@@ -72,7 +78,7 @@ int pl_hyper_elements_project(pl_hyper_elements *e, int offset, double h2, const
                 p[a] -= u[a];
             }
         }
-        spread(e, i, h2 * e->w[i], p, e->work + (size_t)i * 3 * k);
+        spread(e, i, h2 * e->w[i], p, work + (size_t)i * 3 * k);
     }
     if (stats) {
         stats[0] = max_it;
@@ -82,7 +88,7 @@ int pl_hyper_elements_project(pl_hyper_elements *e, int offset, double h2, const
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
                             "element %d: non-finite deformation gradient in the local step",
                             first_bad);
-    hyper_incidence_gather(e->nverts, e->vptr, e->vinc, e->work, offset, rhs);
+    hyper_incidence_gather(e->nverts, e->vptr, e->vinc, work, offset, rhs);
     return PL_OK;
 }
 

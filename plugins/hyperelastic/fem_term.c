@@ -71,9 +71,9 @@ int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
                                   f->thickness);
     if (material != PL_HYPER_ARAP) {
         size_t bytes = (size_t)f->nelem * 3 * (f->k - 1) * sizeof(double);
-        f->dual_slot = pl_model_add_slot(ctx->model, c, "dual", bytes);
+        f->dual_slot = pl_model_add_slot(ctx->build, c, "dual", bytes);
         if (f->dual_slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-        pl_model_set_slot_check(ctx->model, f->dual_slot, pl_slot_check_finite);
+        pl_model_set_slot_check(ctx->build, f->dual_slot, pl_slot_check_finite);
     }
     return PL_OK;
 }
@@ -88,10 +88,7 @@ int hyper_fem_bind(pl_component *c, pl_ctx *ctx)
 int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_fem *f = (hyper_fem *)c;
-    pl_hyper_elements_free(&f->el);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_fem_device_free(f); /* the device copy of the old elements */
-#endif
+    pl_hyper_elements_free(&f->el); /* workspaces (device copies) are remade after a reinit */
     if (!f->state || !f->mesh) return PL_EINPUT; /* init or bind already reported why */
     int nrest;
     const double *rest = pl_util_rest(f->state, &nrest);
@@ -111,22 +108,22 @@ int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
-int hyper_fem_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+int hyper_fem_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
-    hyper_fem *f = (hyper_fem *)c;
+    const hyper_fem *f = (const hyper_fem *)c;
     (void)err;
     if (f->dual_slot >= 0 && !f->warm_start)
         memset(pl_data_slot(ctx->data, f->dual_slot), 0, pl_data_slot_bytes(ctx->data, f->dual_slot));
 #ifdef PLIANT_HAVE_CUDA
-    hyper_fem_device_begin_step(f);
+    hyper_fem_device_begin_step(f, ctx->data);
 #endif
     return PL_OK;
 }
 
-int hyper_fem_end_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+int hyper_fem_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
 #ifdef PLIANT_HAVE_CUDA
-    return hyper_fem_device_end_step((hyper_fem *)c, ctx->data, err);
+    return hyper_fem_device_end_step((const hyper_fem *)c, ctx->data, err);
 #else
     (void)c, (void)ctx, (void)err;
     return PL_OK;
@@ -136,9 +133,6 @@ int hyper_fem_end_step(pl_component *c, pl_ctx *ctx, pl_error *err)
 void hyper_fem_destroy(pl_component *c)
 {
     pl_hyper_elements_free(&((hyper_fem *)c)->el);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_fem_device_free((hyper_fem *)c);
-#endif
 }
 
 /* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
@@ -157,10 +151,10 @@ static int fem_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A
     return PL_OK;
 }
 
-static int fem_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+static int fem_project(const pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
                        pl_buffer *rhs, pl_error *err)
 {
-    hyper_fem *f = (hyper_fem *)c;
+    const hyper_fem *f = (const hyper_fem *)c;
     if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
 #ifdef PLIANT_HAVE_CUDA
         return hyper_fem_project_device(f, d, offset, h2, q, rhs, err);
@@ -181,9 +175,11 @@ static int fem_project(pl_component *c, pl_data *d, int offset, double h2, const
             return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (duals)");
         dual = pl_data_slot(d, f->dual_slot);
     }
+    double *work = hyper_term_work(c, d, pl_hyper_elements_work_size(&f->el), err);
+    if (!work) return err->code;
     pl_error e;
     int stats[2];
-    if (pl_hyper_elements_project(&f->el, offset, h2, x, dual, b, stats, &e) != PL_OK)
+    if (pl_hyper_elements_project(&f->el, offset, h2, x, dual, work, b, stats, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     if (stats[1] > 0)
         pl_log_debug("%s: %d local solves stopped before their tolerance", c->name, stats[1]);

@@ -6,6 +6,7 @@
 
 #include "hyperelastic.h"
 #include "pliant/pliant.h"
+#include "term_ws.h"
 
 typedef struct hyper_fem {
     pl_component base;
@@ -24,9 +25,6 @@ typedef struct hyper_fem {
     int nelem;
     pl_hyper_elements el;
     int dual_slot;          /* -1: none (ARAP) */
-    /* device copy of the elements and the duals (fem_term_device.c), made
-     * when project() first gets device buffers; NULL until then */
-    struct hyper_fem_gpu *gpu;
 } hyper_fem;
 
 extern const char *const hyper_fem_element_choices[];
@@ -60,24 +58,26 @@ extern const char *const hyper_fem_element_choices[];
 int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material);
 int hyper_fem_bind(pl_component *c, pl_ctx *ctx);
 int hyper_fem_reinit(pl_component *c, pl_ctx *ctx);
-int hyper_fem_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err);
-int hyper_fem_end_step(pl_component *c, pl_ctx *ctx, pl_error *err);
+int hyper_fem_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err);
+int hyper_fem_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err);
 void hyper_fem_destroy(pl_component *c);
 
 /* The device path (fem_term_device.c, CUDA builds only).  The duals live
  * in the pl_data slot "dual" between steps (save, restore and clone see
- * them as on the CPU); during a step a device copy owned by the term is
- * used: uploaded from the slot by the first device project() of the step,
- * downloaded into the slot by end_step.  Later project() calls of the step
- * only queue kernels on the device's stream (they may be captured in a
- * graph and replayed without being called). */
-int hyper_fem_project_device(hyper_fem *f, pl_data *d, int offset, double h2, const pl_buffer *q,
-                             pl_buffer *rhs, pl_error *err);
+ * them as on the CPU); during a step the device copy in d's workspace
+ * (term_ws.h: the elements and the duals) is used: the duals uploaded from
+ * the slot by the first device project() of the step, downloaded into the
+ * slot by end_step.  Later project() calls of the step only queue kernels
+ * on the device's stream (they may be captured in a graph and replayed
+ * without being called). */
+int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double h2,
+                             const pl_buffer *q, pl_buffer *rhs, pl_error *err);
 /* Duals back into d's slot, the local step's statistics checked. */
-int hyper_fem_device_end_step(hyper_fem *f, pl_data *d, pl_error *err);
-/* Next device project() uploads the duals again. */
-void hyper_fem_device_begin_step(hyper_fem *f);
-void hyper_fem_device_free(hyper_fem *f);
+int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err);
+/* Next device project() with d uploads the duals again. */
+void hyper_fem_device_begin_step(const hyper_fem *f, pl_data *d);
+/* Frees a device copy (term_ws.c). */
+void hyper_fem_device_free(struct hyper_fem_gpu **gpu);
 
 extern const pl_local_term_ops hyper_fem_local_term_ops;
 

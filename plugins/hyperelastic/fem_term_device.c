@@ -5,11 +5,11 @@
  * device service (CudaDevice, found in this node or above).
  *
  * Duals (see fem_term.h): the pl_data slot stays the state between steps;
- * the term owns a device copy during a step, filled from the slot by the
- * first project() of the step (with the same pl_data) and written back by
- * end_step.  So save/restore/clone/reset and several pl_data over one model
- * work as on the CPU, at the price of one copy each way per step (none for
- * ARAP, which has no duals).  The local step's statistics (largest Newton
+ * each pl_data's workspace holds a device copy of the elements and of the
+ * duals, the duals filled from the slot by the first project() of the step
+ * and written back by end_step.  So save/restore/clone/reset and several
+ * pl_data over one model work as on the CPU, at the price of one copy each
+ * way per step (none for ARAP, which has no duals).  The local step's statistics (largest Newton
  * count, missed tolerances, the first element with a non-finite F) are read
  * once per step, at end_step. */
 #include <cuda_runtime_api.h>
@@ -23,7 +23,7 @@ typedef struct hyper_fem_gpu {
     struct CUstream_st *stream;
     double *dual;              /* device n x 3d (ADMM materials), or NULL */
     size_t dual_bytes;
-    const pl_data *fresh;      /* whose duals the device copy holds this step, or NULL */
+    int fresh;                 /* the device copy holds this step's duals */
     int used;                  /* a device project ran this step */
 } hyper_fem_gpu;
 
@@ -32,11 +32,12 @@ static int fail_cuda(const hyper_fem *f, pl_error *err, cudaError_t e, const cha
     return pl_component_fail(&f->base, err, PL_EINTERNAL, "%s: %s", what, cudaGetErrorString(e));
 }
 
-/* The device copy of the elements and the stream, made on first use. */
-static int prepare(hyper_fem *f, pl_error *err)
+/* The device copy of the elements and the stream in *out, made on first
+ * use. */
+static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
 {
-    if (f->gpu) return PL_OK;
-    pl_component *c = &f->base;
+    if (*out) return PL_OK;
+    const pl_component *c = &f->base;
     pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     if (!ops || !ops->stream)
@@ -61,8 +62,15 @@ static int prepare(hyper_fem *f, pl_error *err)
             return fail_cuda(f, err, ce, "device duals");
         }
     }
-    f->gpu = gpu;
+    *out = gpu;
     return PL_OK;
+}
+
+/* d's device copy (NULL if none was made). */
+static hyper_fem_gpu **gpu_of(const hyper_fem *f, pl_data *d)
+{
+    hyper_term_ws *w = pl_data_workspace(d, &f->base);
+    return w ? &w->fem : NULL;
 }
 
 static int check_block(const hyper_fem *f, const pl_buffer *b, int offset, const char *what,
@@ -79,15 +87,17 @@ static int check_block(const hyper_fem *f, const pl_buffer *b, int offset, const
     return PL_OK;
 }
 
-int hyper_fem_project_device(hyper_fem *f, pl_data *d, int offset, double h2, const pl_buffer *q,
-                             pl_buffer *rhs, pl_error *err)
+int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double h2,
+                             const pl_buffer *q, pl_buffer *rhs, pl_error *err)
 {
+    hyper_fem_gpu **slot = gpu_of(f, d);
+    if (!slot) return pl_component_fail(&f->base, err, PL_EINTERNAL, "out of memory (workspace)");
     int rc = check_block(f, q, offset, "positions", err);
     if (!rc) rc = check_block(f, rhs, offset, "right-hand side", err);
-    if (!rc) rc = prepare(f, err);
+    if (!rc) rc = prepare(f, slot, err);
     if (rc) return rc;
-    hyper_fem_gpu *gpu = f->gpu;
-    if (gpu->dual && gpu->fresh != d) {
+    hyper_fem_gpu *gpu = *slot;
+    if (gpu->dual && !gpu->fresh) {
         /* first device project of the step: the duals of d go up (a pl_data
          * made before the model knew its size gets zero duals, as on the CPU) */
         if (pl_data_slot_bytes(d, f->dual_slot) != gpu->dual_bytes &&
@@ -97,7 +107,7 @@ int hyper_fem_project_device(hyper_fem *f, pl_data *d, int offset, double h2, co
                                          cudaMemcpyHostToDevice, gpu->stream);
         if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the device");
     }
-    gpu->fresh = d;
+    gpu->fresh = 1;
     gpu->used = 1;
     pl_error e;
     if (pl_hyper_cuda_project(gpu->g, offset, h2, q->data, gpu->dual, rhs->data,
@@ -106,17 +116,17 @@ int hyper_fem_project_device(hyper_fem *f, pl_data *d, int offset, double h2, co
     return PL_OK;
 }
 
-int hyper_fem_device_end_step(hyper_fem *f, pl_data *d, pl_error *err)
+int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
 {
-    hyper_fem_gpu *gpu = f->gpu;
+    hyper_fem_gpu **slot = gpu_of(f, d), *gpu = slot ? *slot : NULL;
     if (!gpu || !gpu->used) return PL_OK;
     gpu->used = 0;
-    if (gpu->dual && gpu->fresh == d) {
+    if (gpu->dual && gpu->fresh) {
         cudaError_t ce = cudaMemcpyAsync(pl_data_slot(d, f->dual_slot), gpu->dual, gpu->dual_bytes,
                                          cudaMemcpyDeviceToHost, gpu->stream);
         if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the host");
     }
-    gpu->fresh = NULL;
+    gpu->fresh = 0;
     int stats[2];
     pl_error e;
     if (pl_hyper_cuda_stats(gpu->g, gpu->stream, stats, &e) != PL_OK) /* waits for the stream */
@@ -128,17 +138,18 @@ int hyper_fem_device_end_step(hyper_fem *f, pl_data *d, pl_error *err)
     return PL_OK;
 }
 
-void hyper_fem_device_begin_step(hyper_fem *f)
+void hyper_fem_device_begin_step(const hyper_fem *f, pl_data *d)
 {
-    if (f->gpu) f->gpu->fresh = NULL, f->gpu->used = 0;
+    hyper_fem_gpu **slot = gpu_of(f, d);
+    if (slot && *slot) (*slot)->fresh = 0, (*slot)->used = 0;
 }
 
-void hyper_fem_device_free(hyper_fem *f)
+void hyper_fem_device_free(hyper_fem_gpu **slot)
 {
-    hyper_fem_gpu *gpu = f->gpu;
+    hyper_fem_gpu *gpu = *slot;
     if (!gpu) return;
     pl_hyper_cuda_destroy(gpu->g);
     if (gpu->dual) cudaFree(gpu->dual);
     free(gpu);
-    f->gpu = NULL;
+    *slot = NULL;
 }

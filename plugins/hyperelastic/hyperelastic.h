@@ -130,7 +130,6 @@ typedef struct pl_hyper_elements {
     double *mu, *lambda;/* n Lame parameters [Pa] (lambda plane-stress for triangles) */
     double *w;          /* n PD weights [N m] = pl_hyper_law_weight * volume */
     int *vptr, *vinc;   /* vertex -> (element*k + corner) incidence, for gathers */
-    double *work;       /* n x 3k scratch of the local step (not reentrant) */
 } pl_hyper_elements;
 
 /* Builds the element set.  elems: nelem x k local vertex indices (k = 4
@@ -152,13 +151,18 @@ int pl_hyper_elements_dual_size(const pl_hyper_elements *e);
  * both triangles). */
 int pl_hyper_elements_add_matrix(const pl_hyper_elements *e, int offset, double h2,
                                  pl_triplets *A, pl_error *err);
+/* Doubles of scratch the local step needs (n x 3k). */
+size_t pl_hyper_elements_work_size(const pl_hyper_elements *e);
 /* The local step: q global positions (>= offset + nverts rows, x 3); dual
- * n x dual_size (NULL for ARAP; ADMM duals updated in place); adds
+ * n x dual_size (NULL for ARAP; ADMM duals updated in place); work: the
+ * caller's scratch of pl_hyper_elements_work_size doubles (the element set
+ * is only read, so several states may project with it at once); adds
  * h2 * w (p - u) D^T into rhs (global n x 3).  If stats != NULL, stats[0] =
  * the largest Newton iteration count, stats[1] = elements whose local solve
  * missed its tolerance.  PL_EINTERNAL if q gives a non-finite F. */
-int pl_hyper_elements_project(pl_hyper_elements *e, int offset, double h2, const double *q,
-                              double *dual, double *rhs, int stats[2], pl_error *err);
+int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
+                              double *dual, double *work, double *rhs, int stats[2],
+                              pl_error *err);
 /* Elastic energy sum psi(F_e) V_e [J] (+INFINITY if a Neo-Hookean element is
  * inverted).  Summed in element order. */
 double pl_hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q);
@@ -196,7 +200,6 @@ typedef struct pl_hyper_stencils {
     double *w;          /* n weights */
     double *rest;       /* KEEP_NORM: n x 3 values g_r x_rest (else NULL) */
     int *vptr, *vinc;   /* vertex -> entry incidence, for gathers */
-    double *work;       /* (entries) x 3 scratch of project (not reentrant) */
 } pl_hyper_stencils;
 
 /* Isometric bending (Bergou et al. 2006): one stencil per interior edge (two
@@ -234,9 +237,12 @@ void pl_hyper_stencils_free(pl_hyper_stencils *s);
 /* A += h2 * w g g^T (scalar, global vertices offset + v). */
 int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,
                                  pl_triplets *A, pl_error *err);
-/* rhs += h2 * w g^T p (p from targets, n x 3, for FIXED; NULL = zero). */
-int pl_hyper_stencils_project(pl_hyper_stencils *s, int offset, double h2, const double *q,
-                              const double *targets, double *rhs, pl_error *err);
+/* Doubles of scratch project needs (3 per entry). */
+size_t pl_hyper_stencils_work_size(const pl_hyper_stencils *s);
+/* rhs += h2 * w g^T p (p from targets, n x 3, for FIXED; NULL = zero);
+ * work: the caller's scratch of pl_hyper_stencils_work_size doubles. */
+int pl_hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
+                              const double *targets, double *work, double *rhs, pl_error *err);
 double pl_hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const double *q,
                                 const double *targets);
 int pl_hyper_stencils_add_gradient(const pl_hyper_stencils *s, int offset, const double *q,

@@ -18,11 +18,13 @@ const pl_type hyper_isometric_bending_type = {
     .help = "Quadratic isometric cloth bending (Bergou et al. 2006): a 4-vertex cotangent "
             "stencil per interior edge; flat rest state.",
     .size = sizeof(hyper_bending),
+    .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
     .nfields = HYPER_BENDING_NFIELDS,
     .ops = {.init = isometric_bending_init,
             .bind = hyper_bending_bind,
             .reinit = hyper_bending_reinit,
-            .destroy = hyper_bending_destroy},
+            .destroy = hyper_bending_destroy,
+            .workspace_free = hyper_term_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &hyper_bending_local_term_ops},
 };

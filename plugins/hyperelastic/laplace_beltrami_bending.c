@@ -18,11 +18,13 @@ const pl_type hyper_laplace_beltrami_bending_type = {
     .help = "Laplace-Beltrami cloth bending (Bouaziz et al. 2014): per vertex, keeps the rest"
             " mean-curvature magnitude.",
     .size = sizeof(hyper_bending),
+    .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
     .nfields = HYPER_BENDING_NFIELDS,
     .ops = {.init = laplace_beltrami_bending_init,
             .bind = hyper_bending_bind,
             .reinit = hyper_bending_reinit,
-            .destroy = hyper_bending_destroy},
+            .destroy = hyper_bending_destroy,
+            .workspace_free = hyper_term_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &hyper_bending_local_term_ops},
 };

@@ -18,6 +18,7 @@ const pl_type hyper_neohookean_type = {
     .help = "Neo-Hookean elasticity by ADMM-PD (Overby et al. 2017): psi = mu/2 (I1 - d) - mu"
             " ln J + lambda/2 (ln J)^2.",
     .size = sizeof(hyper_fem),
+    .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
     .nfields = HYPER_FEM_NFIELDS,
     .ops = {.init = neohookean_init,
@@ -25,6 +26,7 @@ const pl_type hyper_neohookean_type = {
             .reinit = hyper_fem_reinit,
             .begin_step = hyper_fem_begin_step,
             .end_step = hyper_fem_end_step,
-            .destroy = hyper_fem_destroy},
+            .destroy = hyper_fem_destroy,
+            .workspace_free = hyper_term_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &hyper_fem_local_term_ops},
 };

@@ -2,7 +2,9 @@
  * t_a(t)|^2 pulling selected vertices towards targets that start at their
  * rest positions and move (constant velocity, rotation about an axis, or
  * keyframes).  A PD term with a constant matrix (PAPER_NOTES.md item 3);
- * the targets of the step being taken (time t + dt, implicit Euler) live in
+ * the motion's fields are inputs (their values live in each pl_data, so two
+ * simulations of one scene can move their targets differently); the
+ * targets of the step being taken (time t + dt, implicit Euler) live in
  * the pl_data slot "target", written at bind (t) and at each begin_step.
  * project() on device buffers (CUDA builds) goes to stencil_device.c, which
  * uploads the slot's targets once per step. */
@@ -13,6 +15,7 @@
 #include "pliant/util.h"
 #include "fem_term.h"
 #include "hyperelastic.h"
+#include "term_ws.h"
 #ifdef PLIANT_HAVE_CUDA
 #include "stencil_device.h"
 #endif
@@ -31,7 +34,6 @@ typedef struct position_target {
     double *base_pos;         /* n x 3 rest positions of the indices */
     pl_hyper_stencils s;
     int slot;
-    struct hyper_stencil_gpu *gpu; /* device copy (CUDA builds), made on first device project */
 } position_target;
 
 static const char *const MOTIONS[] = {"none", "velocity", "rotation", "keyframes", NULL};
@@ -44,35 +46,37 @@ static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(position_target, motion, "motion", MOTIONS, "none",
                   "how the targets move from the rest positions: none, velocity, rotation "
                   "(about center/axis) or keyframes (times/values)",
-                  PL_FIELD_RUNTIME),
+                  PL_FIELD_INPUT),
     PL_FIELD(position_target, velocity, "velocity", PL_F_VEC3, "0 0 0",
-             "target velocity [m/s] (motion=velocity)", PL_FIELD_RUNTIME),
+             "target velocity [m/s] (motion=velocity)", PL_FIELD_INPUT),
     PL_FIELD(position_target, center, "center", PL_F_VEC3, "0 0 0",
-             "a point of the rotation axis [m] (motion=rotation)", PL_FIELD_RUNTIME),
+             "a point of the rotation axis [m] (motion=rotation)", PL_FIELD_INPUT),
     PL_FIELD(position_target, axis, "axis", PL_F_VEC3, "0 0 1",
-             "rotation axis direction (motion=rotation)", PL_FIELD_RUNTIME),
+             "rotation axis direction (motion=rotation)", PL_FIELD_INPUT),
     PL_FIELD(position_target, angular_velocity, "angularVelocity", PL_F_DOUBLE, "0",
-             "rotation speed [rad/s], right-handed about axis (motion=rotation)", PL_FIELD_RUNTIME),
+             "rotation speed [rad/s], right-handed about axis (motion=rotation)", PL_FIELD_INPUT),
     PL_FIELD(position_target, times, "times", PL_F_DOUBLES, NULL,
-             "keyframe times [s], increasing (motion=keyframes)", PL_FIELD_RUNTIME),
+             "keyframe times [s], increasing (motion=keyframes)", PL_FIELD_INPUT),
     PL_FIELD(position_target, values, "values", PL_F_DOUBLES, NULL,
              "keyframe values [m]: one offset x y z per time (added to the rest positions), or "
              "x y z of every vertex per time (motion=keyframes)",
-             PL_FIELD_RUNTIME),
+             PL_FIELD_INPUT),
 };
 
-/* The motion as the fields describe it now (they may change at run time). */
-static pl_hyper_motion motion_of(const position_target *p)
+/* The motion as d's inputs describe it now (d NULL: the scene's values). */
+static pl_hyper_motion motion_of(const position_target *p, const pl_data *d)
 {
-    pl_hyper_motion m = {.kind = (pl_hyper_motion_kind)p->motion,
-                         .angular_velocity = p->angular_velocity,
-                         .times = p->times.v,
-                         .ntimes = p->times.n,
-                         .values = p->values.v,
-                         .nvalues = p->values.n};
-    memcpy(m.velocity, p->velocity, sizeof m.velocity);
-    memcpy(m.center, p->center, sizeof m.center);
-    memcpy(m.axis, p->axis, sizeof m.axis);
+    const pl_component *c = &p->base;
+    pl_doubles times = pl_input_doubles(d, c, &p->times), values = pl_input_doubles(d, c, &p->values);
+    pl_hyper_motion m = {.kind = (pl_hyper_motion_kind)pl_input_int(d, c, &p->motion),
+                         .angular_velocity = pl_input_double(d, c, &p->angular_velocity),
+                         .times = times.v,
+                         .ntimes = times.n,
+                         .values = values.v,
+                         .nvalues = values.n};
+    memcpy(m.velocity, pl_input_vec3(d, c, p->velocity), sizeof m.velocity);
+    memcpy(m.center, pl_input_vec3(d, c, p->center), sizeof m.center);
+    memcpy(m.axis, pl_input_vec3(d, c, p->axis), sizeof m.axis);
     return m;
 }
 
@@ -84,13 +88,13 @@ static int pt_init(pl_component *c, pl_ctx *ctx)
     if (!(p->stiffness >= 0.0) || !isfinite(p->stiffness))
         return pl_component_error(c, ctx, PL_EINPUT, "stiffness must be >= 0 [N/m], got %g",
                                   p->stiffness);
-    pl_hyper_motion m = motion_of(p);
+    pl_hyper_motion m = motion_of(p, NULL);
     pl_error err;
     if (pl_hyper_motion_check(&m, p->indices.n, &err) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
-    p->slot = pl_model_add_slot(ctx->model, c, "target", (size_t)p->indices.n * 3 * sizeof(double));
+    p->slot = pl_model_add_slot(ctx->build, c, "target", (size_t)p->indices.n * 3 * sizeof(double));
     if (p->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->model, p->slot, pl_slot_check_finite);
+    pl_model_set_slot_check(ctx->build, p->slot, pl_slot_check_finite);
     return PL_OK;
 }
 
@@ -113,7 +117,7 @@ static int pt_bind(pl_component *c, pl_ctx *ctx)
     for (int i = 0; i < p->indices.n; ++i)
         memcpy(p->base_pos + 3 * i, rest + 3 * (size_t)p->indices.v[i], 3 * sizeof(double));
     /* initial state: the targets at the initial time */
-    pl_hyper_motion m = motion_of(p);
+    pl_hyper_motion m = motion_of(p, ctx->data);
     pl_hyper_motion_eval(&m, p->indices.n, p->base_pos, ctx->data->time,
                          pl_data_slot(ctx->data, p->slot));
     return PL_OK;
@@ -122,26 +126,23 @@ static int pt_bind(pl_component *c, pl_ctx *ctx)
 static int pt_reinit(pl_component *c, pl_ctx *ctx)
 {
     position_target *p = (position_target *)c;
-    pl_hyper_stencils_free(&p->s);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_stencil_device_free(&p->gpu); /* the device copy of the old stencils */
-#endif
+    pl_hyper_stencils_free(&p->s); /* workspaces (device copies) are remade after a reinit */
     if (!p->state) return PL_EINPUT;
     int n;
     pl_util_rest(p->state, &n);
     pl_error err;
     int rc = pl_hyper_point_targets_build(&p->s, p->indices.v, p->indices.n, n, p->stiffness, &err);
     if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
-    pl_hyper_motion m = motion_of(p);
+    pl_hyper_motion m = motion_of(p, NULL);
     if (pl_hyper_motion_check(&m, p->indices.n, &err) != PL_OK) /* fields may have changed */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     return PL_OK;
 }
 
-static int pt_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+static int pt_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
-    position_target *p = (position_target *)c;
-    pl_hyper_motion m = motion_of(p);
+    const position_target *p = (const position_target *)c;
+    pl_hyper_motion m = motion_of(p, ctx->data);
     pl_error e;
     if (pl_hyper_motion_check(&m, p->indices.n, &e) != PL_OK) /* runtime edits */
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
@@ -149,7 +150,9 @@ static int pt_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
     double t = ctx->data->time + pl_node_dt(c->node);
     pl_hyper_motion_eval(&m, p->indices.n, p->base_pos, t, pl_data_slot(ctx->data, p->slot));
 #ifdef PLIANT_HAVE_CUDA
-    hyper_stencil_device_begin_step(p->gpu); /* new targets go up at the next device project */
+    /* new targets go up at the next device project */
+    hyper_term_ws *w = pl_data_workspace(ctx->data, c);
+    if (w) hyper_stencil_device_begin_step(w->stencil);
 #endif
     return PL_OK;
 }
@@ -159,9 +162,6 @@ static void pt_destroy(pl_component *c)
     position_target *p = (position_target *)c;
     pl_hyper_stencils_free(&p->s);
     free(p->base_pos);
-#ifdef PLIANT_HAVE_CUDA
-    hyper_stencil_device_free(&p->gpu);
-#endif
 }
 
 /* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
@@ -176,14 +176,16 @@ static int pt_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A,
     return pl_hyper_stencils_add_matrix(&((position_target *)c)->s, offset, h2, A, err);
 }
 
-static int pt_project(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+static int pt_project(const pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
                       pl_buffer *rhs, pl_error *err)
 {
-    position_target *p = (position_target *)c;
+    const position_target *p = (const position_target *)c;
     if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
 #ifdef PLIANT_HAVE_CUDA
-        return hyper_stencil_project_device(c, &p->s, &p->gpu, d, pl_data_slot(d, p->slot), offset,
-                                            h2, q, rhs, err);
+        hyper_term_ws *w = pl_data_workspace(d, c);
+        if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+        return hyper_stencil_project_device(c, &p->s, &w->stencil, d, pl_data_slot(d, p->slot),
+                                            offset, h2, q, rhs, err);
 #else
         return pl_component_fail(c, err, PL_EINPUT,
                                  "project: device buffers, but this build has no CUDA");
@@ -192,7 +194,9 @@ static int pt_project(pl_component *c, pl_data *d, int offset, double h2, const 
     const double *x = hyper_term_block(c, q, offset, p->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, p->s.nverts, "right-hand side", err) : NULL;
     if (!r) return PL_EINTERNAL;
-    return pl_hyper_stencils_project(&p->s, offset, h2, x, pl_data_slot(d, p->slot), r, err);
+    double *work = hyper_term_work(c, d, pl_hyper_stencils_work_size(&p->s), err);
+    if (!work) return err->code;
+    return pl_hyper_stencils_project(&p->s, offset, h2, x, pl_data_slot(d, p->slot), work, r, err);
 }
 
 static double pt_energy(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q)
@@ -253,12 +257,14 @@ const pl_type hyper_position_target_type = {
     .help = "Soft attachments: springs (stiffness [N/m]) pulling vertices towards targets that "
             "start at their rest positions and may move (velocity, rotation, keyframes).",
     .size = sizeof(position_target),
+    .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
     .nfields = sizeof FIELDS / sizeof FIELDS[0],
     .ops = {.init = pt_init,
             .bind = pt_bind,
             .reinit = pt_reinit,
             .begin_step = pt_begin_step,
-            .destroy = pt_destroy},
+            .destroy = pt_destroy,
+            .workspace_free = hyper_term_workspace_free},
     .roles = {[PL_ROLE_LOCAL_TERM] = &LOCAL_TERM},
 };

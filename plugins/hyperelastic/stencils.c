@@ -22,7 +22,6 @@ void pl_hyper_stencils_free(pl_hyper_stencils *s)
     free(s->rest);
     free(s->vptr);
     free(s->vinc);
-    free(s->work);
     memset(s, 0, sizeof *s);
 }
 
@@ -60,8 +59,14 @@ int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double 
     return PL_OK;
 }
 
-int pl_hyper_stencils_project(pl_hyper_stencils *s, int offset, double h2, const double *q,
-                              const double *targets, double *rhs, pl_error *err)
+size_t pl_hyper_stencils_work_size(const pl_hyper_stencils *s)
+{
+    size_t nz = s->ptr ? (size_t)s->ptr[s->n] : 0;
+    return 3 * (nz > 0 ? nz : 1);
+}
+
+int pl_hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
+                              const double *targets, double *work, double *rhs, pl_error *err)
 {
     (void)err;
 #pragma omp parallel for schedule(static)
@@ -70,9 +75,9 @@ int pl_hyper_stencils_project(pl_hyper_stencils *s, int offset, double h2, const
         apply_row(s, r, offset, q, y);
         target_of(s, r, y, targets, p);
         for (int k = s->ptr[r]; k < s->ptr[r + 1]; ++k)
-            for (int a = 0; a < 3; ++a) s->work[3 * (size_t)k + a] = h2 * s->w[r] * s->coef[k] * p[a];
+            for (int a = 0; a < 3; ++a) work[3 * (size_t)k + a] = h2 * s->w[r] * s->coef[k] * p[a];
     }
-    hyper_incidence_gather(s->nverts, s->vptr, s->vinc, s->work, offset, rhs);
+    hyper_incidence_gather(s->nverts, s->vptr, s->vinc, work, offset, rhs);
     return PL_OK;
 }
 
@@ -162,9 +167,8 @@ int hyper_stencils_alloc(pl_hyper_stencils *s, pl_hyper_stencil_kind kind, int n
     s->vert = malloc(nz * sizeof *s->vert);
     s->coef = malloc(nz * sizeof *s->coef);
     s->w = malloc(nn * sizeof *s->w);
-    s->work = malloc(3 * nz * sizeof *s->work);
     if (kind == PL_HYPER_STENCIL_KEEP_NORM) s->rest = malloc(3 * nn * sizeof *s->rest);
-    if (!s->ptr || !s->vert || !s->coef || !s->w || !s->work ||
+    if (!s->ptr || !s->vert || !s->coef || !s->w ||
         (kind == PL_HYPER_STENCIL_KEEP_NORM && !s->rest)) {
         pl_hyper_stencils_free(s);
         return -1;

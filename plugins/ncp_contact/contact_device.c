@@ -13,7 +13,7 @@
 enum { SERIES_CAP = 1024 };
 
 struct pl_ncpc_device {
-    pl_component *owner;
+    const pl_component *owner;
     pl_component *dev;
     const pl_device_ops *ops;
     struct CUstream_st *stream;
@@ -53,7 +53,7 @@ static int cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *
                              cudaGetErrorString((cudaError_t)e));
 }
 
-pl_ncpc_device *pl_ncpc_device_create(pl_component *c, pl_error *err)
+pl_ncpc_device *pl_ncpc_device_create(const pl_component *c, pl_error *err)
 {
     pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;

@@ -39,7 +39,7 @@ typedef struct pl_ncpc_device_step {
 
 /* The device path of contact solver c, on the device service found in its
  * node or above; NULL with err set when there is none. */
-pl_ncpc_device *pl_ncpc_device_create(pl_component *c, pl_error *err);
+pl_ncpc_device *pl_ncpc_device_create(const pl_component *c, pl_error *err);
 void pl_ncpc_device_destroy(pl_ncpc_device *g);
 /* The device array for an explicit W of m rows (grown as needed), for
  * the global solver to build W into; NULL with err set on failure. */

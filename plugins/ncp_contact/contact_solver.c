@@ -144,81 +144,78 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     if (pl_work_limit_check(c, ctx, s->cr_iterations, lim.max_iterations,
                             "crIterations (per constraint solve)", "maxIterations"))
         return PL_EINPUT;
-    s->slot = pl_model_add_var_slot(ctx->model, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
+    s->slot = pl_model_add_var_slot(ctx->build, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
     if (s->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->model, s->slot, pl_ncpc_keys_check);
+    pl_model_set_slot_check(ctx->build, s->slot, pl_ncpc_keys_check);
     return PL_OK;
 }
 
-/* A model field changed somewhere: the factor may have changed too. */
-static int solver_reinit(pl_component *c, pl_ctx *ctx)
+static void free_step(ncpc_ws *w)
 {
-    (void)ctx;
-    ((ncp_contact_solver *)c)->inv_diag_ok = 0;
-    return PL_OK;
-}
-
-static void free_step(ncp_contact_solver *s)
-{
-    pl_ncp_work_destroy(s->work);
-    s->work = NULL;
-    pl_ncpc_delassus_free(&s->D);
-    pl_ncpc_rows_free(&s->rows);
-    double **arrays[] = {&s->r, &s->diag_mass, &s->lambda, &s->dlambda, &s->scale, &s->delta,
-                         &s->delta_free, &s->force, &s->ls0, &s->ls1, &s->q_free, &s->corr, &s->lambda_all};
+    pl_ncp_work_destroy(w->work);
+    w->work = NULL;
+    pl_ncpc_delassus_free(&w->D);
+    pl_ncpc_rows_free(&w->rows);
+    double **arrays[] = {&w->r, &w->diag_mass, &w->lambda, &w->dlambda, &w->scale, &w->delta,
+                         &w->delta_free, &w->force, &w->ls0, &w->ls1, &w->q_free, &w->corr, &w->lambda_all};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
         free(*arrays[k]);
         *arrays[k] = NULL;
     }
-    free(s->keys);
-    s->keys = NULL;
+    free(w->keys);
+    w->keys = NULL;
 }
 
-static void solver_destroy(pl_component *c)
+/* A model field changed somewhere (the factor may have too): the core
+ * remakes every workspace, inv_diag included. */
+static void solver_workspace_free(const pl_component *c, void *ws)
 {
-    ncp_contact_solver *s = (ncp_contact_solver *)c;
+    ncpc_ws *w = ws;
+    (void)c;
 #ifdef PLIANT_HAVE_CUDA
-    pl_ncpc_device_destroy(s->gpu);
-    s->gpu = NULL;
+    pl_ncpc_device_destroy(w->gpu);
+    w->gpu = NULL;
 #endif
-    free_step(s);
-    free(s->inv_diag);
-    s->inv_diag = NULL;
+    free_step(w);
+    free(w->inv_diag);
+    w->inv_diag = NULL;
 }
 
-static int alloc_step(ncp_contact_solver *s, int m, pl_error *err)
+static int alloc_step(const ncp_contact_solver *s, ncpc_ws *w, int m, pl_error *err)
 {
-    size_t m1 = (size_t)(m > 0 ? m : 1), f3 = 3 * (size_t)(s->nfree > 0 ? s->nfree : 1);
-    s->r = malloc(sizeof(double) * m1);
-    s->diag_mass = malloc(sizeof(double) * m1);
-    s->lambda = calloc(m1, sizeof(double));
-    s->dlambda = malloc(sizeof(double) * m1);
-    s->scale = malloc(sizeof(double) * m1);
-    s->delta = malloc(sizeof(double) * m1);
-    s->delta_free = malloc(sizeof(double) * m1);
-    s->force = malloc(sizeof(double) * m1);
-    s->ls0 = malloc(sizeof(double) * m1);
-    s->ls1 = malloc(sizeof(double) * m1);
-    s->keys = calloc(m1, sizeof *s->keys);
-    s->q_free = malloc(sizeof(double) * f3);
-    s->corr = malloc(sizeof(double) * f3);
-    s->lambda_all = calloc((size_t)(s->nall > 0 ? s->nall : 1), sizeof(double));
-    if (!s->r || !s->diag_mass || !s->lambda || !s->dlambda || !s->scale || !s->delta ||
-        !s->delta_free || !s->force || !s->ls0 || !s->ls1 || !s->keys || !s->q_free || !s->corr || !s->lambda_all)
+    size_t m1 = (size_t)(m > 0 ? m : 1), f3 = 3 * (size_t)(w->nfree > 0 ? w->nfree : 1);
+    w->r = malloc(sizeof(double) * m1);
+    w->diag_mass = malloc(sizeof(double) * m1);
+    w->lambda = calloc(m1, sizeof(double));
+    w->dlambda = malloc(sizeof(double) * m1);
+    w->scale = malloc(sizeof(double) * m1);
+    w->delta = malloc(sizeof(double) * m1);
+    w->delta_free = malloc(sizeof(double) * m1);
+    w->force = malloc(sizeof(double) * m1);
+    w->ls0 = malloc(sizeof(double) * m1);
+    w->ls1 = malloc(sizeof(double) * m1);
+    w->keys = calloc(m1, sizeof *w->keys);
+    w->q_free = malloc(sizeof(double) * f3);
+    w->corr = malloc(sizeof(double) * f3);
+    w->lambda_all = calloc((size_t)(w->nall > 0 ? w->nall : 1), sizeof(double));
+    if (!w->r || !w->diag_mass || !w->lambda || !w->dlambda || !w->scale || !w->delta ||
+        !w->delta_free || !w->force || !w->ls0 || !w->ls1 || !w->keys || !w->q_free || !w->corr || !w->lambda_all)
         return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
     return PL_OK;
 }
 
-static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
-                        const pl_buffer *q_t, pl_error *err)
+static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                        const pl_rows *rows, const pl_buffer *q_t, pl_error *err)
 {
-    ncp_contact_solver *s = (ncp_contact_solver *)c;
+    const ncp_contact_solver *s = (const ncp_contact_solver *)c;
     char msg[256];
-    s->active = 0;
+    ncpc_ws *w = pl_data_workspace(ctx->data, c);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    w->active = 0;
 #ifdef PLIANT_HAVE_CUDA
-    pl_ncpc_device_begin(s->gpu);
+    pl_ncpc_device_begin(w->gpu);
 #endif
-    free_step(s);
+    free_step(w);
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", msg);
     const double *qt = pl_buffer_f64(q_t);
     if (!sys || !rows || !qt || q_t->rows != (size_t)sys->nverts || q_t->cols != 3)
@@ -226,32 +223,32 @@ static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, cons
                                  sys ? sys->nverts : 0);
     if (!(sys->h > 0.0)) return pl_component_fail(c, err, PL_EINPUT, "time step h = %g", sys->h);
     pl_timers *t = ctx->timers;
-    s->t_global = pl_timer_id(t, "Global");
-    s->t_schur = pl_timer_id(t, "Schur");
-    s->t_assembly = pl_timer_id(t, "Assembly");
-    s->t_solve = pl_timer_id(t, "Constraint solve");
-    s->t_corr = pl_timer_id(t, "Correction");
-    s->t_cglobal = pl_timer_id(t, "Constraint global");
-    s->nall = rows->n;
-    s->nfree = sys->nfree;
-    s->h = sys->h;
-    pl_timer_start(t, s->t_schur);
-    int st = pl_ncpc_rows_build(&s->rows, sys, rows, qt, err);
-    if (st == PL_OK) st = alloc_step(s, s->rows.m, err);
-    if (st == PL_OK && s->rows.m > 0) {
-        pl_ncp_rows view = pl_ncpc_rows_view(&s->rows);
-        st = pl_ncp_work_create(&view, &s->work, err);
-        if (st == PL_OK) st = pl_ncpc_build_delassus(s, ctx, sys, err);
-        if (st == PL_OK && s->preconditioner == 1) st = pl_ncpc_mass_diagonal(&s->rows, sys, s->diag_mass, err);
+    w->t_global = pl_timer_id(t, "Global");
+    w->t_schur = pl_timer_id(t, "Schur");
+    w->t_assembly = pl_timer_id(t, "Assembly");
+    w->t_solve = pl_timer_id(t, "Constraint solve");
+    w->t_corr = pl_timer_id(t, "Correction");
+    w->t_cglobal = pl_timer_id(t, "Constraint global");
+    w->nall = rows->n;
+    w->nfree = sys->nfree;
+    w->h = sys->h;
+    pl_timer_start(t, w->t_schur);
+    int st = pl_ncpc_rows_build(&w->rows, sys, rows, qt, err);
+    if (st == PL_OK) st = alloc_step(s, w, w->rows.m, err);
+    if (st == PL_OK && w->rows.m > 0) {
+        pl_ncp_rows view = pl_ncpc_rows_view(&w->rows);
+        st = pl_ncp_work_create(&view, &w->work, err);
+        if (st == PL_OK) st = pl_ncpc_build_delassus(s, w, ctx, sys, err);
+        if (st == PL_OK && s->preconditioner == 1) st = pl_ncpc_mass_diagonal(&w->rows, sys, w->diag_mass, err);
         if (st == PL_OK)
-            st = pl_ncp_scaling(s->work, s->preconditioner == 1 ? s->diag_mass : s->D.diag, sys->h, s->r, err);
+            st = pl_ncp_scaling(w->work, s->preconditioner == 1 ? w->diag_mass : w->D.diag, sys->h, w->r, err);
     }
-    pl_timer_stop(t, s->t_schur);
-    if (st == PL_OK && s->rows.m > 0) st = pl_ncpc_keys_build(&s->rows, rows, s->keys, err);
-    if (st == PL_OK && s->rows.m > 0 && s->warm_start && s->slot >= 0) {
+    pl_timer_stop(t, w->t_schur);
+    if (st == PL_OK && w->rows.m > 0) st = pl_ncpc_keys_build(&w->rows, rows, w->keys, err);
+    if (st == PL_OK && w->rows.m > 0 && s->warm_start && s->slot >= 0) {
         const pl_ncpc_key *old = pl_data_slot(ctx->data, s->slot);
         int nold = (int)(pl_data_slot_bytes(ctx->data, s->slot) / sizeof *old);
-        int got = pl_ncpc_warm_start(s->keys, s->rows.m, old, nold, s->lambda, err);
+        int got = pl_ncpc_warm_start(w->keys, w->rows.m, old, nold, w->lambda, err);
         if (got < 0) st = -got;
     }
     if (st != PL_OK) {
@@ -259,31 +256,31 @@ static int solver_begin(pl_component *c, pl_ctx *ctx, const pl_system *sys, cons
         if (!err->where[0]) snprintf(err->where, sizeof err->where, "%s", pl_component_path(c, where, sizeof where));
         return st;
     }
-    for (int j = 0; j < s->rows.m; ++j) s->lambda_all[s->rows.full[j]] = s->lambda[j];
-    pl_ncpc_statistics(s, t);
-    s->active = 1;
+    for (int j = 0; j < w->rows.m; ++j) w->lambda_all[w->rows.full[j]] = w->lambda[j];
+    pl_ncpc_statistics(w, t);
+    w->active = 1;
     return PL_OK;
 }
 
-static int correction(ncp_contact_solver *s, const pl_system *sys, double *qn, pl_error *err)
+static int correction(ncpc_ws *w, const pl_system *sys, double *qn, pl_error *err)
 {
-    int any = 0, m = s->rows.m;
+    int any = 0, m = w->rows.m;
     for (int j = 0; j < m; ++j) {
-        s->force[j] = s->scale[j] * s->lambda[j];
-        any |= s->force[j] != 0.0;
+        w->force[j] = w->scale[j] * w->lambda[j];
+        any |= w->force[j] != 0.0;
     }
-    size_t f3 = 3 * (size_t)s->nfree;
+    size_t f3 = 3 * (size_t)w->nfree;
     if (!any) {
-        memcpy(qn, s->q_free, sizeof(double) * f3);
+        memcpy(qn, w->q_free, sizeof(double) * f3);
         return PL_OK;
     }
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S .* lambda) */
-    pl_ncpc_rows_scatter(&s->rows, s->nfree, s->force, s->h * s->h, s->corr);
+    pl_ncpc_rows_scatter(&w->rows, w->nfree, w->force, w->h * w->h, w->corr);
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
-    pl_buffer cb = pl_buffer_host_f64(s->corr, (size_t)s->nfree, 3);
+    pl_buffer cb = pl_buffer_host_f64(w->corr, (size_t)w->nfree, 3);
     int st = ops->solve(sys->global_solver, &cb, &cb, err);
     if (st != PL_OK) return st;
-    for (size_t i = 0; i < f3; ++i) qn[i] = s->q_free[i] + s->corr[i];
+    for (size_t i = 0; i < f3; ++i) qn[i] = w->q_free[i] + w->corr[i];
     return PL_OK;
 }
 
@@ -291,116 +288,120 @@ static int correction(ncp_contact_solver *s, const pl_system *sys, double *qn, p
  * (lambda + alpha dlambda) is affine, so W products give every trial: ls0
  * = delta(0) is already there with correction=multiplier (the
  * linearisation point), one more product otherwise. */
-static int line_search(ncp_contact_solver *s, const pl_ncp_operator *op, pl_ncp_line_info *li, pl_error *err)
+static int line_search(const ncp_contact_solver *s, ncpc_ws *w, const pl_ncp_operator *op,
+                       pl_ncp_line_info *li, pl_error *err)
 {
-    int m = s->rows.m, st = PL_OK;
-    double h2 = s->h * s->h;
+    int m = w->rows.m, st = PL_OK;
+    double h2 = w->h * w->h;
     if (s->correction == 0) {
-        for (int j = 0; j < m; ++j) s->force[j] = s->scale[j] * s->lambda[j];
-        st = pl_ncp_operator_apply(op, s->force, s->ls0);
-        for (int j = 0; j < m && st == PL_OK; ++j) s->ls0[j] = s->delta_free[j] + h2 * s->ls0[j];
+        for (int j = 0; j < m; ++j) w->force[j] = w->scale[j] * w->lambda[j];
+        st = pl_ncp_operator_apply(op, w->force, w->ls0);
+        for (int j = 0; j < m && st == PL_OK; ++j) w->ls0[j] = w->delta_free[j] + h2 * w->ls0[j];
     }
     if (st == PL_OK) {
-        for (int j = 0; j < m; ++j) s->force[j] = s->scale[j] * s->dlambda[j];
-        st = pl_ncp_operator_apply(op, s->force, s->ls1);
+        for (int j = 0; j < m; ++j) w->force[j] = w->scale[j] * w->dlambda[j];
+        st = pl_ncp_operator_apply(op, w->force, w->ls1);
     }
-    if (st != PL_OK || s->D.status != PL_OK) {
-        *err = s->D.err;
-        return s->D.status != PL_OK ? s->D.status : st;
+    if (st != PL_OK || w->D.status != PL_OK) {
+        *err = w->D.err;
+        return w->D.status != PL_OK ? w->D.status : st;
     }
-    for (int j = 0; j < m; ++j) s->ls1[j] *= h2;
-    return pl_ncp_line_search(s->work, s->r, s->h, s->ls0, s->ls1, s->lambda, s->dlambda, 3, li, err);
+    for (int j = 0; j < m; ++j) w->ls1[j] *= h2;
+    return pl_ncp_line_search(w->work, w->r, w->h, w->ls0, w->ls1, w->lambda, w->dlambda, 3, li, err);
 }
 
 /* The constraint update of one iteration: dlambda by pl_ncp_step, the step
  * length, lambda += damping alpha dlambda, the projection. */
-static int constraint_solve(ncp_contact_solver *s, pl_ncp_step_info *info, pl_ncp_line_info *li,
-                            pl_error *err)
+static int constraint_solve(const ncp_contact_solver *s, ncpc_ws *w, pl_ncp_step_info *info,
+                            pl_ncp_line_info *li, pl_error *err)
 {
-    int m = s->rows.m, st = PL_OK;
+    int m = w->rows.m, st = PL_OK;
     pl_ncp_params par;
     pl_ncp_params_default(&par);
     par.fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB;
-    par.h = s->h;
+    par.h = w->h;
     par.fb_eps = s->fb_eps;
     par.cr_max_iter = s->cr_iterations;
     par.cr_rtol = s->cr_tolerance;
     par.full_force = s->correction == 1;
     par.cr_jacobi = s->cr_scaling == 0;
-    pl_ncp_operator op = pl_ncpc_delassus_operator(&s->D);
-    s->D.status = PL_OK;
+    pl_ncp_operator op = pl_ncpc_delassus_operator(&w->D);
+    w->D.status = PL_OK;
     if (s->correction == 1) {
         /* linearise at the corrected point qbar = A^-1 (b^k + h^2 H^T lambda^k):
          * delta = delta_free + h^2 W lambda^k (DERIVATION.md section 7) */
-        st = pl_ncp_operator_apply(&op, s->lambda, s->ls0);
-        if (st == PL_OK && s->D.status == PL_OK)
-            for (int j = 0; j < m; ++j) s->delta[j] = s->ls0[j] = s->delta_free[j] + s->h * s->h * s->ls0[j];
+        st = pl_ncp_operator_apply(&op, w->lambda, w->ls0);
+        if (st == PL_OK && w->D.status == PL_OK)
+            for (int j = 0; j < m; ++j) w->delta[j] = w->ls0[j] = w->delta_free[j] + w->h * w->h * w->ls0[j];
     }
-    if (st == PL_OK && s->D.status == PL_OK)
-        st = pl_ncp_step(s->work, &par, &op, s->r, s->delta, s->delta_free, s->lambda, s->dlambda, s->scale,
+    if (st == PL_OK && w->D.status == PL_OK)
+        st = pl_ncp_step(w->work, &par, &op, w->r, w->delta, w->delta_free, w->lambda, w->dlambda, w->scale,
                          info, err);
-    if (s->D.status != PL_OK) {
-        *err = s->D.err; /* the global solver's own message */
-        return s->D.status;
+    if (w->D.status != PL_OK) {
+        *err = w->D.err; /* the global solver's own message */
+        return w->D.status;
     }
-    if (st == PL_OK && s->line_search) st = line_search(s, &op, li, err);
+    if (st == PL_OK && s->line_search) st = line_search(s, w, &op, li, err);
     if (st != PL_OK) return st;
-    for (int j = 0; j < m; ++j) s->lambda[j] += s->damping * li->alpha * s->dlambda[j];
-    if (s->project) pl_ncp_project(s->work, s->lambda);
+    for (int j = 0; j < m; ++j) w->lambda[j] += s->damping * li->alpha * w->dlambda[j];
+    if (s->project) pl_ncp_project(w->work, w->lambda);
     return PL_OK;
 }
 
-static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q_k,
-                          const pl_buffer *b, pl_buffer *q_next, pl_error *err)
+static int solver_iterate(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                          const pl_buffer *q_k, const pl_buffer *b, pl_buffer *q_next,
+                          pl_error *err)
 {
-    ncp_contact_solver *s = (ncp_contact_solver *)c;
+    const ncp_contact_solver *s = (const ncp_contact_solver *)c;
     const double *qk = pl_buffer_f64(q_k), *bb = pl_buffer_f64(b);
     double *qn = pl_buffer_f64(q_next);
-    if (!s->active) return pl_component_fail(c, err, PL_EINTERNAL, "iterate called before begin");
+    ncpc_ws *w = pl_data_workspace(ctx->data, c);
+    if (!w || !w->active)
+        return pl_component_fail(c, err, PL_EINTERNAL, "iterate called before begin");
     if (q_k->location == PL_DEVICE || b->location == PL_DEVICE || q_next->location == PL_DEVICE)
-        return pl_ncpc_iterate_device(s, ctx, sys, q_k, b, q_next, err);
+        return pl_ncpc_iterate_device(s, w, ctx, sys, q_k, b, q_next, err);
     if (!qk || !bb || !qn || q_k->rows != (size_t)sys->nverts || b->rows != (size_t)sys->nfree ||
         q_next->rows != (size_t)sys->nfree || q_k->cols != 3 || b->cols != 3 || q_next->cols != 3 ||
-        sys->nfree != s->nfree)
+        sys->nfree != w->nfree)
         return pl_component_fail(c, err, PL_EINPUT, "iterate: expected host blocks %d x 3 and %d x 3",
                                  sys->nverts, sys->nfree);
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_timers *t = ctx->timers;
-    int m = s->rows.m, st;
+    int m = w->rows.m, st;
     /* W was built on the device for a device loop that did not come (the
      * loop chose the CPU after all): build it here once for the step */
-    if (m > 0 && s->D.explicit_w && !s->D.W &&
-        (st = pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err)) != PL_OK)
+    if (m > 0 && w->D.explicit_w && !w->D.W &&
+        (st = pl_ncpc_delassus_explicit(&w->D, sys, &w->rows, err)) != PL_OK)
         return st;
-    pl_timer_start(t, s->t_cglobal);
+    pl_timer_start(t, w->t_cglobal);
     /* q_free = A^-1 b^k */
-    pl_timer_start(t, s->t_global);
-    pl_buffer fb = pl_buffer_host_f64(s->q_free, (size_t)s->nfree, 3);
+    pl_timer_start(t, w->t_global);
+    pl_buffer fb = pl_buffer_host_f64(w->q_free, (size_t)w->nfree, 3);
     st = ops->solve(sys->global_solver, b, &fb, err);
-    pl_timer_stop(t, s->t_global);
+    pl_timer_stop(t, w->t_global);
     if (st != PL_OK || m == 0) {
-        if (st == PL_OK) memcpy(qn, s->q_free, sizeof(double) * 3 * (size_t)s->nfree);
-        pl_timer_stop(t, s->t_cglobal);
+        if (st == PL_OK) memcpy(qn, w->q_free, sizeof(double) * 3 * (size_t)w->nfree);
+        pl_timer_stop(t, w->t_cglobal);
         return st;
     }
     /* row values at q_free (and, for the paper's linearisation, at q^k) */
-    pl_timer_start(t, s->t_assembly);
-    if (s->correction == 0) pl_ncpc_rows_delta_all(&s->rows, sys->free_vertex, qk, s->delta);
-    pl_ncpc_rows_delta(&s->rows, s->q_free, qk, s->delta_free);
-    pl_timer_stop(t, s->t_assembly);
+    pl_timer_start(t, w->t_assembly);
+    if (s->correction == 0) pl_ncpc_rows_delta_all(&w->rows, sys->free_vertex, qk, w->delta);
+    pl_ncpc_rows_delta(&w->rows, w->q_free, qk, w->delta_free);
+    pl_timer_stop(t, w->t_assembly);
     pl_ncp_step_info info = {0, 0.0, 0.0};
     pl_ncp_line_info li = {1.0, 0.0, 0.0, 0, 0};
-    pl_timer_start(t, s->t_solve);
-    st = constraint_solve(s, &info, &li, err);
-    pl_timer_stop(t, s->t_solve);
+    pl_timer_start(t, w->t_solve);
+    st = constraint_solve(s, w, &info, &li, err);
+    pl_timer_stop(t, w->t_solve);
     if (st == PL_OK) {
-        pl_timer_start(t, s->t_corr);
-        st = correction(s, sys, qn, err);
-        pl_timer_stop(t, s->t_corr);
+        pl_timer_start(t, w->t_corr);
+        st = correction(w, sys, qn, err);
+        pl_timer_stop(t, w->t_corr);
     }
-    pl_timer_stop(t, s->t_cglobal);
+    pl_timer_stop(t, w->t_cglobal);
     if (st != PL_OK) return st;
-    for (int j = 0; j < m; ++j) s->lambda_all[s->rows.full[j]] = s->lambda[j];
+    for (int j = 0; j < m; ++j) w->lambda_all[w->rows.full[j]] = w->lambda[j];
     if (s->record) {
         pl_series_push(t, "ncp residual", info.phi_norm);
         pl_series_push(t, "cr iterations", info.cr_iters);
@@ -410,42 +411,45 @@ static int solver_iterate(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     return PL_OK;
 }
 
-static const double *solver_multipliers(const pl_component *c, int *count)
+static const double *solver_multipliers(const pl_component *c, pl_data *d, int *count)
 {
-    const ncp_contact_solver *s = (const ncp_contact_solver *)c;
-    *count = s->active ? s->nall : 0;
+    const ncpc_ws *w = pl_data_workspace(d, c);
+    *count = w && w->active ? w->nall : 0;
+    if (!*count) return NULL;
 #ifdef PLIANT_HAVE_CUDA
-    if (s->active && pl_ncpc_device_ran(s->gpu)) return pl_ncpc_device_lambda_all(s->gpu);
+    if (w->active && pl_ncpc_device_ran(w->gpu)) return pl_ncpc_device_lambda_all(w->gpu);
 #endif
-    return s->active ? s->lambda_all : NULL;
+    return w->active ? w->lambda_all : NULL;
 }
 
 /* The step's records (rows with their final lambda) replace the slot's:
  * an empty slot after a step without rows. */
-static int solver_end_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+static int solver_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
-    ncp_contact_solver *s = (ncp_contact_solver *)c;
-    int m = s->active ? s->rows.m : 0;
+    const ncp_contact_solver *s = (const ncp_contact_solver *)c;
+    ncpc_ws *w = pl_data_workspace(ctx->data, c);
+    if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    int m = w->active ? w->rows.m : 0;
 #ifdef PLIANT_HAVE_CUDA
-    if (m > 0 && pl_ncpc_device_ran(s->gpu)) {
+    if (m > 0 && pl_ncpc_device_ran(w->gpu)) {
         /* the device's multipliers (the loop has waited for its stream) */
-        int rc = pl_ncpc_device_end_step(s->gpu, ctx->timers, s->record, err);
-        memcpy(s->lambda, pl_ncpc_device_lambda(s->gpu), sizeof(double) * (size_t)m);
-        pl_ncpc_device_begin(s->gpu);
+        int rc = pl_ncpc_device_end_step(w->gpu, ctx->timers, s->record, err);
+        memcpy(w->lambda, pl_ncpc_device_lambda(w->gpu), sizeof(double) * (size_t)m);
+        pl_ncpc_device_begin(w->gpu);
         if (rc) {
-            s->active = 0;
+            w->active = 0;
             return rc;
         }
     }
 #endif
-    s->active = 0;
+    w->active = 0;
     if (s->slot < 0) return PL_OK;
     if (pl_data_resize_slot(ctx->data, s->slot, sizeof(pl_ncpc_key) * (size_t)m) != 0)
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     pl_ncpc_key *rec = pl_data_slot(ctx->data, s->slot);
     for (int j = 0; j < m; ++j) {
-        rec[j] = s->keys[j];
-        rec[j].lambda = s->lambda[j];
+        rec[j] = w->keys[j];
+        rec[j].lambda = w->lambda[j];
     }
     return PL_OK;
 }
@@ -464,9 +468,10 @@ const pl_type pl_ncp_contact_solver_type = {
             "non-smooth Newton on Fischer-Burmeister or minimum-map NCP functions with the non-smooth "
             "indicators split out of W = H A^-1 H^T, solved by conjugate residual.",
     .size = sizeof(ncp_contact_solver),
+    .workspace_size = sizeof(ncpc_ws),
     .fields = FIELDS,
     .nfields = (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    .ops = {.init = solver_init, .reinit = solver_reinit, .end_step = solver_end_step,
-            .destroy = solver_destroy},
+    .ops = {.init = solver_init, .end_step = solver_end_step,
+            .workspace_free = solver_workspace_free},
     .roles = {[PL_ROLE_CONTACT_SOLVER] = &CONTACT_OPS},
 };

@@ -28,10 +28,17 @@ typedef struct ncp_contact_solver {
     int correction;           /* 0 jacobian (paper), 1 multiplier */
     int project;
     int line_search;
-    /* model: [A^-1]_ii of the factor, until the next reinit */
+    int device;               /* field: 0 cpu, 1 auto (follow the animation loop) */
+    /* model */
+    int slot;                 /* pl_data slot of the warm-start records */
+} ncp_contact_solver;
+
+/* Per data (pl_data_workspace): the step being taken, and what the step
+ * needs from the model but computes on first use. */
+typedef struct ncpc_ws {
+    /* [A^-1]_ii of the factor (the workspace is remade when the model is) */
     double *inv_diag;
     int inv_diag_n, inv_diag_ok;
-    int slot;                 /* pl_data slot of the warm-start records */
     /* the step */
     int active;               /* begin ran for the step being taken */
     int nall, nfree;
@@ -44,21 +51,21 @@ typedef struct ncp_contact_solver {
     double *q_free, *corr;    /* nfree x 3 */
     double *lambda_all;       /* nall: the multipliers handed back */
     int t_global, t_schur, t_assembly, t_solve, t_corr, t_cglobal;
-    int device;               /* field: 0 cpu, 1 auto (follow the animation loop) */
 #ifdef PLIANT_HAVE_CUDA
     pl_ncpc_device *gpu;      /* the device path, made on the first device iterate */
 #endif
-} ncp_contact_solver;
+} ncpc_ws;
 
 enum { W_AUTO = 0, W_EXPLICIT = 1, W_MATRIX_FREE = 2 };
 
 /* W explicit or matrix-free for the step's rows (see the delassus field). */
-int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err);
+int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+                           const pl_system *sys, pl_error *err);
 /* contacts max, constraint rows max, W memory into the timers' statistics. */
-void pl_ncpc_statistics(ncp_contact_solver *s, pl_timers *t);
+void pl_ncpc_statistics(const ncpc_ws *w, pl_timers *t);
 /* iterate() on device buffers: contact_device.c in CUDA builds, an error otherwise. */
-int pl_ncpc_iterate_device(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys,
-                           const pl_buffer *q_k, const pl_buffer *b, pl_buffer *q_next,
-                           pl_error *err);
+int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+                           const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
+                           pl_buffer *q_next, pl_error *err);
 
 #endif

@@ -63,77 +63,78 @@ static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *op
 }
 
 /* W explicit on the device: the global solver builds it there. */
-static int device_w(ncp_contact_solver *s, const pl_system *sys, pl_error *err)
+static int device_w(const ncp_contact_solver *s, ncpc_ws *w, const pl_system *sys, pl_error *err)
 {
 #ifdef PLIANT_HAVE_CUDA
-    if (!s->gpu && !(s->gpu = pl_ncpc_device_create(&s->base, err))) return err->code ? err->code : PL_EINPUT;
-    double *W = pl_ncpc_device_w(s->gpu, s->rows.m, err);
+    if (!w->gpu && !(w->gpu = pl_ncpc_device_create(&s->base, err))) return err->code ? err->code : PL_EINPUT;
+    double *W = pl_ncpc_device_w(w->gpu, w->rows.m, err);
     if (!W) return err->code ? err->code : PL_EINTERNAL;
-    return pl_ncpc_delassus_explicit_device(&s->D, sys, &s->rows, W, err);
+    return pl_ncpc_delassus_explicit_device(&w->D, sys, &w->rows, W, err);
 #else
-    (void)s, (void)sys;
+    (void)s, (void)w, (void)sys;
     return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "no CUDA in this build");
 #endif
 }
 
-int pl_ncpc_build_delassus(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys, pl_error *err)
+int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+                           const pl_system *sys, pl_error *err)
 {
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     int dev = on_device(s, ops, sys), dev_w = dev && ops->version >= 3 && ops->delassus_device;
     int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
-                                                   auto_explicit(s, ctx->timers, s->rows.m, sys->nfree, dev_w) &&
-                                                   (s->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
-    if (explicit_w && dev_w) return device_w(s, sys, err);
-    if (explicit_w) return pl_ncpc_delassus_explicit(&s->D, sys, &s->rows, err);
-    if (!s->inv_diag_ok && ops && ops->inverse_diagonal) {
-        free(s->inv_diag);
-        s->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
-        if (!s->inv_diag) return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
-        int st = ops->inverse_diagonal(sys->global_solver, s->inv_diag, err);
+                                                   auto_explicit(s, ctx->timers, w->rows.m, sys->nfree, dev_w) &&
+                                                   (w->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
+    if (explicit_w && dev_w) return device_w(s, w, sys, err);
+    if (explicit_w) return pl_ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
+    if (!w->inv_diag_ok && ops && ops->inverse_diagonal) {
+        free(w->inv_diag);
+        w->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
+        if (!w->inv_diag) return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
+        int st = ops->inverse_diagonal(sys->global_solver, w->inv_diag, err);
         if (st != PL_OK) return st;
-        s->inv_diag_n = sys->nfree;
-        s->inv_diag_ok = 1;
+        w->inv_diag_n = sys->nfree;
+        w->inv_diag_ok = 1;
     }
-    const double *inv = s->inv_diag_ok && s->inv_diag_n == sys->nfree ? s->inv_diag : NULL;
-    return pl_ncpc_delassus_matrix_free(&s->D, sys, &s->rows, inv, err);
+    const double *inv = w->inv_diag_ok && w->inv_diag_n == sys->nfree ? w->inv_diag : NULL;
+    return pl_ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
 }
 
-void pl_ncpc_statistics(ncp_contact_solver *s, pl_timers *t)
+void pl_ncpc_statistics(const ncpc_ws *w, pl_timers *t)
 {
     int contacts = 0;
-    for (int j = 0; j < s->rows.m; ++j) contacts += s->rows.kind[j] == PL_ROW_NORMAL;
+    for (int j = 0; j < w->rows.m; ++j) contacts += w->rows.kind[j] == PL_ROW_NORMAL;
     pl_stat_max(t, "contacts max", contacts);
-    pl_stat_max(t, "constraint rows max", s->rows.m);
-    if (s->D.explicit_w)
-        pl_stat_max(t, "W memory [MB]", (double)s->rows.m * s->rows.m * sizeof(double) / (1024.0 * 1024.0));
+    pl_stat_max(t, "constraint rows max", w->rows.m);
+    if (w->D.explicit_w)
+        pl_stat_max(t, "W memory [MB]", (double)w->rows.m * w->rows.m * sizeof(double) / (1024.0 * 1024.0));
 }
 
 /* iterate() on device buffers: contact_device.c (CUDA builds). */
-int pl_ncpc_iterate_device(ncp_contact_solver *s, pl_ctx *ctx, const pl_system *sys,
-                           const pl_buffer *q_k, const pl_buffer *b, pl_buffer *q_next,
-                           pl_error *err)
+int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+                           const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
+                           pl_buffer *q_next, pl_error *err)
 {
 #ifdef PLIANT_HAVE_CUDA
-    pl_component *c = &s->base;
+    const pl_component *c = &s->base;
     if (s->device == 0)
         return pl_component_fail(c, err, PL_EINPUT, "iterate: device buffers, but device=\"cpu\"");
-    if (sys->nfree != s->nfree)
+    if (sys->nfree != w->nfree)
         return pl_component_fail(c, err, PL_EINPUT, "iterate: %d unknowns, begin saw %d", sys->nfree,
-                                 s->nfree);
-    if (!s->gpu && !(s->gpu = pl_ncpc_device_create(c, err))) return err->code ? err->code : PL_EINPUT;
+                                 w->nfree);
+    if (!w->gpu && !(w->gpu = pl_ncpc_device_create(c, err))) return err->code ? err->code : PL_EINPUT;
     pl_ncpc_device_step st = {
-        .rows = &s->rows, .D = &s->D, .work = s->work, .r = s->r, .lambda = s->lambda,
-        .lambda_all = s->lambda_all, .nall = s->nall, .h = s->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
+        .rows = &w->rows, .D = &w->D, .work = w->work, .r = w->r, .lambda = w->lambda,
+        .lambda_all = w->lambda_all, .nall = w->nall, .h = w->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
         .cr_iterations = s->cr_iterations, .full_force = s->correction == 1, .project = s->project,
         .cr_jacobi = s->cr_scaling == 0,
         .line_search = s->line_search, .record = s->record, .cr_tolerance = s->cr_tolerance,
-        .damping = s->damping, .fb_eps = s->fb_eps, .t_global = s->t_global, .t_assembly = s->t_assembly,
-        .t_solve = s->t_solve, .t_corr = s->t_corr, .t_cglobal = s->t_cglobal};
+        .damping = s->damping, .fb_eps = s->fb_eps, .t_global = w->t_global, .t_assembly = w->t_assembly,
+        .t_solve = w->t_solve, .t_corr = w->t_corr, .t_cglobal = w->t_cglobal};
     pl_ncp_work empty = {0};
     if (!st.work) st.work = &empty; /* no active row */
-    return pl_ncpc_device_iterate(s->gpu, &st, ctx, sys, q_k, b, q_next, err);
+    return pl_ncpc_device_iterate(w->gpu, &st, ctx, sys, q_k, b, q_next, err);
 #else
-    (void)ctx, (void)sys, (void)q_k, (void)b, (void)q_next;
+    (void)w, (void)ctx, (void)sys, (void)q_k, (void)b, (void)q_next;
     return pl_component_fail(&s->base, err, PL_EINPUT, "iterate: device buffers, but this build has no CUDA");
 #endif
 }

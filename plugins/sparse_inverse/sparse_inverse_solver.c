@@ -153,9 +153,9 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
     return PL_OK;
 }
 
-static int solver_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
+static int solver_solve(const pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
 {
-    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     int n = pl_sparse_inverse_size(s->solver);
     if (n == 0) return pl_component_fail(c, err, PL_EINPUT, "solve called before factor");
 #ifdef PLIANT_HAVE_CUDA
@@ -172,16 +172,16 @@ static int solver_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_er
     return pl_sparse_inverse_solve(s->solver, bd, xd, (int)b->cols, err);
 }
 
-static int solver_apply_rows(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
+static int solver_apply_rows(const pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
 {
-    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "rows applied before factor");
     return pl_sparse_inverse_apply_inverse_to_rows(s->solver, H, Y, err);
 }
 
-static int solver_inverse_diagonal(pl_component *c, double *diag, pl_error *err)
+static int solver_inverse_diagonal(const pl_component *c, double *diag, pl_error *err)
 {
-    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "diagonal asked before factor");
     return pl_sparse_inverse_inverse_diagonal(s->solver, diag, err);
 }
@@ -206,10 +206,10 @@ static int solver_accepts(const pl_component *c, pl_location where, pl_precision
 }
 
 #ifdef PLIANT_HAVE_CUDA
-static int solver_delassus_device(pl_component *c, const pl_csr *H, int m, double *W, double *diag,
-                                  pl_error *err)
+static int solver_delassus_device(const pl_component *c, const pl_csr *H, int m, double *W,
+                                  double *diag, pl_error *err)
 {
-    sparse_inverse_solver *s = (sparse_inverse_solver *)c;
+    const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->gpu) return pl_component_fail(c, err, PL_EINPUT, "delassus_device: S is not on a device");
     pl_spinv_cuda_rows R;
     int st = pl_spinv_cuda_rows_build(H, m, pl_sparse_inverse_perm(s->solver),

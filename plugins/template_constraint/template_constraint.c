@@ -4,12 +4,16 @@
  * through it):
  *   1. the component struct: pl_component first, then the fields, then what
  *      the component builds (model) - never state that changes in time;
- *   2. the field table: name, kind, default, help with the unit, flags;
+ *   2. the field table: name, kind, default, help with the unit, flags
+ *      (the plane is an input: its value lives in each pl_data, so a
+ *      Keyframes controller or pl_sim_set moves it per simulation);
  *   3. the lifecycle: init (check fields, declare state slots), bind (find
  *      partners by role), get (outputs computed from the state), destroy;
  *   4. the role: PL_ROLE_CONSTRAINT's build_rows appends one bilateral row
  *      per vertex, n . x_a - n . point = 0, and accept_multipliers stores
- *      the step's multipliers (the plane's push on each vertex [N]);
+ *      the step's multipliers (the plane's push on each vertex [N]).  During
+ *      a step the component is only read: what the step produces goes into
+ *      the pl_data (slots; a workspace for scratch, see model.h);
  *   5. the type descriptor and the plugin entry point.
  * Row convention (pliant/rows.h): a row is H q - d with per-vertex entries;
  * here H has one entry, the unit normal n on vertex a, and d = n . point, so
@@ -36,7 +40,6 @@ typedef struct point_on_plane {
     pl_component *state;
     int *sel;                     /* selected vertices of the state */
     int nsel;
-    double n[3];                  /* unit normal */
     int slot;                     /* state slot "force": the sum of the multipliers [N] */
 } point_on_plane;
 
@@ -48,9 +51,9 @@ static const pl_field FIELDS[] = {
              "each",
              0),
     PL_FIELD(point_on_plane, normal, "normal", PL_F_VEC3, "0 1 0",
-             "normal of the plane (normalised on use)", PL_FIELD_RUNTIME),
+             "normal of the plane (normalised on use)", PL_FIELD_INPUT),
     PL_FIELD(point_on_plane, point, "point", PL_F_VEC3, "0 0 0", "a point of the plane [m]",
-             PL_FIELD_RUNTIME),
+             PL_FIELD_INPUT),
     PL_FIELD(point_on_plane, compliance, "compliance", PL_F_DOUBLE, "0",
              "compliance of each row [m/N] (0 = hard)", PL_FIELD_RUNTIME),
     PL_FIELD(point_on_plane, out_force, "force", PL_F_DOUBLE, "0",
@@ -58,13 +61,14 @@ static const pl_field FIELDS[] = {
              PL_FIELD_OUTPUT),
 };
 
-/* Unit normal from the field; PL_EINPUT for a zero vector. */
-static int unit_normal(const point_on_plane *p, double n[3])
+/* Unit normal from the input as d holds it (d NULL: the scene's value);
+ * PL_EINPUT for a zero vector. */
+static int unit_normal(const point_on_plane *p, const pl_data *d, double n[3])
 {
-    double l = sqrt(p->normal[0] * p->normal[0] + p->normal[1] * p->normal[1] +
-                    p->normal[2] * p->normal[2]);
+    const double *v = pl_input_vec3(d, &p->base, p->normal);
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(l > 0) || !isfinite(l)) return PL_EINPUT;
-    for (int k = 0; k < 3; ++k) n[k] = p->normal[k] / l;
+    for (int k = 0; k < 3; ++k) n[k] = v[k] / l;
     return PL_OK;
 }
 
@@ -73,13 +77,14 @@ static int pop_init(pl_component *c, pl_ctx *ctx)
     point_on_plane *p = (point_on_plane *)c;
     if (p->indices.n == 0 && p->box.n == 0)
         return pl_component_error(c, ctx, PL_EINPUT, "select vertices with indices or box");
-    if (unit_normal(p, p->n) != PL_OK)
+    double n[3];
+    if (unit_normal(p, NULL, n) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "normal: must not be zero");
     if (!(p->compliance >= 0))
         return pl_component_error(c, ctx, PL_EINPUT, "compliance must be >= 0 [m/N]");
     if (pl_util_check_boxes(c, ctx, "box", &p->box) != PL_OK) return PL_EINPUT;
     /* what changes in time lives in the state (pl_data), never in the struct */
-    p->slot = pl_model_add_slot(ctx->model, c, "force", sizeof(double));
+    p->slot = pl_model_add_slot(ctx->build, c, "force", sizeof(double));
     return p->slot < 0 ? pl_component_error(c, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
 }
 
@@ -116,21 +121,22 @@ static int pop_get(const pl_component *c, const pl_data *d, const char *field, c
 
 /* ---- PL_ROLE_CONSTRAINT: one bilateral row per vertex -------------------- */
 
-static int pop_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
-                          pl_rows *rows, pl_error *err)
+static int pop_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys,
+                          const pl_buffer *q, pl_rows *rows, pl_error *err)
 {
-    point_on_plane *p = (point_on_plane *)c;
-    (void)ctx;
+    const point_on_plane *p = (const point_on_plane *)c;
     (void)sys;
     (void)q; /* the rows are linear: they do not depend on the positions */
-    if (unit_normal(p, p->n) != PL_OK) /* normal is RUNTIME: check it again */
+    double n[3];
+    if (unit_normal(p, ctx->data, n) != PL_OK) /* an input: check this data's value */
         return pl_component_fail(c, err, PL_EINPUT, "normal: must not be zero");
+    const double *point = pl_input_vec3(ctx->data, c, p->point);
     const pl_state_ops *sops = pl_component_role(p->state, PL_ROLE_STATE);
     int offset = sops->offset(p->state); /* first vertex of this state in the global system */
-    double d = p->n[0] * p->point[0] + p->n[1] * p->point[1] + p->n[2] * p->point[2];
+    double d = n[0] * point[0] + n[1] * point[1] + n[2] * point[2];
     for (int k = 0; k < p->nsel; ++k) {
         int r = pl_rows_begin(rows, PL_ROW_BILATERAL, c);
-        if (r < 0 || pl_rows_add(rows, offset + p->sel[k], p->n[0], p->n[1], p->n[2]) != PL_OK)
+        if (r < 0 || pl_rows_add(rows, offset + p->sel[k], n[0], n[1], n[2]) != PL_OK)
             return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
         rows->d[r] = d;
         rows->compliance[r] = p->compliance;
@@ -138,10 +144,10 @@ static int pop_build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, co
     return PL_OK;
 }
 
-static void pop_accept(pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda,
+static void pop_accept(const pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda,
                        int first, int count)
 {
-    point_on_plane *p = (point_on_plane *)c;
+    const point_on_plane *p = (const point_on_plane *)c;
     double f = 0;
     (void)rows;
     for (int k = 0; k < count; ++k) f += lambda[first + k];

@@ -85,9 +85,13 @@ START_TEST(keyframes_broken)
                  "did you mean value?", 13);
     expect_error(cable, "<Keyframes target=\"cable\" times=\"0 1\" values=\"0 1\"/>",
                  "target: expected @component.field", 13);
-    /* not RUNTIME: changing it would rebuild the model */
+    /* a model field (changing it would rebuild the model), and a RUNTIME one
+     * that is still the model's (shared by every data): only inputs, whose
+     * value lives in each data, may be driven; the message lists them */
     expect_error(cable, "<Keyframes target=\"@material.youngModulus\" times=\"0 1\" values=\"1 2\"/>",
-                 "is not a RUNTIME field", 13);
+                 "is not an input field", 13);
+    expect_error(cable, "<Keyframes target=\"@cable.compliance\" times=\"0 1\" values=\"1 2\"/>",
+                 "(pullPoint, value, valueIndex, valueType)", 13);
     expect_error(cable, "<Keyframes target=\"@cable.force\" times=\"0 1\" values=\"0 1\"/>",
                  "is an output", 13);
     /* a vec3 takes 3 numbers per time */
@@ -104,7 +108,7 @@ START_TEST(runtime_value_index_out_of_range)
     snprintf(xml, sizeof xml, SCENE, "indices=\"10 20\" value=\"0.001\"", "");
     pl_sim *s = ct_load(xml);
     pl_error err;
-    ck_assert_int_eq(pl_sim_set(s, "cable.valueIndex", "3", &err), PL_OK); /* RUNTIME: accepted */
+    ck_assert_int_eq(pl_sim_set(s, "cable.valueIndex", "3", &err), PL_OK); /* an input: accepted */
     ck_assert_int_eq(pl_sim_step(s, 1, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "valueIndex: 3 is out of range"));
     ck_assert_ptr_nonnull(strstr(err.where, "bar/cable"));

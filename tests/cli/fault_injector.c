@@ -29,7 +29,7 @@ static const pl_field FIELDS[] = {
              "the step (0-based) at whose start it goes wrong [count]", 0),
 };
 
-static int fault_begin_step(pl_component *c, pl_ctx *ctx, pl_error *err)
+static int fault_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
     const fault_injector *f = (const fault_injector *)c;
     if (ctx->data->step != f->step) return PL_OK;

@@ -128,7 +128,7 @@ int ct_build_rows(pl_sim *sim, const char *path, const pl_system *sys, double *q
     pl_diag diag;
     pl_diag_init(&diag);
     pl_ctx ctx = {pl_sim_model(sim), pl_sim_data(sim), pl_sim_registry(sim), pl_sim_timers(sim),
-                  &diag};
+                  &diag, NULL};
     pl_buffer qb = pl_buffer_host_f64(q, (size_t)n, 3);
     int rc = ops->build_rows(c, &ctx, sys, &qb, rows, err);
     if (rc) {

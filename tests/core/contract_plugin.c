@@ -29,8 +29,8 @@ static int at(const pl_component *c, int stage)
 static int tf_init(pl_component *c, pl_ctx *ctx) { return at(c, INIT); }
 static int tf_bind(pl_component *c, pl_ctx *ctx) { return at(c, BIND); }
 static int tf_reinit(pl_component *c, pl_ctx *ctx) { return at(c, REINIT); }
-static int tf_begin(pl_component *c, pl_ctx *ctx, pl_error *err) { return at(c, BEGIN); }
-static int tf_end(pl_component *c, pl_ctx *ctx, pl_error *err) { return at(c, END); }
+static int tf_begin(const pl_component *c, pl_ctx *ctx, pl_error *err) { return at(c, BEGIN); }
+static int tf_end(const pl_component *c, pl_ctx *ctx, pl_error *err) { return at(c, END); }
 
 static const pl_type TEST_FAILER = {
     .abi_version = PL_ABI_VERSION,

@@ -1,6 +1,6 @@
 /* old_minor_plugin.c - a plugin built for the previous minor ABI version
  * (CMake compiles it with PL_ABI_TARGET_MINOR=0, so the SDK headers leave
- * out what 4.1 added): the host, of a newer minor, must load and run it.
+ * out what 5.1 added): the host, of a newer minor, must load and run it.
  * "OldMinorCounter" is a controller (role table version 1) that counts the
  * steps in a state slot. */
 #include <pliant/pliant.h>
@@ -12,7 +12,7 @@
 #error "this test plugin must be built for minor version 0"
 #endif
 #ifdef PL_DEVICE_ABSENT
-#error "4.1's additions must be left out of a 4.0 build"
+#error "5.1's additions must be left out of a 5.0 build"
 #endif
 
 typedef struct counter {
@@ -23,13 +23,13 @@ typedef struct counter {
 static int oc_init(pl_component *c, pl_ctx *ctx)
 {
     counter *k = (counter *)c;
-    k->slot = pl_model_add_slot(ctx->model, c, "count", sizeof(long));
+    k->slot = pl_model_add_slot(ctx->build, c, "count", sizeof(long));
     return k->slot < 0 ? pl_component_error(c, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
 }
 
-static int oc_apply(pl_component *c, pl_ctx *ctx, double t, pl_error *err)
+static int oc_apply(const pl_component *c, pl_ctx *ctx, double t, pl_error *err)
 {
-    (*(long *)pl_data_slot(ctx->data, ((counter *)c)->slot))++;
+    (*(long *)pl_data_slot(ctx->data, ((const counter *)c)->slot))++;
     return PL_OK;
 }
 
@@ -50,7 +50,7 @@ static const pl_controller_ops CONTROLLER = {.version = 1, .apply = oc_apply};
 static const pl_type OLD_MINOR_COUNTER = {
     .abi_version = PL_ABI_VERSION,
     .name = "OldMinorCounter",
-    .help = "test controller built for ABI 4.0: counts steps",
+    .help = "test controller built for ABI 5.0: counts steps",
     .size = sizeof(counter),
     .fields = FIELDS,
     .nfields = 1,

@@ -161,7 +161,7 @@ START_TEST(plugins_this_host_cannot_run_are_refused_naming_both_versions)
 }
 END_TEST
 
-static int noop_apply(pl_component *c, pl_ctx *ctx, double t, pl_error *err) { return PL_OK; }
+static int noop_apply(const pl_component *c, pl_ctx *ctx, double t, pl_error *err) { return PL_OK; }
 static const pl_controller_ops FUTURE_TABLE = {.version = PL_CONTROLLER_OPS_VERSION + 1,
                                                .apply = noop_apply};
 static const pl_type FUTURE_ROLE = {.abi_version = PL_ABI_VERSION,

@@ -1,9 +1,13 @@
 /* test_plugin.c - a plugin for the core tests: "TestMover", an animation
  * loop that moves every state by its velocity (x += v dt) and counts steps
- * in its own state slot, so save/restore/reset can be checked exactly. */
+ * in its own state slot, so save/restore/reset can be checked exactly; its
+ * acceleration is an input field (per pl_data).  It also keeps a per-data
+ * workspace: the number of steps that workspace saw, so the tests can see
+ * when the core made, kept or remade it. */
 #include <pliant/pliant.h>
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 typedef struct test_mover {
@@ -12,15 +16,22 @@ typedef struct test_mover {
     int slot;
 } test_mover;
 
+typedef struct test_mover_ws {
+    long steps;       /* steps this workspace saw */
+    double *buffer;   /* something to free: a leak shows under ASan */
+} test_mover_ws;
+
+static long workspaces_freed;
+
 static const pl_field FIELDS[] = {
     PL_FIELD(test_mover, accel, "acceleration", PL_F_VEC3, "0 0 0",
-             "acceleration added to the velocities [m/s^2]", PL_FIELD_RUNTIME),
+             "acceleration added to the velocities [m/s^2]", PL_FIELD_INPUT),
 };
 
 static int tm_init(pl_component *c, pl_ctx *ctx)
 {
     test_mover *m = (test_mover *)c;
-    m->slot = pl_model_add_slot(ctx->model, c, "count", sizeof(long));
+    m->slot = pl_model_add_slot(ctx->build, c, "count", sizeof(long));
     return m->slot < 0 ? PL_EINTERNAL : PL_OK;
 }
 
@@ -45,21 +56,48 @@ static int move_state(pl_component *s, void *user)
     return 0;
 }
 
-static int tm_step(pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
+static int tm_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
-    test_mover *tm = (test_mover *)c;
+    const test_mover *tm = (const test_mover *)c;
     pl_node *root = c->node;
     while (root->parent) root = root->parent;
-    move_args args = {ctx->data, dt, tm->accel};
+    test_mover_ws *w = pl_data_workspace(ctx->data, c);
+    if (!w || (!w->buffer && !(w->buffer = calloc(16, sizeof *w->buffer))))
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    w->steps++;
+    move_args args = {ctx->data, dt, pl_input_vec3(ctx->data, c, tm->accel)};
     pl_node_visit_role(root, PL_ROLE_STATE, move_state, &args);
     (*(long *)pl_data_slot(ctx->data, tm->slot))++;
     return PL_OK;
 }
 
+static void tm_workspace_free(const pl_component *c, void *ws)
+{
+    (void)c;
+    free(((test_mover_ws *)ws)->buffer);
+    workspaces_freed++;
+}
+
+/* "count": the step slot; "wsSteps": the steps the data's workspace saw
+ * (-1 when it has none yet); "wsFreed": workspaces freed so far. */
 static int tm_get(const pl_component *c, const pl_data *d, const char *field, char *buf,
                   size_t size)
 {
     const test_mover *tm = (const test_mover *)c;
+    if (!strcmp(field, "wsFreed")) {
+        snprintf(buf, size, "%ld", workspaces_freed);
+        return PL_OK;
+    }
+    if (!strcmp(field, "wsSteps")) {
+        /* peeks without making one: the workspace array is the core's */
+        long steps = -1;
+        const pl_model *m = d->model;
+        for (int k = 0; d->workspaces && k < m->ncomponents; ++k)
+            if (m->components[k] == c && d->workspaces[k] && d->ws_generation == m->generation)
+                steps = ((const test_mover_ws *)d->workspaces[k])->steps;
+        snprintf(buf, size, "%ld", steps);
+        return PL_OK;
+    }
     if (strcmp(field, "count")) return PL_EINPUT;
     snprintf(buf, size, "%ld", *(const long *)pl_data_slot(d, tm->slot));
     return PL_OK;
@@ -73,9 +111,10 @@ static const pl_type TEST_MOVER = {
     .name = "TestMover",
     .help = "test loop: x += v dt for every state",
     .size = sizeof(test_mover),
+    .workspace_size = sizeof(test_mover_ws),
     .fields = FIELDS,
     .nfields = 1,
-    .ops = {.init = tm_init, .get = tm_get},
+    .ops = {.init = tm_init, .get = tm_get, .workspace_free = tm_workspace_free},
     .roles = {[PL_ROLE_ANIMATION_LOOP] = &LOOP},
 };
 

@@ -1,5 +1,7 @@
 /* test_state.c - model apart from state: save/restore round-trips exactly,
- * reset returns to the loaded state, two states step over one model. */
+ * reset returns to the loaded state, two states step over one model, input
+ * fields live in each state, workspaces are per state and remade after a
+ * model change. */
 #include <check.h>
 #include <math.h>
 #include <pliant/pliant.h>
@@ -29,6 +31,14 @@ static pl_sim *load(void)
     pl_diag_free(&diag);
     ck_assert_ptr_nonnull(s);
     return s;
+}
+
+static long get_long(pl_sim *s, pl_data *d, const char *path)
+{
+    char buf[128];
+    pl_error err;
+    ck_assert_int_eq(pl_sim_get_data(s, d, path, buf, sizeof buf, &err), PL_OK);
+    return strtol(buf, NULL, 10);
 }
 
 static void positions(pl_sim *s, pl_data *d, double *out)
@@ -141,6 +151,82 @@ START_TEST(set_at_run_time_changes_the_motion)
 }
 END_TEST
 
+START_TEST(input_fields_live_in_each_data)
+{
+    pl_sim *s = load();
+    pl_error err;
+    char buf[128];
+    pl_data *a = pl_sim_data(s), *b = pl_data_clone(a);
+    ck_assert_int_eq(pl_sim_set_data(s, b, "mover.acceleration", "0 5 0", &err), PL_OK);
+    ck_assert_int_eq(pl_sim_get_data(s, a, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 -9.8100000000000005 0");
+    ck_assert_int_eq(pl_sim_get_data(s, b, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 5 0");
+    /* the model keeps the scene's value: a new data starts from it */
+    pl_data *c = pl_data_create(pl_sim_model(s));
+    ck_assert_int_eq(pl_sim_get_data(s, c, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 -9.8100000000000005 0");
+    /* each falls, or rises, by its own */
+    double pa[12], pb[12];
+    ck_assert_int_eq(pl_sim_step_data(s, a, 10, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_step_data(s, b, 10, &err), PL_OK);
+    positions(s, a, pa);
+    positions(s, b, pb);
+    ck_assert(pa[1] < 0.0 && pb[1] > 0.0);
+    /* a saved data brings its input along; reset restores the scene's */
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "input");
+    ck_assert_int_ge(fd, 0);
+    FILE *f = fdopen(fd, "wb");
+    ck_assert_int_eq(pl_data_save(b, f, &err), PL_OK);
+    fclose(f);
+    ck_assert_int_eq(pl_sim_restore_state(s, path, &err), PL_OK);
+    ck_assert_int_eq(pl_sim_get(s, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 5 0");
+    ck_assert_int_eq(pl_sim_reset(s), PL_OK);
+    ck_assert_int_eq(pl_sim_get(s, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 -9.8100000000000005 0");
+    /* a malformed value is refused and leaves the data as it was */
+    ck_assert_int_eq(pl_sim_set_data(s, b, "mover.acceleration", "0 1", &err), PL_EINPUT);
+    ck_assert_int_eq(pl_sim_get_data(s, b, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 5 0");
+    unlink(path);
+    pl_data_free(c);
+    pl_data_free(b);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(workspaces_are_per_data_and_remade_with_the_model)
+{
+    pl_sim *s = load();
+    pl_error err;
+    pl_data *a = pl_sim_data(s);
+    long freed0 = get_long(s, a, "mover.wsFreed");
+    ck_assert_int_eq(get_long(s, a, "mover.wsSteps"), -1); /* none before the first step */
+    ck_assert_int_eq(pl_sim_step(s, 3, &err), PL_OK);
+    ck_assert_int_eq(get_long(s, a, "mover.wsSteps"), 3);
+    /* a clone copies the state, not the workspace */
+    pl_data *b = pl_data_clone(a);
+    ck_assert_int_eq(get_long(s, b, "mover.wsSteps"), -1);
+    ck_assert_int_eq(pl_sim_step_data(s, b, 2, &err), PL_OK);
+    ck_assert_int_eq(get_long(s, b, "mover.wsSteps"), 2);
+    ck_assert_int_eq(get_long(s, a, "mover.wsSteps"), 3);
+    /* freeing a data frees its workspaces through the component */
+    pl_data_free(b);
+    ck_assert_int_eq(get_long(s, a, "mover.wsFreed"), freed0 + 1);
+    /* a model change (dt) rebuilds the model: workspaces are remade */
+    ck_assert_int_eq(pl_sim_set(s, "root.dt", "0.02", &err), PL_OK);
+    ck_assert_int_eq(get_long(s, a, "mover.wsSteps"), -1);
+    ck_assert_int_eq(pl_sim_step(s, 1, &err), PL_OK);
+    ck_assert_int_eq(get_long(s, a, "mover.wsSteps"), 1);
+    ck_assert_int_eq(get_long(s, a, "mover.wsFreed"), freed0 + 2);
+    /* the step count itself is state: it went on */
+    ck_assert_int_eq(get_long(s, a, "mover.count"), 4);
+    pl_sim_free(s);
+}
+END_TEST
+
 static int drive_up(pl_sim *s, double t, void *user)
 {
     int *calls = user;
@@ -174,6 +260,64 @@ START_TEST(a_step_callback_drives_the_scene_and_can_stop_it)
 }
 END_TEST
 
+START_TEST(a_step_callback_drives_the_data_being_stepped)
+{
+    pl_sim *s = load();
+    pl_error err;
+    char buf[128];
+    int calls = 0;
+    pl_data *a = pl_sim_data(s), *b = pl_data_clone(a);
+    pl_sim_set_callback(s, drive_up, &calls);
+    ck_assert_int_eq(pl_sim_step_data(s, b, 3, &err), PL_OK);
+    ck_assert_int_eq(calls, 3);
+    /* b got the callback's last value (t = 0.02 s), the sim's own data did not */
+    ck_assert_int_eq(pl_sim_get_data(s, b, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 2 0");
+    ck_assert_int_eq(pl_sim_get(s, "mover.acceleration", buf, sizeof buf, &err), PL_OK);
+    ck_assert_str_eq(buf, "0 -9.8100000000000005 0");
+    pl_data_free(b);
+    pl_sim_free(s);
+}
+END_TEST
+
+/* A type whose input field cannot be one (a string): refused at load. */
+typedef struct bad_input {
+    pl_component base;
+    char *label;
+} bad_input;
+
+static const pl_field BAD_FIELDS[] = {
+    PL_FIELD(bad_input, label, "label", PL_F_STRING, "x", "a text", PL_FIELD_INPUT),
+};
+
+static const pl_type BAD_INPUT = {.abi_version = PL_ABI_VERSION,
+                                  .name = "BadInput",
+                                  .size = sizeof(bad_input),
+                                  .fields = BAD_FIELDS,
+                                  .nfields = 1};
+
+START_TEST(an_input_field_must_be_numeric)
+{
+    pl_registry *r = pl_registry_create();
+    pl_error err;
+    ck_assert_int_eq(pl_register_builtin_components(r, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &BAD_INPUT, &err), PL_OK);
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.registry = r;
+    pl_sim *s = pl_sim_load_string("<Node name=\"root\">\n  <BadInput name=\"bad\"/>\n</Node>",
+                                   "bad.xml", &opt, &diag);
+    ck_assert_ptr_null(s);
+    ck_assert_int_eq(diag.nerrors, 1);
+    ck_assert_ptr_nonnull(strstr(diag.items[0].msg, "BadInput.label: an input field must be"));
+    ck_assert_str_eq(diag.items[0].file, "bad.xml");
+    ck_assert_int_eq(diag.items[0].line, 2);
+    pl_diag_free(&diag);
+    pl_registry_free(r);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("state");
@@ -184,6 +328,10 @@ int main(void)
     tcase_add_test(tc, two_states_step_independently_over_one_model);
     tcase_add_test(tc, set_at_run_time_changes_the_motion);
     tcase_add_test(tc, a_step_callback_drives_the_scene_and_can_stop_it);
+    tcase_add_test(tc, input_fields_live_in_each_data);
+    tcase_add_test(tc, a_step_callback_drives_the_data_being_stepped);
+    tcase_add_test(tc, an_input_field_must_be_numeric);
+    tcase_add_test(tc, workspaces_are_per_data_and_remade_with_the_model);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

@@ -51,7 +51,11 @@ static void check_local(gpu_bar *bar, int m)
     memcpy(uc, u0, nd * sizeof *uc);
     int sc[2], sg[2];
     int admm = e->material != PL_HYPER_ARAP;
-    if (pl_hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, rc, sc, &err) != PL_OK) {
+    double *work = malloc(pl_hyper_elements_work_size(e) * sizeof *work);
+    int cpu_rc = work ? pl_hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, work, rc, sc, &err)
+                      : pl_error_set(&err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    free(work);
+    if (cpu_rc != PL_OK) {
         printf("CPU local step failed: %s\n", err.msg);
         gpu_check_line(md, "local step on the CPU", 1.0, 0.0);
         goto done;

@@ -25,7 +25,9 @@
  * from one state must repeat itself bitwise (duals go up from the restored
  * slot).  Long runs: squeezing_ball_small, pulling_through_gap_small and
  * grabbing_raptor_small from the start on both, the same qualitative state
- * (ball below the rollers, body through the gap, raptor lifted).
+ * (ball below the rollers, body through the gap, raptor lifted).  Two data
+ * of cable_finger_small on the device (own workspaces: vectors, graph,
+ * contact and FEM buffers) stepped interleaved end bitwise as each alone.
  * Timings: the twisting bars 5.3k, 11.3k, 20.8k; medians of the wall time
  * of a frame (pl_sim_step of one frame) over `frames` frames after 5
  * warm-up frames, next to the paper's Table 3 Frame; Local / Assembly /
@@ -156,15 +158,14 @@ static int first_state(pl_component *c, void *user)
     return 1;
 }
 
-/* The scene's first state (its body). */
-static int take(pl_sim *sim, snap *s)
+/* The scene's first state (its body) in d. */
+static int take(pl_sim *sim, pl_data *d, snap *s)
 {
     memset(s, 0, sizeof *s);
     pl_component *c = NULL;
     pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, first_state, &c);
     const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
     if (!ops) return -1;
-    pl_data *d = pl_sim_data(sim);
     pl_buffer x = ops->positions(c, d), v = ops->velocities(c, d);
     s->nx = x.rows * 3;
     s->x = malloc(s->nx * sizeof(double));
@@ -189,16 +190,16 @@ static int take(pl_sim *sim, snap *s)
     return 0;
 }
 
-/* Restores the saved state, steps, takes a snapshot. */
-static int step_from_state(pl_sim *sim, int frames, snap *s)
+/* Restores the state file at path, steps, takes a snapshot. */
+static int step_from(pl_sim *sim, const char *path, int frames, snap *s)
 {
     pl_error err;
-    if (pl_sim_restore_state(sim, state_file(), &err) != PL_OK ||
+    if (pl_sim_restore_state(sim, path, &err) != PL_OK ||
         pl_sim_step(sim, frames, &err) != PL_OK) {
         printf("restore/step: %s\n", err.msg);
         return -1;
     }
-    return take(sim, s);
+    return take(sim, pl_sim_data(sim), s);
 }
 
 /* ||a - b|| / ||b|| (0 for empty vectors). */
@@ -272,8 +273,8 @@ static void check_scene(const char *path)
     char own[3][64];
     if (!ref || pl_sim_step(ref, run_up(scene), &err) != PL_OK ||
         pl_sim_save_state(ref, state_file(), &err) != PL_OK || (contact && set_converged(ref, own)) ||
-        step_from_state(ref, 1, &one) ||
-        step_from_state(ref, 10, &ten)) {
+        step_from(ref, state_file(), 1, &one) ||
+        step_from(ref, state_file(), 10, &ten)) {
         snprintf(what, sizeof what, "%s: CPU reference", scene);
         gpu_check_line(md, what, INFINITY, 0.0);
         goto done;
@@ -282,7 +283,7 @@ static void check_scene(const char *path)
     for (int g = 0; g < 3; ++g) {
         pl_sim *sim = load(path, &gpus[g]);
         int f32 = gpus[g].f32;
-        if (!sim || step_from_state(sim, 1, &s)) {
+        if (!sim || step_from(sim, state_file(), 1, &s)) {
             snprintf(what, sizeof what, "%s, %s: loads and steps", scene, gpus[g].name);
             gpu_check_line(md, what, INFINITY, 0.0);
             pl_sim_free(sim);
@@ -314,14 +315,14 @@ static void check_scene(const char *path)
                 gpu_check_line(md, what, rel_floor(s.u, one.u, one.nu, 1e-3), 1e-9);
         }
         snap_free(&s);
-        if (step_from_state(sim, 10, &s) == 0) {
+        if (step_from(sim, state_file(), 10, &s) == 0) {
             snprintf(what, sizeof what, "%s, 10 frames from the state, %s: positions", scene,
                      gpus[g].name);
             gpu_note_line(md, what, rel(s.x, ten.x, ten.nx));
         }
-        if (g == 1 && step_from_state(sim, 5, &s2) == 0) {
+        if (g == 1 && step_from(sim, state_file(), 5, &s2) == 0) {
             snap_free(&s);
-            if (step_from_state(sim, 5, &s) == 0) {
+            if (step_from(sim, state_file(), 5, &s) == 0) {
                 size_t diff = 0;
                 for (size_t i = 0; i < s.nx; ++i)
                     diff += memcmp(&s.x[i], &s2.x[i], sizeof(double)) != 0;
@@ -344,7 +345,7 @@ static void check_scene(const char *path)
         snprintf(what, sizeof what, "%s, 1 frame from a saved state, cuda float64, graph, "
                  "delassus=%s: positions", scene, MODES[w]);
         if (!sim || pl_sim_set(sim, "contact.delassus", MODES[w], &err) != PL_OK ||
-            step_from_state(sim, 1, &s) != 0)
+            step_from(sim, state_file(), 1, &s) != 0)
             gpu_check_line(md, what, INFINITY, 0.0);
         else
             gpu_check_line(md, what, rel(s.x, one.x, one.nx), 1e-9);
@@ -358,7 +359,8 @@ static void check_scene(const char *path)
         snap_free(&one);
         for (int k = 0; k < 3; ++k)
             if (pl_sim_set(ref, CONVERGED[k][0], own[k], &err) != PL_OK) printf("set: %s\n", err.msg);
-        if (sim && step_from_state(ref, 1, &one) == 0 && step_from_state(sim, 1, &s) == 0) {
+        if (sim && step_from(ref, state_file(), 1, &one) == 0 &&
+            step_from(sim, state_file(), 1, &s) == 0) {
             snprintf(what, sizeof what,
                      "%s, 1 frame, cuda float64, graph, the scene's contact settings (crIterations "
                      "%s, unconverged): positions",
@@ -450,7 +452,8 @@ static int long_run(const char *path, const config *c, int steps, double cen[3],
     pl_sim *sim = load(path, c);
     pl_error err;
     snap s = {0};
-    int rc = !sim || pl_sim_step(sim, steps, &err) != PL_OK || take(sim, &s) || s.nx == 0;
+    int rc = !sim || pl_sim_step(sim, steps, &err) != PL_OK || take(sim, pl_sim_data(sim), &s) ||
+             s.nx == 0;
     if (!rc) {
         cen[0] = cen[1] = cen[2] = 0.0;
         *xmax = -INFINITY;
@@ -524,7 +527,8 @@ static void implicit_device_check(void)
     snap a = {0}, b = {0}, c = {0};
     int ok = sim && ref && host && pl_sim_step(sim, 5, &err) == PL_OK &&
              pl_sim_step(ref, 5, &err) == PL_OK && pl_sim_step(host, 5, &err) == PL_OK &&
-             !take(sim, &a) && !take(ref, &b) && !take(host, &c);
+             !take(sim, pl_sim_data(sim), &a) && !take(ref, pl_sim_data(ref), &b) &&
+             !take(host, pl_sim_data(host), &c);
     gpu_check_line(md, "implicit device: twisting_bar_small without a CudaDevice gets one",
                    ok && pl_sim_component(sim, "cudaDevice") ? 0.0 : 1.0, 0.0);
     gpu_check_line(md, "implicit device: 5 frames against a declared CudaDevice (bitwise)",
@@ -532,6 +536,40 @@ static void implicit_device_check(void)
     gpu_note_line(md, "implicit device: 5 frames against the CPU", ok ? rel(a.x, c.x, c.nx) : INFINITY);
     snap_free(&a), snap_free(&b), snap_free(&c);
     pl_sim_free(sim), pl_sim_free(ref), pl_sim_free(host);
+}
+
+/* Two data of one model on the device, interleaved, against each alone. */
+static void two_data_check(void)
+{
+    const char *path = "scenes/cable_finger_small.xml";
+    char sa[1100], sb[1100];
+    snprintf(sa, sizeof sa, "%s/two_a.bin", test_tmp_dir());
+    snprintf(sb, sizeof sb, "%s/two_b.bin", test_tmp_dir());
+    const config gpu = {"cuda float64, graph", 1, 0, 1, 0};
+    pl_sim *sim = load(path, &gpu), *ref = load(path, &gpu);
+    pl_data *other = sim ? pl_data_clone(pl_sim_data(sim)) : NULL;
+    pl_error err = {0};
+    snap a1 = {0}, b1 = {0}, a2 = {0}, b2 = {0};
+    FILE *f = NULL;
+    /* A at 0.1 s (the cable being pulled), B at 0.25 s (nearly held) */
+    int ok = sim && ref && other && !pl_sim_step(ref, 10, &err) && !pl_sim_save_state(ref, sa, &err) &&
+             !pl_sim_step(ref, 15, &err) && !pl_sim_save_state(ref, sb, &err) &&
+             !step_from(ref, sa, 10, &a1) && !step_from(ref, sb, 10, &b1) &&
+             !pl_sim_restore_state(sim, sa, &err) && (f = fopen(sb, "rb")) && !pl_data_load(other, f, &err);
+    if (f) fclose(f);
+    for (int k = 0; ok && k < 10; ++k)
+        ok = !pl_sim_step_data(sim, pl_sim_data(sim), 1, &err) && !pl_sim_step_data(sim, other, 1, &err);
+    ok = ok && !take(sim, pl_sim_data(sim), &a2) && !take(sim, other, &b2);
+    if (!ok) printf("two data: %s\n", err.msg);
+    gpu_check_line(md, "two data interleaved on the device (cable_finger_small): A as alone, bitwise",
+                   ok ? rel(a2.x, a1.x, a1.nx) + rel(a2.u, a1.u, a1.nu) : INFINITY, 0.0);
+    gpu_check_line(md, "two data interleaved on the device (cable_finger_small): B as alone, bitwise",
+                   ok ? rel(b2.x, b1.x, b1.nx) + rel(b2.u, b1.u, b1.nu) : INFINITY, 0.0);
+    gpu_note_line(md, "two data: A against B (relative)", ok ? rel(a2.x, b2.x, b2.nx) : NAN);
+    snap_free(&a1), snap_free(&b1), snap_free(&a2), snap_free(&b2);
+    pl_data_free(other);
+    pl_sim_free(sim), pl_sim_free(ref);
+    remove(sa), remove(sb);
 }
 
 int main(int argc, char **argv)
@@ -567,6 +605,7 @@ int main(int argc, char **argv)
                             "scenes/twisting_bar.xml"};
     const int nscenes = (int)(sizeof scenes / sizeof scenes[0]);
     if (!only && !timing_only) implicit_device_check();
+    if (!only && !timing_only) two_data_check();
     if (only)
         check_scene(only);
     for (int k = 0; !only && !timing_only && k < (small ? nscenes - 1 : nscenes); ++k)

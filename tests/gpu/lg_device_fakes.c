@@ -238,10 +238,10 @@ static int sp_add_matrix(pl_component *c, int off, double h2, pl_triplets *A, pl
     }
     return PL_OK;
 }
-static int sp_project(pl_component *c, pl_data *d, int off, double h2, const pl_buffer *q,
+static int sp_project(const pl_component *c, pl_data *d, int off, double h2, const pl_buffer *q,
                       pl_buffer *rhs, pl_error *err)
 {
-    springs *s = (springs *)c;
+    const springs *s = (const springs *)c;
     (void)d;
     if (q->location == PL_DEVICE && !s->device_ok)
         return pl_component_fail(c, err, PL_EINPUT, "device buffers refused");
@@ -334,9 +334,9 @@ static int ds_factor(pl_component *c, const pl_csc *A, struct pl_timers *t, pl_e
     }
     return PL_OK;
 }
-static int ds_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
+static int ds_solve(const pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
 {
-    dense *s = (dense *)c;
+    const dense *s = (const dense *)c;
     if (b->location == PL_DEVICE && !s->device_ok)
         return pl_component_fail(c, err, PL_EINPUT, "device buffers refused");
     int n = s->n, k = (int)b->cols;

@@ -6,9 +6,12 @@
  * local step, the restriction to the unknowns minus A_fp q_p row by row,
  * the solve, the scatter), also with a tolerance and with per-phase
  * profiling, and with a ConstantForceField (its device path goes through
- * the device service alone); and every part that cannot run on the device
- * is refused at load with its name, or (auto) sends the loop back to the
- * CPU. */
+ * the device service alone); two pl_data of one model, each with its own
+ * device vectors (in its workspace), stepped interleaved with different
+ * damping and spin of the prescribed end (input fields) end bitwise where
+ * each ends alone; and every
+ * part that cannot run on the device is refused at load with its name, or
+ * (auto) sends the loop back to the CPU. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -227,6 +230,62 @@ START_TEST(constant_force_field_on_the_device_equals_the_cpu_bitwise)
 }
 END_TEST
 
+/* The bar's positions and velocities in d. */
+static void take(pl_sim *sim, pl_data *d, result *out)
+{
+    pl_component *c = pl_sim_component(sim, "bar/dofs");
+    const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
+    pl_buffer x = ops->positions(c, d), v = ops->velocities(c, d);
+    out->m = x.rows * 3;
+    memcpy(out->x, x.data, out->m * sizeof(double));
+    memcpy(out->v, v.data, out->m * sizeof(double));
+    out->nenergy = 0;
+}
+
+START_TEST(two_data_on_the_device_interleave_exactly)
+{
+    pl_registry *r = registry();
+    static result alone[2], both[2];
+    static const char *const DAMPING[2] = {"0", "30"}, *const SPIN[2] = {"3", "-2"};
+    setup s = plain("cuda");
+    s.extra = "<ConstantForceField name=\"push\" indices=\"8 20\" forces=\"0 0 30  0 -20 0\"/>";
+    char msg[1024];
+    pl_error err;
+    for (int k = 0; k < 2; ++k) {
+        pl_sim *sim = load(r, &s, msg, sizeof msg);
+        ck_assert_msg(sim != NULL, "load failed: %s", msg);
+        ck_assert_int_eq(pl_sim_set(sim, "solver.damping", DAMPING[k], &err), PL_OK);
+        ck_assert_int_eq(pl_sim_set(sim, "right.angularVelocity", SPIN[k], &err), PL_OK);
+        ck_assert_int_eq(pl_sim_step(sim, 6, &err), PL_OK);
+        take(sim, pl_sim_data(sim), &alone[k]);
+        pl_sim_free(sim);
+    }
+    pl_sim *sim = load(r, &s, msg, sizeof msg);
+    ck_assert_ptr_nonnull(sim);
+    pl_data *d[2] = {pl_sim_data(sim), pl_data_clone(pl_sim_data(sim))};
+    for (int k = 0; k < 2; ++k) {
+        ck_assert_int_eq(pl_sim_set_data(sim, d[k], "solver.damping", DAMPING[k], &err), PL_OK);
+        ck_assert_int_eq(pl_sim_set_data(sim, d[k], "right.angularVelocity", SPIN[k], &err), PL_OK);
+    }
+    for (int step = 0; step < 6; ++step)
+        for (int k = 0; k < 2; ++k) ck_assert_int_eq(pl_sim_step_data(sim, d[k], 1, &err), PL_OK);
+    for (int k = 0; k < 2; ++k) {
+        take(sim, d[k], &both[k]);
+        assert_same(&both[k], &alone[k]);
+    }
+    /* the inputs made a difference: the check is not vacuous */
+    double diff = 0;
+    for (size_t i = 0; i < alone[0].m; ++i) diff = fmax(diff, fabs(alone[0].x[i] - alone[1].x[i]));
+    ck_assert_msg(diff > 1e-3, "the inputs changed nothing (%g m)", diff);
+    /* each data made its own device vectors: both ran on the device */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 2 * 6 * 6 * 5);
+    pl_data_free(d[1]); /* its device vectors go back to the device */
+    pl_sim_free(sim);
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
 static void assert_refused(pl_registry *r, const setup *s, const char *a, const char *b)
 {
     char msg[1024];
@@ -263,6 +322,7 @@ int main(void)
     tcase_add_test(tc, tolerance_energy_and_profiling_agree);
     tcase_add_test(tc, auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise);
     tcase_add_test(tc, constant_force_field_on_the_device_equals_the_cpu_bitwise);
+    tcase_add_test(tc, two_data_on_the_device_interleave_exactly);
     tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);

@@ -34,15 +34,18 @@ static void bench(const char *label, pl_hyper_material mat, int k, const int *ce
     int nd = pl_hyper_elements_dual_size(&el);
     double *u = calloc((size_t)ncells * (nd ? nd : 1), sizeof(double));
     int stats[2];
-    pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, rhs, stats, NULL); /* warm up */
+    double *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&el));
+    pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL); /* warm up */
     double t0 = now();
-    for (int r = 0; r < reps; ++r) pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, rhs, stats, NULL);
+    for (int r = 0; r < reps; ++r)
+        pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL);
     double dt = (now() - t0) / reps;
     printf("%-26s %8d elements  %8.3f ms/step  %7.1f ns/element  (max Newton its %d)\n", label,
            ncells, 1e3 * dt, 1e9 * dt / ncells, stats[0]);
     free(q);
     free(rhs);
     free(u);
+    free(work);
     pl_hyper_elements_free(&el);
 }
 

@@ -134,15 +134,20 @@ static int local_global(problem *P, int iters, int keep_dual, double tol, double
     int nd = pl_hyper_elements_dual_size(&P->el), k;
     double *u = calloc((size_t)P->el.n * (nd ? nd : 1), sizeof *u);
     double *rhs = malloc(sizeof(double) * 3 * n);
+    double *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&P->el));
+    double *bwork = malloc(sizeof(double) * (pl_hyper_stencils_work_size(&P->bend) +
+                                             pl_hyper_stencils_work_size(&P->tgt)));
     memcpy(x, P->sn, sizeof(double) * 3 * n);
     if (f_hist) f_hist[0] = objective(P, x);
     for (k = 0; k < iters; ++k) {
         if (!keep_dual) memset(u, 0, sizeof(double) * P->el.n * nd);
         for (int i = 0; i < n; ++i)
             for (int a = 0; a < 3; ++a) rhs[3 * i + a] = P->mass[i] * P->sn[3 * i + a];
-        ck_assert_int_eq(pl_hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, rhs, NULL, NULL), PL_OK);
-        if (P->bend.n) pl_hyper_stencils_project(&P->bend, 0, h2, x, NULL, rhs, NULL);
-        if (P->tgt.n) pl_hyper_stencils_project(&P->tgt, 0, h2, x, P->targets, rhs, NULL);
+        ck_assert_int_eq(pl_hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, work, rhs, NULL,
+                                                   NULL),
+                         PL_OK);
+        if (P->bend.n) pl_hyper_stencils_project(&P->bend, 0, h2, x, NULL, bwork, rhs, NULL);
+        if (P->tgt.n) pl_hyper_stencils_project(&P->tgt, 0, h2, x, P->targets, bwork, rhs, NULL);
         ht_cholesky_solve(n, L, 3, rhs);
         double step = 0.0;
         for (int i = 0; i < 3 * n; ++i) step = fmax(step, fabs(rhs[i] - x[i]));
@@ -156,6 +161,8 @@ static int local_global(problem *P, int iters, int keep_dual, double tol, double
     free(L);
     free(u);
     free(rhs);
+    free(work);
+    free(bwork);
     return k;
 }
 
@@ -328,14 +335,15 @@ START_TEST(local_step_is_deterministic_across_thread_counts)
         ck_assert_int_eq(pl_hyper_elements_build(&el, (pl_hyper_material)mat, 4, tets, nt, rest, nv,
                                                  &E, 1, &nu, 1, 1.0, NULL), PL_OK);
         int nd = pl_hyper_elements_dual_size(&el);
-        double *rhs[2], *u[2];
+        double *rhs[2], *u[2], *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&el));
         for (int r = 0; r < 2; ++r) {
             rhs[r] = calloc((size_t)3 * nv, sizeof(double));
             u[r] = calloc((size_t)nt * (nd ? nd : 1), sizeof(double));
             omp_set_num_threads(r + 1);
             for (int k = 0; k < 2; ++k) /* twice: the second uses non-zero duals */
-                ck_assert_int_eq(pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, rhs[r],
-                                                           NULL, NULL), PL_OK);
+                ck_assert_int_eq(pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, work,
+                                                           rhs[r], NULL, NULL),
+                                 PL_OK);
         }
         ck_assert_int_eq(memcmp(rhs[0], rhs[1], sizeof(double) * 3 * nv), 0);
         ck_assert_int_eq(memcmp(u[0], u[1], sizeof(double) * nt * nd), 0);
@@ -343,6 +351,7 @@ START_TEST(local_step_is_deterministic_across_thread_counts)
             free(rhs[r]);
             free(u[r]);
         }
+        free(work);
         pl_hyper_elements_free(&el);
     }
     omp_set_num_threads(2);

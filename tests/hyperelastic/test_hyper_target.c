@@ -106,8 +106,9 @@ START_TEST(point_target_matrix_and_rhs)
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
             ck_assert_double_eq(dense[i * 6 + j], (i == j && (i == 3 || i == 5)) ? h2 * 100.0 : 0.0);
-    double q[18] = {0}, rhs[18] = {0}, targets[6] = {1, 2, 3, 4, 5, 6};
-    ck_assert_int_eq(pl_hyper_stencils_project(&s, 2, h2, q, targets, rhs, NULL), PL_OK);
+    double q[18] = {0}, rhs[18] = {0}, targets[6] = {1, 2, 3, 4, 5, 6}, work[6];
+    ck_assert_uint_eq(pl_hyper_stencils_work_size(&s), 6);
+    ck_assert_int_eq(pl_hyper_stencils_project(&s, 2, h2, q, targets, work, rhs, NULL), PL_OK);
     for (int a = 0; a < 3; ++a) {
         ck_assert_double_eq_tol(rhs[3 * 3 + a], h2 * 100.0 * targets[a], 1e-18);
         ck_assert_double_eq_tol(rhs[3 * 5 + a], h2 * 100.0 * targets[3 + a], 1e-18);

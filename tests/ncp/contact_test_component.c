@@ -25,7 +25,7 @@ static const pl_field FIELDS[] = {
     PL_FIELD(test_constraint, pairs, "pairs", PL_F_BOOL, "0", "pin/bounded: rows on midpoints of pairs", 0),
 };
 
-static int row(pl_rows *rows, pl_row_kind kind, pl_component *c, pl_error *err)
+static int row(pl_rows *rows, pl_row_kind kind, const pl_component *c, pl_error *err)
 {
     int r = pl_rows_begin(rows, kind, c);
     if (r < 0) pl_error_set(err, PL_EINTERNAL, NULL, 0, "TestConstraint", "out of memory");
@@ -39,14 +39,15 @@ static int add(pl_rows *rows, int v, double x, double y, double z, pl_error *err
     return PL_OK;
 }
 
-static int build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q, pl_rows *rows,
-                      pl_error *err)
+static int build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
+                      pl_rows *rows, pl_error *err)
 {
-    test_constraint *t = (test_constraint *)c;
+    const test_constraint *t = (const test_constraint *)c;
+    test_probe *p = pl_data_workspace(ctx->data, c);
     const double *x = pl_buffer_f64(q);
-    (void)ctx;
-    t->total_mass = 0.0;
-    for (int v = 0; v < sys->nverts; ++v) t->total_mass += sys->mass ? sys->mass[v] : 0.0;
+    if (!p) return pl_error_set(err, PL_EINTERNAL, NULL, 0, "TestConstraint", "out of memory");
+    p->total_mass = 0.0;
+    for (int v = 0; v < sys->nverts; ++v) p->total_mass += sys->mass ? sys->mass[v] : 0.0;
     if (t->mode == MODE_PLANE) {
         for (int v = 0; v < sys->nverts; ++v) {
             if (!(x[3 * v + 1] < t->alarm)) continue;
@@ -62,16 +63,18 @@ static int build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const 
         }
         return PL_OK;
     }
-    if (t->vertices.n == 0) /* first step: select by height (freed by the core as a field) */
+    if (t->vertices.n == 0 && !p->selected) /* first step: select by height */
         for (int v = 0; v < sys->nverts; ++v)
             if (x[3 * v + 1] >= t->above) {
-                int *nv = realloc(t->vertices.v, sizeof(int) * (size_t)(t->vertices.n + 1));
+                int *nv = realloc(p->selected, sizeof(int) * (size_t)(p->nselected + 1));
                 if (!nv) return pl_error_set(err, PL_EINTERNAL, NULL, 0, "TestConstraint", "out of memory");
-                t->vertices.v = nv;
-                t->vertices.v[t->vertices.n++] = v;
+                p->selected = nv;
+                p->selected[p->nselected++] = v;
             }
+    const int *verts = t->vertices.n ? t->vertices.v : p->selected;
+    int nverts = t->vertices.n ? t->vertices.n : p->nselected;
     int step = t->pairs ? 2 : 1;
-    for (int i = 0; i + step - 1 < t->vertices.n; i += step) {
+    for (int i = 0; i + step - 1 < nverts; i += step) {
         int r = row(rows, t->mode == MODE_BOUNDED ? PL_ROW_BOUNDED : PL_ROW_BILATERAL, c, err);
         if (r < 0) return PL_EINTERNAL;
         rows->d[r] = t->height;
@@ -82,16 +85,16 @@ static int build_rows(pl_component *c, pl_ctx *ctx, const pl_system *sys, const 
             rows->compliance[r] = t->compliance;
         }
         for (int s = 0; s < step; ++s)
-            if (add(rows, t->vertices.v[i + s], 0, 1.0 / step, 0, err)) return PL_EINTERNAL;
+            if (add(rows, verts[i + s], 0, 1.0 / step, 0, err)) return PL_EINTERNAL;
     }
     return PL_OK;
 }
 
-static void accept(pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda, int first,
-                   int count)
+static void accept(const pl_component *c, pl_data *d, const pl_rows *rows, const double *lambda,
+                   int first, int count)
 {
-    test_constraint *t = (test_constraint *)c;
-    (void)d;
+    test_probe *t = pl_data_workspace(d, c);
+    ck_assert_ptr_nonnull(t);
     free(t->lambda);
     t->lambda = malloc(sizeof(double) * (size_t)(count > 0 ? count : 1));
     ck_assert_ptr_nonnull(t->lambda);
@@ -120,11 +123,12 @@ static void accept(pl_component *c, pl_data *d, const pl_rows *rows, const doubl
     }
 }
 
-static void destroy(pl_component *c)
+static void probe_free(const pl_component *c, void *ws)
 {
-    test_constraint *t = (test_constraint *)c;
+    test_probe *t = ws;
+    (void)c;
     free(t->lambda);
-    t->lambda = NULL;
+    free(t->selected);
 }
 
 static const pl_constraint_ops OPS = {.version = PL_CONSTRAINT_OPS_VERSION, .build_rows = build_rows, .accept_multipliers = accept};
@@ -134,9 +138,10 @@ const pl_type test_constraint_type = {
     .name = "TestConstraint",
     .help = "test rows: plane contacts, pins, bounded rows",
     .size = sizeof(test_constraint),
+    .workspace_size = sizeof(test_probe),
     .fields = FIELDS,
     .nfields = (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    .ops = {.destroy = destroy},
+    .ops = {.workspace_free = probe_free},
     .roles = {[PL_ROLE_CONSTRAINT] = &OPS},
 };
 
@@ -200,12 +205,14 @@ const double *ts_velocities(test_scene *t, const char *path, int *n)
     return b.data;
 }
 
-test_constraint *ts_constraint(test_scene *t, const char *path)
+test_probe *ts_constraint(test_scene *t, const char *path)
 {
     pl_component *c = pl_sim_component(t->sim, path);
     ck_assert_ptr_nonnull(c);
     ck_assert_str_eq(c->type->name, test_constraint_type.name);
-    return (test_constraint *)c;
+    test_probe *p = pl_data_workspace(pl_sim_data(t->sim), c);
+    ck_assert_ptr_nonnull(p);
+    return p;
 }
 
 double ts_min_y(test_scene *t, const char *path)

@@ -11,7 +11,8 @@
  *   bounded   the same rows as bounded rows, lambda in [lo, hi];
  * with pairs="1", `vertices` are taken in pairs (a, b) and each row holds
  * the midpoint, (y_a + y_b) / 2 = height (rows with two vertices).
- * It keeps the multipliers it was handed back and a few sums. */
+ * It keeps the multipliers it was handed back and a few sums in its
+ * workspace of each data (test_probe). */
 #ifndef CONTACT_TEST_COMPONENT_H
 #define CONTACT_TEST_COMPONENT_H
 
@@ -23,7 +24,13 @@ typedef struct test_constraint {
     double alarm, mu, height, compliance, lo, hi, above;
     pl_ints vertices;
     int pairs;
-    /* what the last step handed back */
+} test_constraint;
+
+/* What the last step of a data handed back: the component's workspace in
+ * that data (a step writes no component). */
+typedef struct test_probe {
+    int *selected;           /* pin/bounded without vertices: chosen at the first step */
+    int nselected;
     int nrows;               /* rows emitted by this component */
     double *lambda;          /* nrows */
     double sum_normal;       /* sum of lambda over normal rows [N] */
@@ -33,7 +40,7 @@ typedef struct test_constraint {
     double min_normal;       /* min lambda_n [N] */
     int ncontacts;
     double total_mass;       /* sum of the system's vertex masses [kg] */
-} test_constraint;
+} test_probe;
 
 extern const pl_type test_constraint_type;
 
@@ -51,7 +58,8 @@ void ts_step(test_scene *t, int n);
 /* positions / velocities of the state at path (owned by the sim) */
 const double *ts_positions(test_scene *t, const char *path, int *n);
 const double *ts_velocities(test_scene *t, const char *path, int *n);
-test_constraint *ts_constraint(test_scene *t, const char *path);
+/* the probe of the constraint at path in the sim's data */
+test_probe *ts_constraint(test_scene *t, const char *path);
 /* lowest y over the state's vertices [m] */
 double ts_min_y(test_scene *t, const char *path);
 /* mean of coordinate k of the velocities (uniform grids with DiagonalMass

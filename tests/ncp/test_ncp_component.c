@@ -65,7 +65,7 @@ static double *resting_box(const char *ncp, int steps, double *sum_n)
     double worst_pen = 0.0, worst_cone = -INFINITY, err20 = 0.0;
     for (int k = 1; k <= steps; ++k) {
         ts_step(&t, 1);
-        test_constraint *c = ts_constraint(&t, "box/plane");
+        test_probe *c = ts_constraint(&t, "box/plane");
         double W = c->total_mass * G;
         ck_assert_double_eq_tol(c->total_mass, 1.0, 1e-12);
         ck_assert_int_eq(c->ncontacts, 16);
@@ -116,7 +116,7 @@ START_TEST(a_new_resting_contact_gives_finite_steps)
         int n;
         double *x0 = copy_positions(&t, &n);
         ts_step(&t, 3);
-        test_constraint *c = ts_constraint(&t, "box/plane");
+        test_probe *c = ts_constraint(&t, "box/plane");
         ck_assert_int_eq(c->nrows, 48);
         double lmax = 0.0, dx = 0.0;
         for (int j = 0; j < c->nrows; ++j) {
@@ -149,14 +149,14 @@ START_TEST(pins_hold_the_weight_and_compliance_sets_the_offset)
             /* mass damping settles the hanging box; CR runs to its tolerance */
             scene(&t, "0 -9.81 0", 10, "damping=\"20\"", "crIterations=\"40\" crTolerance=\"1e-14\"", "0 0 0", rows);
             ts_step(&t, 150);
-            test_constraint *c = ts_constraint(&t, "box/pin");
+            test_probe *c = ts_constraint(&t, "box/pin");
             ck_assert_int_eq(c->nrows, pairs ? 8 : 16);
             double W = c->total_mass * G, worst = 0.0;
             int n;
             const double *x = ts_positions(&t, "box/dofs", &n);
             for (int j = 0; j < c->nrows; ++j) {
                 double y = 0.0;
-                for (int s = 0; s <= pairs; ++s) y += x[3 * c->vertices.v[(pairs + 1) * j + s] + 1] / (pairs + 1);
+                for (int s = 0; s <= pairs; ++s) y += x[3 * c->selected[(pairs + 1) * j + s] + 1] / (pairs + 1);
                 worst = fmax(worst, fabs(y - 0.1 + E[e] * c->lambda[j]));
             }
             printf("pins (pairs %d, E %g m/N): sum lambda %.9f N (m g %.9f), max |delta + E lambda| %.2e m\n", pairs,
@@ -183,7 +183,7 @@ START_TEST(bounded_rows_saturate_or_hold)
     double v1 = ts_mean_velocity(&t, "box/dofs", mass, 1);
     ts_step(&t, 20);
     double v2 = ts_mean_velocity(&t, "box/dofs", mass, 1);
-    test_constraint *c = ts_constraint(&t, "box/cable");
+    test_probe *c = ts_constraint(&t, "box/cable");
     for (int j = 0; j < c->nrows; ++j) ck_assert_double_eq(c->lambda[j], hi);
     double acc = (v2 - v1) / 0.2, expect = -(W - 16 * hi) / c->total_mass;
     printf("bounded rows at hi: acceleration %.6f m/s^2, (sum hi - m g) / m = %.6f\n", acc, expect);
@@ -225,7 +225,7 @@ START_TEST(warm_start_records_are_part_of_the_state)
     /* the slot holds one record per row, with the multipliers handed back */
     int slot = pl_model_find_slot(pl_sim_model(t.sim), "root/contact.warmStart");
     ck_assert_int_ge(slot, 0);
-    test_constraint *c = ts_constraint(&t, "box/plane");
+    test_probe *c = ts_constraint(&t, "box/plane");
     ck_assert_int_eq(c->nrows, 48);
     ck_assert_uint_eq(pl_data_slot_bytes(pl_sim_data(t.sim), slot), 48 * sizeof(pl_ncpc_key));
     const pl_ncpc_key *rec = pl_data_slot(pl_sim_data(t.sim), slot);

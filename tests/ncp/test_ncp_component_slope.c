@@ -64,7 +64,7 @@ static run slide(double a_deg, double mu, const char *contact, int k0, int k1)
     double *mass = ts_masses(&t, "box/mass", n), v0 = 0;
     for (int k = 1; k <= k1; ++k) {
         ts_step(&t, 1);
-        test_constraint *c = ts_constraint(&t, "box/plane");
+        test_probe *c = ts_constraint(&t, "box/plane");
         r.pen = fmin(r.pen, ts_min_y(&t, "box/dofs"));
         r.cone = fmax(r.cone, c->cone_excess);
         if (k == k0) v0 = ts_mean_velocity(&t, "box/dofs", mass, 0);
@@ -152,7 +152,7 @@ static double *trajectory(const char *contact, int steps)
     const double *x = ts_positions(&t, "box/dofs", &n);
     double *c = malloc(sizeof(double) * 3 * (size_t)n);
     memcpy(c, x, sizeof(double) * 3 * (size_t)n);
-    test_constraint *cable = ts_constraint(&t, "box/cable");
+    test_probe *cable = ts_constraint(&t, "box/cable");
     ck_assert_int_eq(cable->nrows, 8);
     ck_assert_double_eq_tol(cable->sum_rows, 4.0, 1e-12);
     ts_free(&t);

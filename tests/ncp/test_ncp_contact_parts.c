@@ -22,9 +22,9 @@ typedef struct fake_solver {
     double *Ainv;             /* n x n */
 } fake_solver;
 
-static int fake_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
+static int fake_solve(const pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
 {
-    fake_solver *f = (fake_solver *)c;
+    const fake_solver *f = (const fake_solver *)c;
     int n = f->n, k = (int)b->cols;
     const double *bd = b->data;
     double *out = malloc(sizeof(double) * (size_t)n * (size_t)k);
@@ -41,9 +41,9 @@ static int fake_solve(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_erro
 }
 
 /* Y = L^-1 H^T, dense columns stored as CSC (zeros kept). */
-static int fake_rows(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
+static int fake_rows(const pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
 {
-    fake_solver *f = (fake_solver *)c;
+    const fake_solver *f = (const fake_solver *)c;
     int n = f->n, m = H->nrows;
     (void)err;
     Y->nrows = n;
@@ -68,9 +68,9 @@ static int fake_rows(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
     return PL_OK;
 }
 
-static int fake_diag(pl_component *c, double *d, pl_error *err)
+static int fake_diag(const pl_component *c, double *d, pl_error *err)
 {
-    fake_solver *f = (fake_solver *)c;
+    const fake_solver *f = (const fake_solver *)c;
     (void)err;
     for (int i = 0; i < f->n; ++i) d[i] = f->Ainv[i * f->n + i];
     return PL_OK;

@@ -46,43 +46,56 @@ typedef enum pl_role {
  * tables hold NULL there: role not played). */
 #define PL_ROLE_MAX 24
 
-/* What a lifecycle callback is given. */
+/* What a lifecycle or role callback is given.  The model is const: a step
+ * reads it and writes only the data (its slots and the component's
+ * workspace, model.h).  While the model is being built (init, bind, reinit)
+ * `build` is the same model, writable: declare state slots through it. */
 typedef struct pl_ctx {
-    struct pl_model *model;
+    const struct pl_model *model;
     struct pl_data *data;        /* the state being initialised or stepped */
     struct pl_registry *registry;
     struct pl_timers *timers;
     pl_diag *diag;               /* where load-time errors and warnings go */
+    struct pl_model *build;      /* init, bind, reinit only: the model; NULL during a step */
 } pl_ctx;
 
 typedef struct pl_component pl_component;
 
 /* Lifecycle, called by the core in this order (every callback optional):
  *   init       after fields are parsed: check fields, load files, declare
- *              state slots (pl_model_add_slot).  Pre-order over the tree.
+ *              state slots (pl_model_add_slot(ctx->build, ...)).  Pre-order
+ *              over the tree.
  *   bind       resolve links and find partners by role.  Pre-order.
  *   reinit     (re)build derived model data (weights, factors); called after
  *              bind and again after a field changes at run time, so it must
  *              not touch the state.  Post-order: a solver at the root sees
  *              its children ready.  Initial state values are written in
  *              init or bind (ctx->data is then the initial state).
- *   begin_step / end_step   around each time step.
+ *   begin_step / end_step   around each time step.  Like every callback
+ *              that runs during a step (the role members that take a const
+ *              component), they write only ctx->data: its slots, and the
+ *              component's workspace for per-step scratch and results.
  *   destroy    free what init/bind/reinit allocated (fields are freed by
  *              the core).
+ *   workspace_free  free what the component allocated inside one of its
+ *              workspaces (pl_data_workspace, model.h); the core frees the
+ *              workspace itself.  Called when the data is freed or the
+ *              model rebuilt, while the components are alive.
  * A callback returns PL_OK or an error code with the error recorded in
  * ctx->diag (load time) or err (step time). */
 typedef struct pl_lifecycle {
     int (*init)(pl_component *c, pl_ctx *ctx);
     int (*bind)(pl_component *c, pl_ctx *ctx);
     int (*reinit)(pl_component *c, pl_ctx *ctx);
-    int (*begin_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
-    int (*end_step)(pl_component *c, pl_ctx *ctx, pl_error *err);
+    int (*begin_step)(const pl_component *c, pl_ctx *ctx, pl_error *err);
+    int (*end_step)(const pl_component *c, pl_ctx *ctx, pl_error *err);
     void (*destroy)(pl_component *c);
     /* optional: the current value of a field backed by the state or
      * computed (positions, outputs such as cableLength) as text; return
      * PL_EINPUT if `field` is not one it serves (the stored value is used) */
     int (*get)(const pl_component *c, const struct pl_data *d, const char *field, char *buf,
                size_t size);
+    void (*workspace_free)(const pl_component *c, void *ws);
 } pl_lifecycle;
 
 /* A component type: one static, constant instance per type, registered as
@@ -94,7 +107,8 @@ typedef struct pl_type {
     int abi_version;            /* PL_ABI_VERSION the type was compiled with */
     const char *name;           /* XML tag, e.g. "MechanicalObject" */
     const char *help;           /* one-line description */
-    size_t size;                /* sizeof the component struct */
+    size_t size;                /* sizeof the component struct (the model) */
+    size_t workspace_size;      /* bytes of its per-data workspace (0: none), see model.h */
     const pl_field *fields;     /* field table */
     int nfields;
     const void *roles[PL_ROLE_MAX]; /* role vtables; NULL = role not played */

@@ -55,7 +55,12 @@ typedef struct pl_link {
 enum pl_field_flags {
     PL_FIELD_REQUIRED = 1 << 0, /* the scene must give it */
     PL_FIELD_OUTPUT = 1 << 1,   /* computed by the component; read-only */
-    PL_FIELD_RUNTIME = 1 << 2   /* may change while running without a refactor */
+    PL_FIELD_RUNTIME = 1 << 2,  /* may change while running without a refactor (a model
+                                   value: between steps, for every data) */
+    PL_FIELD_INPUT = 1 << 3     /* an input of the simulation (a cable's pull, a target):
+                                   its current value lives in each pl_data, where
+                                   controllers and pl_sim_set change it (input.h);
+                                   implies RUNTIME.  Numeric kinds only. */
 };
 
 typedef struct pl_field {

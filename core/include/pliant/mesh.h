@@ -74,7 +74,7 @@ PL_API void pl_mesh_transform(pl_mesh *m, const double scale[3], const double ro
  * the tetrahedra are positively oriented.  *tris (ntris x 3, malloc'ed,
  * caller frees; NULL when empty).  PL_OK; PL_EINPUT if an index is out of
  * range or a face is shared by more than two tetrahedra (not a manifold);
- * PL_EINTERNAL if out of memory.  Since ABI 4.1. */
+ * PL_EINTERNAL if out of memory.  Since ABI 5.1 (4.1 before 5.0). */
 PL_API int pl_mesh_boundary_triangles(const pl_mesh *m, int **tris, int *ntris);
 #endif
 

@@ -2,10 +2,20 @@
  *
  * As MuJoCo separates mjModel from mjData: topology, materials, factors
  * and everything derived from fields belong to the components, i.e. to the
- * model.  Everything that evolves in time (positions, velocities,
- * multipliers, contacts, duals, time itself) lives in a pl_data, as named
- * byte slots that components declare during init.  A pl_data can be copied,
- * saved, restored and reset, and several pl_data can step over one model. */
+ * model, which a step only reads.  Everything a step writes lives in a
+ * pl_data:
+ *   - slots: named bytes that components declare during init, holding what
+ *     evolves in time (positions, velocities, multipliers, contacts, duals)
+ *     and the current values of input fields (input.h).  Copied, saved,
+ *     restored and reset with the data.
+ *   - workspaces: one block per component that asks for one (its type's
+ *     workspace_size), for per-step scratch and results (the solver's
+ *     vectors, the step's rows, device buffers and graphs).  Made when first
+ *     asked for, freed with the data, never copied or saved: nothing in a
+ *     workspace survives from one step to the next that a restored state
+ *     would need.
+ * So several pl_data can step over one model, interleaved, each exactly as
+ * if alone. */
 #ifndef PLIANT_MODEL_H
 #define PLIANT_MODEL_H
 
@@ -32,6 +42,7 @@ typedef struct pl_slot_info {
     size_t elem_size;      /* variable slots: bytes per element (0: a fixed slot) */
     size_t max_elems;      /* variable slots: at most this many elements */
     pl_slot_check check;   /* NULL: any contents of the right size */
+    const pl_field *field; /* the input field whose value it holds (input.h), or NULL */
 } pl_slot_info;
 
 typedef struct pl_model {
@@ -41,6 +52,9 @@ typedef struct pl_model {
     int nslots, cap_slots;
     struct pl_data *initial;    /* the state right after loading: what reset restores */
     const struct pl_work_limits *ceiling; /* caps no scene can raise (NULL: none) */
+    pl_component **components;  /* every component, sorted by address (workspace lookup) */
+    int ncomponents;
+    unsigned long generation;   /* counts rebuilds (reinit): older workspaces are remade */
 } pl_model;
 
 typedef struct pl_slot {
@@ -54,11 +68,14 @@ typedef struct pl_data {
     long step;                  /* steps taken */
     pl_slot *slots;             /* model->nslots entries */
     int nslots;
+    void **workspaces;          /* model->ncomponents entries, NULL until asked for */
+    unsigned long ws_generation; /* the model's generation they were made for */
 } pl_data;
 
 /* Declares a FIXED-size state slot of `bytes` bytes owned by c (during
- * init): it keeps that size, and a saved state whose slot has another size
- * is refused.  Returns its index (>= 0) or -1 on allocation failure. */
+ * init, through ctx->build): it keeps that size, and a saved state whose slot has another size
+ * is refused.  Returns its index (>= 0) or -1 on allocation failure
+ * or when c already has a slot of that name. */
 PL_API int pl_model_add_slot(pl_model *m, pl_component *owner, const char *name, size_t bytes);
 /* Declares a VARIABLE state slot (contacts, rows: resized at run time),
  * empty at first, holding 0..max_elems elements of elem_size bytes (> 0).
@@ -73,13 +90,26 @@ PL_API int pl_slot_check_finite(const pl_component *owner, const void *data, siz
 /* Index of the slot named "path.name", or -1. */
 PL_API int pl_model_find_slot(const pl_model *m, const char *fullname);
 
-/* A new data with every slot allocated and zeroed; NULL on failure. */
+/* A new data: component slots zeroed, input slots holding their field's
+ * value in the component (input.h); NULL on failure. */
 PL_API pl_data *pl_data_create(const pl_model *m);
-/* A deep copy; NULL on failure. */
+/* A deep copy of the slots, time and step (not the workspaces); NULL on
+ * failure. */
 PL_API pl_data *pl_data_clone(const pl_data *src);
-/* Copies src into dst (same model); resizes dst's slots. */
+/* Copies src into dst (same model); resizes dst's slots.  dst keeps its
+ * workspaces. */
 PL_API int pl_data_copy(pl_data *dst, const pl_data *src);
+/* Frees the data and its workspaces: call it while the model's components
+ * are alive (before pl_sim_free). */
 PL_API void pl_data_free(pl_data *d);
+
+/* The workspace of component c in d: c->type->workspace_size bytes, zeroed
+ * when first asked for in d (and again after the model was rebuilt), kept
+ * until d is freed, never copied or saved.  NULL when the type declares no
+ * workspace, c is not part of d's model, or memory runs out.  Per-step
+ * scratch and results go here, never into the component (MuJoCo keeps
+ * plugin state in mjData likewise). */
+PL_API void *pl_data_workspace(pl_data *d, const pl_component *c);
 
 static inline void *pl_data_slot(const pl_data *d, int slot)
 {

@@ -8,6 +8,7 @@
 #include "error.h"
 #include "export.h"
 #include "field.h"
+#include "input.h"
 #include "log.h"
 #include "mesh.h"
 #include "model.h"

@@ -30,7 +30,13 @@
  * History: 3 and before: one number.  4.0: the detector role and
  * pl_contacts removed, pl_type registered by pointer (its plugin name is the
  * registry's), roles in PL_ROLE_MAX reserved slots, ABI major.minor.
- * 4.1: PL_DEVICE_ABSENT, pl_mesh_boundary_triangles, pl_util_data_file. */
+ * 4.1: PL_DEVICE_ABSENT, pl_mesh_boundary_triangles, pl_util_data_file.
+ * 5.0: the model const in step callbacks (pl_ctx.model const, pl_ctx.build
+ * while building), per-data workspaces (pl_type.workspace_size,
+ * pl_lifecycle.workspace_free), input fields, fixed and variable state
+ * slots with restore checks (pl_type's layout changed: a major version).
+ * 5.1: 4.1's additions again, as a minor of 5 (a plugin may target 5.0
+ * without them). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

@@ -6,7 +6,14 @@
  * members mean "not supported".  Arrays cross as pl_buffer descriptors
  * (host or device, float64 or float32), so the CUDA backend implements the
  * same roles.  Positions, velocities and right-hand sides are n x 3
- * row-major blocks over the vertices of the global system. */
+ * row-major blocks over the vertices of the global system.
+ *
+ * Members called during a time step take the component const: a step reads
+ * the model and writes only the pl_data it is given (slots, and the
+ * component's workspace for scratch and per-step results: model.h).  The
+ * device service and exporters are the exceptions: a device is a resource
+ * (memory, a stream) shared by every data, and exporters write files for
+ * the simulation's own data after its steps. */
 #ifndef PLIANT_ROLES_H
 #define PLIANT_ROLES_H
 
@@ -82,7 +89,7 @@ typedef struct pl_local_term_ops {
     /* local step: reads q (global n x 3), projects every element in parallel,
      * updates its duals in d, and adds h2 * w G^T (p - u) to rhs (n x 3).
      * Deterministic: element results are gathered in a fixed order. */
-    int (*project)(pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
+    int (*project)(const pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
                    pl_buffer *rhs, pl_error *err);
     /* elastic energy psi(q) [J] at q (global n x 3) */
     double (*energy)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q);
@@ -118,14 +125,17 @@ typedef struct pl_global_solver_ops {
     /* factors the scalar SPD matrix A (n x n over the unknowns, both triangles
      * or the lower one given); logs sizes and times into timers */
     int (*factor)(pl_component *c, const pl_csc *A, struct pl_timers *timers, pl_error *err);
-    /* x = A^-1 b on an n x k row-major block; x may equal b */
-    int (*solve)(pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err);
+    /* x = A^-1 b on an n x k row-major block; x may equal b.  Like the
+     * members below, called during steps: the factor is only read (scratch
+     * the solver needs within one call may be its own, overwritten by every
+     * call: steps of several data interleave, they do not run concurrently) */
+    int (*solve)(const pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err);
     /* Y = S P H^T for scalar rows H (m x n, CSR over the unknowns): W = Y^T Y
      * is then H A^-1 H^T.  Y is returned as CSC (n x m) in the solver's own
      * (permuted) row space, owned by the caller. */
-    int (*apply_inverse_to_rows)(pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err);
+    int (*apply_inverse_to_rows)(const pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err);
     /* diag[i] = [A^-1]_ii (column norms of S), n values */
-    int (*inverse_diagonal)(pl_component *c, double *diag, pl_error *err);
+    int (*inverse_diagonal)(const pl_component *c, double *diag, pl_error *err);
     /* number of unknowns factored (0 before factor) */
     int (*size)(const pl_component *c);
     /* version 2, optional: non-zero when solve() takes n x 3 blocks in `where`
@@ -137,7 +147,7 @@ typedef struct pl_global_solver_ops {
      * apply_inverse_to_rows with 3m rows (coordinate k of row j is row
      * k m + j); its diagonal into the host array diag (returns when it is
      * written).  PL_EINPUT when the solver is not on a device. */
-    int (*delassus_device)(pl_component *c, const pl_csr *H, int m, double *W, double *diag,
+    int (*delassus_device)(const pl_component *c, const pl_csr *H, int m, double *W, double *diag,
                            pl_error *err);
 } pl_global_solver_ops;
 
@@ -146,31 +156,32 @@ typedef struct pl_global_solver_ops {
 typedef struct pl_constraint_ops {
     int version;
     /* appends this step's rows; q = positions at the start of the step (n x 3) */
-    int (*build_rows)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
+    int (*build_rows)(const pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q,
                       pl_rows *rows, pl_error *err);
     /* receives the step's multipliers of its rows (first .. first+count-1) [N] */
-    void (*accept_multipliers)(pl_component *c, pl_data *d, const pl_rows *rows,
+    void (*accept_multipliers)(const pl_component *c, pl_data *d, const pl_rows *rows,
                                const double *lambda, int first, int count);
 } pl_constraint_ops;
 
 /* ---- pl_contact_solver: the constrained global step (Algorithm 4) -------- */
-#define PL_CONTACT_SOLVER_OPS_VERSION 1
+#define PL_CONTACT_SOLVER_OPS_VERSION 2 /* 2: multipliers of a data */
 typedef struct pl_contact_solver_ops {
     int version;
     /* once per step: rows are final; builds W (explicit or matrix-free) and
      * the complementarity scaling; warm-starts lambda.  q_t: positions at the
      * start of the step. */
-    int (*begin)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
+    int (*begin)(const pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_rows *rows,
                  const pl_buffer *q_t, pl_error *err);
     /* one local-global iteration's constraint part: from q^k (all vertices,
      * n x 3) and the elastic right-hand side b^k over the unknowns (nfree x 3,
      * prescribed contributions -A_fp q_p already in), updates lambda and
      * writes the unknowns q^{k+1} = A^-1 (b^k + h^2 J^T lambda) (nfree x 3);
      * rows on prescribed vertices contribute to H q but get no correction */
-    int (*iterate)(pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q_k,
+    int (*iterate)(const pl_component *c, pl_ctx *ctx, const pl_system *sys, const pl_buffer *q_k,
                    const pl_buffer *b, pl_buffer *q_next, pl_error *err);
-    /* the multipliers of the last iteration (one per row) [N] */
-    const double *(*multipliers)(const pl_component *c, int *count);
+    /* the multipliers of the last iteration of d's step (one per row) [N],
+     * kept in d (its workspace) */
+    const double *(*multipliers)(const pl_component *c, pl_data *d, int *count);
 } pl_contact_solver_ops;
 
 /* ---- pl_collision_model: geometry that collides -------------------------- */
@@ -193,9 +204,10 @@ typedef struct pl_collision_geometry {
 #define PL_COLLISION_MODEL_OPS_VERSION 1
 typedef struct pl_collision_model_ops {
     int version;
-    /* refreshes the geometry from the positions q (global n x 3) */
-    int (*update)(pl_component *c, pl_ctx *ctx, const pl_buffer *q, pl_collision_geometry *out,
-                  pl_error *err);
+    /* the geometry at the positions q (global n x 3); the arrays it points to
+     * live in ctx->data (the model's own, or the component's workspace) */
+    int (*update)(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
+                  pl_collision_geometry *out, pl_error *err);
 } pl_collision_model_ops;
 
 /* ---- pl_exporter: writes frames ------------------------------------------ */
@@ -222,15 +234,16 @@ typedef struct pl_exporter_ops {
 #define PL_CONTROLLER_OPS_VERSION 1
 typedef struct pl_controller_ops {
     int version;
-    /* sets the driven values for time t (start of the step being taken) */
-    int (*apply)(pl_component *c, pl_ctx *ctx, double t, pl_error *err);
+    /* sets the driven values for time t (start of the step being taken):
+     * input fields of ctx->data (pl_input_set, input.h) */
+    int (*apply)(const pl_component *c, pl_ctx *ctx, double t, pl_error *err);
 } pl_controller_ops;
 
 /* ---- pl_animation_loop: advances the state by one step ------------------- */
 #define PL_ANIMATION_LOOP_OPS_VERSION 1
 typedef struct pl_animation_loop_ops {
     int version;
-    int (*step)(pl_component *c, pl_ctx *ctx, double dt, pl_error *err);
+    int (*step)(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err);
 } pl_animation_loop_ops;
 
 /* ---- pl_device: a compute device, its memory and its stream -------------- */
@@ -245,7 +258,7 @@ enum {
     PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
 };
 #if PL_ABI_TARGET_MINOR >= 1
-/* Since ABI 4.1: the service has no device behind it (no GPU answers, or
+/* Since ABI 5.1 (4.1 before 5.0): the service has no device behind it (no GPU answers, or
  * a build without CUDA): callers stay on the host, as without a service
  * (pl_util_device skips it). */
 #define PL_DEVICE_ABSENT 4

@@ -35,7 +35,7 @@ typedef struct pl_rows {
     double *lo, *hi;         /* per row: bounds of bounded rows [N] */
     int *pair;               /* per row: friction -> its normal row; normal -> its first friction row; else -1 */
     double *mu;              /* per row: friction coefficient (normal rows) */
-    pl_component **owner;    /* per row: the component that emitted it */
+    const pl_component **owner; /* per row: the component that emitted it */
 } pl_rows;
 
 PL_API void pl_rows_init(pl_rows *r);
@@ -43,7 +43,7 @@ PL_API void pl_rows_free(pl_rows *r);
 PL_API void pl_rows_clear(pl_rows *r);
 /* Starts a new row; returns its index (or -1 on allocation failure).  Its
  * per-row values default to d 0, compliance 0, lo -inf, hi +inf, pair -1, mu 0. */
-PL_API int pl_rows_begin(pl_rows *r, pl_row_kind kind, pl_component *owner);
+PL_API int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner);
 /* Adds an entry (vertex, c) to the last row begun. */
 PL_API int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz);
 /* H q for one row, q an n x 3 row-major block over global vertices. */

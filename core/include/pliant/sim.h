@@ -27,7 +27,9 @@ typedef struct pl_sim pl_sim;
 
 /* A callback a program sets to drive the simulation itself: called at the
  * start of every step with the time t [s], before the scene's controllers;
- * it may call pl_sim_set.  Returning non-zero stops the step with an error. */
+ * it may call pl_sim_set, which (like pl_sim_get) then addresses the data
+ * being stepped (pl_sim_step_data's d).  Returning non-zero stops the step
+ * with an error. */
 typedef int (*pl_sim_callback)(pl_sim *sim, double t, void *user);
 
 typedef struct pl_sim_options {
@@ -61,15 +63,29 @@ PL_API void pl_sim_free(pl_sim *sim);
 
 /* Advances nsteps time steps of the scene's dt. */
 PL_API int pl_sim_step(pl_sim *sim, int nsteps, pl_error *err);
-/* Advances another state over the same model (several states, one model). */
+/* Advances another state over the same model (several states, one model:
+ * make them with pl_data_clone(pl_sim_data(sim)) and free them before the
+ * sim).  Steps of several data may be interleaved: each evolves exactly as
+ * if stepped alone.  Exporters write only the sim's own data. */
 PL_API int pl_sim_step_data(pl_sim *sim, pl_data *d, int nsteps, pl_error *err);
 /* Flushes exporters (closes .pvd series); called by pl_sim_free too. */
 PL_API int pl_sim_finish(pl_sim *sim, pl_error *err);
 
 /* Field access by path "node/sub/component.field" (the root's name may be
- * left out; a component name unique in the scene may stand alone). */
+ * left out; a component name unique in the scene may stand alone).  An
+ * input field (a cable's value, input.h) is set in and read from the sim's
+ * data (in a step callback: the data being stepped); any other field is the
+ * model's, shared by every data: changing a field that is neither RUNTIME
+ * nor an input rebuilds the model (weights, factors). */
 PL_API int pl_sim_set(pl_sim *sim, const char *path, const char *value, pl_error *err);
 PL_API int pl_sim_get(const pl_sim *sim, const char *path, char *buf, size_t size, pl_error *err);
+/* The same for the data d of this sim's model: an input field is set in d
+ * only, so that several data can be driven differently.  d NULL sets the
+ * model's value of an input field (where new data start from). */
+PL_API int pl_sim_set_data(pl_sim *sim, pl_data *d, const char *path, const char *value,
+                           pl_error *err);
+PL_API int pl_sim_get_data(const pl_sim *sim, const pl_data *d, const char *path, char *buf,
+                           size_t size, pl_error *err);
 /* Component by path, or NULL. */
 PL_API pl_component *pl_sim_component(const pl_sim *sim, const char *path);
 
@@ -79,7 +95,7 @@ PL_API pl_registry *pl_sim_registry(pl_sim *sim);
 PL_API pl_timers *pl_sim_timers(pl_sim *sim);
 PL_API double pl_sim_time(const pl_sim *sim);
 
-/* Back to the state right after loading. */
+/* Back to the state right after loading (input fields too). */
 PL_API int pl_sim_reset(pl_sim *sim);
 /* Save/restore the current state to/from a file (binary, exact). */
 PL_API int pl_sim_save_state(const pl_sim *sim, const char *path, pl_error *err);

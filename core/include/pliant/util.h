@@ -34,13 +34,13 @@ PL_API int pl_util_check_boxes(const pl_component *c, pl_ctx *ctx, const char *f
 #if PL_ABI_TARGET_MINOR >= 1
 /* The device service (PL_ROLE_DEVICE) in c's node or above that has a
  * device: NULL when there is none, or when it reports PL_DEVICE_ABSENT (no
- * GPU here, or a build without CUDA).  Since ABI 4.1. */
+ * GPU here, or a build without CUDA).  Since ABI 5.1 (4.1 before 5.0). */
 PL_API pl_component *pl_util_device(const pl_component *c);
 
 /* A file named in a scene: absolute as is; otherwise relative to the scene
  * file's folder, then the working directory, then each folder of
  * PLIANT_DATA_PATH.  Returns 0 and the path in out, or -1 with the places
- * tried in `tried` (for the message).  Since ABI 4.1. */
+ * tried in `tried` (for the message).  Since ABI 5.1 (4.1 before 5.0). */
 PL_API int pl_util_data_file(const char *scene_file, const char *name, char *out, size_t size,
                              char *tried, size_t tried_size);
 #endif

@@ -1,0 +1,31 @@
+/* term_ws.c - freeing the local terms' per-data workspace (term_ws.h). */
+#include "term_ws.h"
+
+#include <stdlib.h>
+
+#ifdef PLIANT_HAVE_CUDA
+#include "fem_term.h"
+#include "stencil_device.h"
+#endif
+
+double *hyper_term_work(const pl_component *c, pl_data *d, size_t n, pl_error *err)
+{
+    hyper_term_ws *w = pl_data_workspace(d, c);
+    if (w && !w->work) w->work = malloc((n ? n : 1) * sizeof *w->work);
+    if (!w || !w->work) {
+        pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+        return NULL;
+    }
+    return w->work;
+}
+
+void hyper_term_workspace_free(const pl_component *c, void *ws)
+{
+    hyper_term_ws *w = ws;
+    (void)c;
+    free(w->work);
+#ifdef PLIANT_HAVE_CUDA
+    hyper_fem_device_free(&w->fem);
+    hyper_stencil_device_free(&w->stencil);
+#endif
+}

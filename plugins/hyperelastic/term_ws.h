@@ -1,0 +1,24 @@
+/* term_ws.h - the per-data workspace of the plugin's local terms (FEM,
+ * bending, PositionTarget): the host local step's scratch, and the device
+ * copies (CUDA builds) made by the first project() on device buffers with
+ * that pl_data, kept until the data is freed or the model rebuilt.  The
+ * terms' element and stencil sets (the model) are only read during a step.
+ * Internal to the plugin. */
+#ifndef PLIANT_HYPER_TERM_WS_H
+#define PLIANT_HYPER_TERM_WS_H
+
+#include "pliant/pliant.h"
+
+typedef struct hyper_term_ws {
+    double *work;                      /* host scratch of project() */
+    struct hyper_fem_gpu *fem;         /* ARAP, Corotational, NeoHookean: fem_term_device.c */
+    struct hyper_stencil_gpu *stencil; /* bending, PositionTarget: stencil_device.c */
+} hyper_term_ws;
+
+/* c's host scratch of n doubles in d (made on first use: n depends only on
+ * the model); NULL with err set when memory runs out. */
+double *hyper_term_work(const pl_component *c, pl_data *d, size_t n, pl_error *err);
+/* The types' workspace_free. */
+void hyper_term_workspace_free(const pl_component *c, void *ws);
+
+#endif
