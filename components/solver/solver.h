@@ -6,5 +6,6 @@
 
 extern const pl_type pl_local_global_solver_type;
 extern const pl_type pl_newton_solver_type;
+extern const pl_type pl_linearized_euler_solver_type;
 
 #endif

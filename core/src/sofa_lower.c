@@ -642,6 +642,9 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     sofa_emit_solvers(&L);
     for (int k = 0; k < L.nnoted; ++k) free(L.noted[k]);
     xmlFree(L.ode_name);
+    xmlFree(L.cg_iter);
+    xmlFree(L.cg_tol);
+    xmlFree(L.cg_thr);
     xmlFree(L.lin_name);
     xmlFree(L.con_name);
 }

@@ -30,7 +30,10 @@ typedef struct sofa_lower {
     char *ode_name, *lin_name, *con_name; /* the names of the first ones */
     xmlNode *ode_nodes[64];               /* nodes holding an ODE solver (integrated below) */
     int node_count;
-    double rayleigh_mass;
+    double rayleigh_mass, rayleigh_stiffness;
+    int first_order, ode_line;
+    int lin_direct;                       /* the linear solver factors (else CG) */
+    char *cg_iter, *cg_tol, *cg_thr;      /* CGLinearSolver's iterations, tolerance, threshold */
     int free_motion;          /* the loop is FreeMotionAnimationLoop */
     int nconstraints;         /* Lagrangian constraints (cables) of the scene */
     int constraint_line;      /* the first one's line */

@@ -22,9 +22,12 @@ static const char PIPE[] = "a part of SOFA's collision pipeline: without collisi
                            "does nothing (SOFA's collision models are refused)";
 static const char COLL[] = "SOFA's collision models are not mapped yet; closest: "
                            "SurfaceCollisionModel and the obstacles of Pliant's collision plugin";
-static const char LINSOLVE[] = "the linear solver: Pliant's global step solves its constant "
-                               "system exactly with a Cholesky factor (SparseInverseSolver at "
-                               "the root); iteration counts and tolerances do not apply";
+static const char LINSOLVE[] = "the linear solver of the step: LinearizedEulerSolver "
+                               "linearSolver=\"direct\" (a Cholesky factor); with constraints "
+                               "SparseInverseSolver at the root";
+static const char CGSOLVE[] = "LinearizedEulerSolver linearSolver=\"cg\" with its iterations, "
+                              "tolerance and threshold; with constraints SparseInverseSolver at "
+                              "the root (exact, tuning ignored)";
 static const char CONSOLVE[] = "the constraint solver: NonSmoothNewtonContactSolver at the root "
                                "(non-smooth Newton, not Gauss-Seidel; its iteration counts and "
                                "tolerances do not apply)";
@@ -45,24 +48,27 @@ static const pl_sofa_component COMPONENTS[] = {
     LOWERED("FreeMotionAnimationLoop", "LocalGlobalSolver", NULL,
             "the loop of the generated LocalGlobalSolver, with constraints solved inside its "
             "iterations"),
-    LOWERED("EulerImplicitSolver", "LocalGlobalSolver", NULL,
-            "one LocalGlobalSolver at the root (iterations 20) integrates every body that has an "
-            "EulerImplicitSolver above it: implicit Euler converged by local-global iterations, "
-            "where SOFA takes one linearised Newton step; rayleighMass becomes damping; "
-            "rayleighStiffness, vdamping and firstOrder are refused"),
+    LOWERED("EulerImplicitSolver", "LinearizedEulerSolver", NULL,
+            "one solver at the root integrates every body that has an EulerImplicitSolver above "
+            "it: LinearizedEulerSolver, SOFA's scheme (one linearised step, Rayleigh damping, "
+            "firstOrder); with Lagrangian constraints (cables) LocalGlobalSolver (iterations "
+            "20), implicit Euler converged by local-global iterations, rayleighMass as its "
+            "damping, rayleighStiffness and firstOrder refused"),
     REFUSED("EulerExplicitSolver", "explicit integration is not in Pliant; closest: "
                                    "EulerImplicitSolver (LocalGlobalSolver)"),
     REFUSED("RungeKutta4Solver", "explicit integration is not in Pliant; closest: "
                                  "EulerImplicitSolver (LocalGlobalSolver)"),
     REFUSED("StaticSolver", "static solving with SOFA's Newton loop is not mapped; closest: "
                             "NewtonSolver quasiStatic=\"1\" (a Pliant scene)"),
-    LOWERED("CGLinearSolver", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("PCGLinearSolver", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("SparseLDLSolver", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("AsyncSparseLDLSolver", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("SparseCholeskySolver", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("EigenSimplicialLDLT", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
-    LOWERED("EigenSimplicialLLT", "SparseInverseSolver", "sparse_inverse", LINSOLVE),
+    LOWERED("CGLinearSolver", "LinearizedEulerSolver", NULL, CGSOLVE),
+    LOWERED("PCGLinearSolver", "LinearizedEulerSolver", NULL,
+            "preconditioned CG: LinearizedEulerSolver linearSolver=\"direct\" (its "
+            "preconditioner is a factorisation); with constraints SparseInverseSolver"),
+    LOWERED("SparseLDLSolver", "LinearizedEulerSolver", NULL, LINSOLVE),
+    LOWERED("AsyncSparseLDLSolver", "LinearizedEulerSolver", NULL, LINSOLVE),
+    LOWERED("SparseCholeskySolver", "LinearizedEulerSolver", NULL, LINSOLVE),
+    LOWERED("EigenSimplicialLDLT", "LinearizedEulerSolver", NULL, LINSOLVE),
+    LOWERED("EigenSimplicialLLT", "LinearizedEulerSolver", NULL, LINSOLVE),
     LOWERED("GenericConstraintSolver", "NonSmoothNewtonContactSolver", "ncp_contact", CONSOLVE),
     LOWERED("BlockGaussSeidelConstraintSolver", "NonSmoothNewtonContactSolver", "ncp_contact",
             CONSOLVE),
@@ -296,17 +302,19 @@ static const pl_sofa_attr ATTRS[] = {
                                                                     "vertices: velocity 0"),
     A_IGN("FixedConstraint", "activate_projectVelocity", "Pliant eliminates the vertices"),
     /* solvers (tuning) */
-    A_LOW("EulerImplicitSolver", "rayleighMass", "LocalGlobalSolver damping [1/s]"),
-    A_LOW("EulerImplicitSolver", "rayleighStiffness", "refused unless 0"),
+    A_LOW("EulerImplicitSolver", "rayleighMass", "LinearizedEulerSolver rayleighMass; with "
+                                                 "constraints LocalGlobalSolver damping [1/s]"),
+    A_LOW("EulerImplicitSolver", "rayleighStiffness",
+          "LinearizedEulerSolver rayleighStiffness; refused with constraints unless 0"),
     A_LOW("EulerImplicitSolver", "vdamping", "refused unless 0"),
     A_LOW("EulerImplicitSolver", "firstOrder",
-          "refused when true: SOFA's first-order scheme (M dx/dt = f) is not in Pliant"),
+          "LinearizedEulerSolver firstOrder; refused with constraints"),
     A_IGN("EulerImplicitSolver", "trapezoidalScheme", TUNE),
     A_IGN("EulerImplicitSolver", "solveConstraint", TUNE),
     A_IGN("EulerImplicitSolver", "threadSafeVisitor", TUNE),
-    A_IGN("CGLinearSolver", "iterations", TUNE),
-    A_IGN("CGLinearSolver", "tolerance", TUNE),
-    A_IGN("CGLinearSolver", "threshold", TUNE),
+    A_LOW("CGLinearSolver", "iterations", "LinearizedEulerSolver iterations"),
+    A_LOW("CGLinearSolver", "tolerance", "LinearizedEulerSolver tolerance (|r| / |b|)"),
+    A_LOW("CGLinearSolver", "threshold", "LinearizedEulerSolver threshold (smallest p.Ap)"),
     A_IGN("CGLinearSolver", "warmStart", TUNE),
     A_IGN("PCGLinearSolver", "iterations", TUNE),
     A_IGN("PCGLinearSolver", "tolerance", TUNE),

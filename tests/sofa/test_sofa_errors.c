@@ -57,8 +57,15 @@ static const bad_case CASES[] = {
     /* an unknown name in a SOFA scene */
     {"", "", "", "<FooBarForceField/>\n", "unknown component type 'FooBarForceField'", 8, ""},
     /* integrators Pliant does not have */
-    {"", "firstOrder=\"true\"", "", "", "first-order", 5, "ode"},
-    {"", "rayleighStiffness=\"0.1\"", "", "", "stiffness-proportional", 5, "ode"},
+    {FREE_MOTION, "firstOrder=\"true\"", "",
+     CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
+                "<BarycentricMapping/>"),
+     "firstOrder=\"true\" with a Lagrangian constraint", 5, "EulerImplicitSolver"},
+    {FREE_MOTION, "rayleighStiffness=\"0.1\"", "",
+     CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
+                "<BarycentricMapping/>"),
+     "rayleighStiffness with a Lagrangian constraint", 5, "EulerImplicitSolver"},
+    {"", "vdamping=\"1\"", "", "", "velocity damping", 5, "ode"},
     {"", "", "", "</Node><Node name=\"other\"><MechanicalObject name=\"loose\" "
                  "position=\"0 0 0\"/>\n",
      "no EulerImplicitSolver", 8, "loose"},
