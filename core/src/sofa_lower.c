@@ -636,6 +636,7 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     preload_plugins(&L, L.root);
     if (!sofa_flavoured(&L, L.root)) return;
     sofa_lower_plugins(&L);
+    sofa_lower_lonely_collision(&L);
     sofa_lower_mapped_nodes(&L, L.root);
     sofa_lower_rois(&L, L.root);
     lower_tree(&L, L.root);

@@ -70,6 +70,7 @@ int sofa_is_true(const char *s);
 
 /* sofa_structure.c */
 void sofa_lower_plugins(sofa_lower *L);
+void sofa_lower_lonely_collision(sofa_lower *L);
 void sofa_lower_mapped_nodes(sofa_lower *L, xmlNode *node);
 void sofa_lower_rois(sofa_lower *L, xmlNode *node);
 void sofa_lower_container(sofa_lower *L, xmlNode *e);

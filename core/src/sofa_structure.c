@@ -231,7 +231,8 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
     }
     if (!ncables) {
         sofa_note(L, "mapped-visual", map,
-                  "the node '%s' only follows the body (drawing): not simulated, dropped", where);
+                  "the node '%s' only follows the body (drawing, nothing acting on it): not "
+                  "simulated, dropped", where);
         sofa_remove(node);
         return;
     }
@@ -498,4 +499,62 @@ void sofa_lower_springs(sofa_lower *L, xmlNode *e)
     xmlFree(k);
     xmlFree(pts);
     sofa_remove(e);
+}
+
+/* ---- collision models that cannot touch anything ------------------------- */
+
+static int is_sofa_collision_model(sofa_lower *L, const xmlNode *e)
+{
+    const char *tag = (const char *)e->name;
+    static const char *const old[] = {"TriangleModel", "LineModel", "PointModel", "SphereModel",
+                                      NULL};
+    int hit = strstr(tag, "CollisionModel") != NULL;
+    for (int k = 0; old[k]; ++k) hit |= !strcmp(tag, old[k]);
+    return hit && !pl_registry_find(L->reg, tag);
+}
+
+/* Counts SOFA collision models; *node: the one node holding them all (NULL
+ * if they sit in several); *self: one of them collides with its own body. */
+static int collision_models(sofa_lower *L, xmlNode *node, xmlNode **holder, int *several,
+                            int *self)
+{
+    int n = 0;
+    for (xmlNode *e = node->children; e; e = e->next) {
+        if (sofa_is_node(e)) {
+            n += collision_models(L, e, holder, several, self);
+        } else if (sofa_is_element(e) && is_sofa_collision_model(L, e)) {
+            char *sc = sofa_get(e, "selfCollision");
+            *self |= sofa_is_true(sc);
+            xmlFree(sc);
+            if (*holder && *holder != node) *several = 1;
+            *holder = node;
+            ++n;
+        }
+    }
+    return n;
+}
+
+void sofa_lower_lonely_collision(sofa_lower *L)
+{
+    xmlNode *holder = NULL;
+    int several = 0, self = 0;
+    if (!collision_models(L, L->root, &holder, &several, &self) || several || self) return;
+    xmlNode *next;
+    char np[160];
+    sofa_node_path(holder, np, sizeof np);
+    for (xmlNode *e = holder->children; e; e = next) {
+        next = e->next;
+        if (!sofa_is_element(e) || !is_sofa_collision_model(L, e)) continue;
+        sofa_note(L, "lonely-collision", e,
+                  "the scene's only collision models are those of '%s', which do not collide "
+                  "with each other (no selfCollision): SOFA finds no contact, so they are "
+                  "ignored",
+                  np);
+        sofa_remove(e);
+    }
+    /* what only fed them (SOFA's SphereLoader) goes with them */
+    for (xmlNode *e = holder->children; e; e = next) {
+        next = e->next;
+        if (sofa_tag_is(e, "SphereLoader")) sofa_remove(e);
+    }
 }

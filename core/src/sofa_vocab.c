@@ -18,9 +18,11 @@
 
 static const char CORR[] = "a constraint correction: Pliant's contact solver works with the "
                            "global solver's factor itself";
-static const char PIPE[] = "a part of SOFA's collision pipeline: without collision models it "
-                           "does nothing (SOFA's collision models are refused)";
-static const char COLL[] = "SOFA's collision models are not mapped yet; closest: "
+static const char PIPE[] = "a part of SOFA's collision pipeline: it acts only through "
+                           "collision models, which are refused where they could touch "
+                           "something and ignored where they cannot";
+static const char COLL[] = "SOFA's collision models are not mapped yet (ignored when all "
+                           "sit in one node without selfCollision: nothing to touch); closest: "
                            "SurfaceCollisionModel and the obstacles of Pliant's collision plugin";
 static const char LINSOLVE[] = "the linear solver of the step: LinearizedEulerSolver "
                                "linearSolver=\"direct\" (a Cholesky factor); with constraints "

@@ -124,6 +124,10 @@ static const bad_case CASES[] = {
     {"", "", "", "<Node name=\"n\"><EulerImplicitSolver/><CGLinearSolver/><MechanicalObject/>"
                  "<TetrahedronSetTopologyContainer name=\"topo\" src=\"@../loader\"/></Node>\n",
      "another node", 8, "topo"},
+    /* collision models that could touch each other (two nodes) */
+    {"", "", "", "<PointCollisionModel name=\"pc\"/>\n<Node name=\"sub\">"
+                 "<TriangleCollisionModel/></Node>\n",
+     "collision models are not mapped yet", 8, "pc"},
     /* an old SOFA scene format */
     {"", "", "", "<include href=\"x.xml\"/>\n", "<include>", 8, ""},
 };
