@@ -5,6 +5,7 @@
 #define PLIANT_LOCAL_GLOBAL_H
 
 #include "dynamics.h"
+#include "force_residual.h"
 
 /* The model's device copies (built at reinit through the scene's device
  * service, pl_device_ops); dev == NULL: the loop runs on the CPU. */
@@ -37,6 +38,7 @@ typedef struct lg_ws {
     int ready;                 /* w allocated for the model */
     pl_dyn_work w;
     pl_rows rows;              /* the step's constraint rows */
+    pl_force_residual res;     /* its scratch (force_residual.c) */
     lg_device_ws gpu;
 } lg_ws;
 
@@ -44,6 +46,10 @@ typedef struct local_global_solver {
     pl_component base;
     int iterations;
     double tolerance;
+    double force_tolerance;    /* [N]: stop once the force residual is below it (0: not used) */
+    int compute_residual;      /* field: 0 auto, 1 on, 2 off */
+    int report_residual;       /* the force residual of each step is recorded */
+    int initial_guess;         /* 0 prediction sn, 1 inertia q_t + h v_t */
     double damping;
     int compute_energy;
     pl_link solver_link;
@@ -56,7 +62,7 @@ typedef struct local_global_solver {
     pl_component **constraints;
     int nconstraints;
     int ready;
-    int t_local, t_global, t_assembly;
+    int t_local, t_global, t_assembly, t_residual;
     lg_device gpu;
 } local_global_solver;
 
@@ -80,5 +86,14 @@ int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx
                             pl_error *err);
 /* The multipliers to the state (constraint forces) and to their emitters. */
 void pl_lg_end_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx);
+/* The force residual [N] at the workspace's iterate with the contact
+ * solver's multipliers of this data (cs NULL: none).  local_global_solver.c. */
+int pl_lg_residual(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,
+                   const pl_contact_solver_ops *cs, double *out, pl_error *err);
+/* Its record in the timings, with the iterations done. */
+void pl_lg_record_residual(const local_global_solver *s, pl_ctx *ctx, double residual,
+                           int iterations);
+/* w->q <- q^0 of the step (initialGuess), before the prescribed vertices. */
+void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w);
 
 #endif

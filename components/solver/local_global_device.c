@@ -59,14 +59,18 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
     pl_dynamics *d = &s->dyn;
     char path[256];
     why[0] = '\0';
+    if (s->force_tolerance > 0)
+        say(why, size, "forceTolerance > 0 evaluates the force residual on the CPU after every "
+                       "iteration");
     if (s->contact) {
         const pl_field *f = pl_component_field(s->contact, "device");
         char v[64] = "";
         if (!f || pl_field_format(f, s->contact, v, sizeof v) != PL_OK || !strcmp(v, "cpu"))
             say(why, size,
-                "the contact solver %s (%s) has no device path here (NonSmoothNewtonContactSolver "
+                "%sthe contact solver %s (%s) has no device path here (NonSmoothNewtonContactSolver "
                 "in a CUDA build with device=\"auto\" has one)",
-                pl_component_path(s->contact, path, sizeof path), s->contact->type->name);
+                why[0] ? "; " : "", pl_component_path(s->contact, path, sizeof path),
+                s->contact->type->name);
     }
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (!(gs->version >= 2 && gs->accepts && gs->accepts(s->solver, PL_DEVICE, PL_F64)))
@@ -373,7 +377,7 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
     pl_dynamics_gather(d, w, ctx->data);
     pl_dynamics_predict(d, w);
-    memcpy(w->q, w->sn, n3);
+    pl_lg_initial_guess(s, w);
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (rc) return rc;
     g->nrows = 0;
@@ -396,8 +400,10 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
     rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
     if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
+    int done = 0;
     for (int it = 0; !rc && it < s->iterations; ++it) {
         rc = run_iteration(s, g, ctx, it, err);
+        done = it + 1;
         if (rc || !(s->tolerance > 0 || s->compute_energy) || d->nfree == 0) continue;
         double change = 0.0;
         if (s->tolerance > 0)
@@ -422,6 +428,13 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
             return pl_component_fail(c, err, PL_EINTERNAL,
                                      "the solution became NaN/inf during step %ld (vertex %d)",
                                      ctx->data->step + 1, d->free_vertex[f]);
+    }
+    if (s->report_residual) { /* on the host, at the step's q and multipliers */
+        double residual;
+        const pl_contact_solver_ops *cs =
+            g->nrows > 0 ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
+        if ((rc = pl_lg_residual(s, ws, ctx, cs, &residual, err))) return rc;
+        pl_lg_record_residual(s, ctx, residual, done);
     }
     if (g->nrows > 0)
         pl_lg_end_constraints(s, ws, ctx);

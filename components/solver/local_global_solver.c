@@ -21,6 +21,8 @@
 #include "solver.h"
 
 static const char *const device_choices[] = {"cpu", "cuda", "auto", NULL};
+static const char *const guess_choices[] = {"prediction", "inertia", NULL};
+static const char *const residual_choices[] = {"auto", "on", "off", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(local_global_solver, iterations, "iterations", PL_F_INT, "5",
@@ -29,6 +31,28 @@ static const pl_field FIELDS[] = {
              "run to tolerance: stop when the largest position change of an iteration is below "
              "tolerance times the bounding-box diagonal (0: always run `iterations`)",
              PL_FIELD_RUNTIME),
+    PL_FIELD(local_global_solver, force_tolerance, "forceTolerance", PL_F_DOUBLE, "0",
+             "run to equilibrium: stop when the force residual (the largest norm over free "
+             "vertices of m_i (q_i - s_i) / h^2 - f_int,i(q) - (H^T lambda)_i) is below it [N] "
+             "(0: not used; with "
+             "tolerance > 0 too, both must hold); costs one gradient evaluation per iteration; "
+             "the iterations then run on the CPU",
+             PL_FIELD_RUNTIME),
+    PL_FIELD_ENUM(local_global_solver, compute_residual, "computeResidual", residual_choices,
+                  "auto",
+                  "record the force residual [N] at the end of each step (series \"force "
+                  "residual\" and statistic \"force residual max\" in the timings, phase "
+                  "\"Residual\"; one gradient evaluation per step, on the CPU): on, off, or auto "
+                  "(on when the iterations run on the CPU and every local term has a gradient; "
+                  "off on the device, where that host evaluation would cost more than the frame)",
+                  PL_FIELD_RUNTIME),
+    PL_FIELD_ENUM(local_global_solver, initial_guess, "initialGuess", guess_choices, "prediction",
+                  "q^0 of each step's iterations: prediction (sn = q_t + h v_t + h^2 g, the "
+                  "paper's) or inertia (q_t + h v_t: a body held against gravity, e.g. a soft "
+                  "robot at rest, is already in equilibrium there: with forceTolerance 1e-3 N the "
+                  "resting finger of cable_finger_small.xml took 1 iteration a step instead of "
+                  "133, docs/scenes.md)",
+                  PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, damping, "damping", PL_F_DOUBLE, "0",
              "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_INPUT),
     PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
@@ -83,6 +107,9 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     if (pl_work_limit_check(c, ctx, s->iterations, lim.max_iterations,
                             "iterations (per time step)", "maxIterations"))
         return PL_EINPUT;
+    if (!(s->force_tolerance >= 0))
+        return pl_component_error(c, ctx, PL_EINPUT, "forceTolerance must be >= 0 [N], got %g",
+                                  s->force_tolerance);
     free(s->constraints);
     s->constraints = NULL;
     collect cl = {NULL, 0};
@@ -107,10 +134,18 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "needs a global solver (e.g. <SparseInverseSolver/> with "
                                   "<RequiredPlugin name=\"sparse_inverse\"/>)");
+    const pl_global_solver_ops *ops = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    char path[256];
+    if (s->nconstraints && ops->version >= 4 && ops->approximate && ops->approximate(s->solver))
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "the global solver %s (%s) only approximates A^-1 b, and the "
+                                  "scene's %d constraint component(s) need W = H A^-1 H^T: use "
+                                  "an exact global solver (SparseInverseSolver)",
+                                  pl_component_path(s->solver, path, sizeof path),
+                                  s->solver->type->name, s->nconstraints);
     int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 1);
     if (rc) return rc;
     s->dyn.sys.global_solver = s->solver;
-    const pl_global_solver_ops *ops = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (s->dyn.nfree > 0 && (rc = ops->factor(s->solver, &s->dyn.A_ff, ctx->timers, &err))) {
         pl_diag_add(ctx->diag, &err);
         return rc;
@@ -118,7 +153,15 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     s->t_local = pl_timer_id(ctx->timers, "Local");
     s->t_assembly = pl_timer_id(ctx->timers, "Assembly");
     s->t_global = pl_timer_id(ctx->timers, "Global");
+    s->t_residual = pl_timer_id(ctx->timers, "Residual");
     if ((rc = pl_lg_device_setup(s, ctx))) return rc;
+    /* computeResidual: 0 auto, 1 on, 2 off */
+    s->report_residual = s->compute_residual == 1 ||
+                         (s->compute_residual == 0 && !s->gpu.dev &&
+                          pl_force_residual_possible(&s->dyn));
+    if ((s->report_residual || s->force_tolerance > 0) &&
+        (rc = pl_force_residual_check(&s->dyn, c, ctx)))
+        return rc;
     pl_log_info("LocalGlobalSolver: %d vertices (%d unknowns), %d local terms, %d iterations%s",
                 s->dyn.n, s->dyn.nfree, s->dyn.nterms, s->iterations,
                 s->gpu.dev ? ", on the device" : "");
@@ -141,6 +184,7 @@ static void lg_workspace_free(const pl_component *c, void *ws)
     pl_lg_device_ws_free(w);
     pl_dyn_work_free(&w->w);
     pl_rows_free(&w->rows);
+    pl_force_residual_free(&w->res);
 }
 
 /* This data's workspace, made for the model on first use; NULL with err
@@ -212,6 +256,48 @@ static int local_step(const local_global_solver *s, pl_dyn_work *w, pl_ctx *ctx,
     return PL_OK;
 }
 
+/* q^0: the prediction sn (the paper), or q_t + h v_t without gravity's
+ * h^2 g, which is where a supported body at rest already is.  Shared with
+ * the device path (local_global.h). */
+void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w)
+{
+    const pl_dynamics *d = &s->dyn;
+    if (s->initial_guess == 0) {
+        memcpy(w->q, w->sn, (size_t)d->n * 3 * sizeof(double));
+        return;
+    }
+    for (int i = 0; i < 3 * d->n; ++i) w->q[i] = w->q_t[i] + d->h * w->v_t[i];
+}
+
+/* The force residual [N] at the current iterate w.q with the contact
+ * solver's current multipliers (cs NULL: no constraint force); timed as
+ * "Residual".  Shared with the device path (local_global.h). */
+int pl_lg_residual(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,
+                   const pl_contact_solver_ops *cs, double *out, pl_error *err)
+{
+    int count = 0;
+    const double *lambda = cs ? cs->multipliers(s->contact, ctx->data, &count) : NULL;
+    if (lambda && count != ws->rows.n) lambda = NULL;
+    pl_timer_start(ctx->timers, s->t_residual);
+    int rc = pl_force_residual_eval(&ws->res, &s->dyn, &ws->w, ctx->data, ws->w.q,
+                                    lambda ? &ws->rows : NULL, lambda, out, err);
+    pl_timer_stop(ctx->timers, s->t_residual);
+    return rc;
+}
+
+/* The step's residual into the timings ("force residual" per step, its
+ * maximum) and, when iterations stop on a tolerance, the iterations done. */
+void pl_lg_record_residual(const local_global_solver *s, pl_ctx *ctx, double residual,
+                           int iterations)
+{
+    if (!isnan(residual)) {
+        pl_series_push(ctx->timers, "force residual", residual);
+        pl_stat_max(ctx->timers, "force residual max", residual);
+    }
+    if (s->tolerance > 0 || s->force_tolerance > 0)
+        pl_series_push(ctx->timers, "iterations", iterations);
+}
+
 static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
 {
     const local_global_solver *s = (const local_global_solver *)c;
@@ -229,7 +315,7 @@ static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     pl_dynamics_gather(d, w, ctx->data);
     pl_dynamics_predict(d, w);
-    memcpy(w->q, w->sn, (size_t)d->n * 3 * sizeof(double));
+    pl_lg_initial_guess(s, w);
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (rc) return rc;
     int nrows = 0;
@@ -245,6 +331,12 @@ static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
     pl_buffer bb = pl_buffer_host_f64(w->b_free, (size_t)d->nfree, 3);
     pl_buffer xb = pl_buffer_host_f64(w->q_free, (size_t)d->nfree, 3);
+    /* an iterative global solver starts from the current iterate */
+    int from_iterate = gs->version >= 4 && gs->solve_from;
+    for (int f = 0; from_iterate && f < d->nfree; ++f)
+        memcpy(&w->q_free[3 * f], &w->q[3 * d->free_vertex[f]], 3 * sizeof(double));
+    int done = 0;
+    double residual = NAN;
     for (int it = 0; it < s->iterations; ++it) {
         pl_timer_start(ctx->timers, s->t_local);
         rc = local_step(s, w, ctx, err);
@@ -258,7 +350,9 @@ static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             rc = d->nfree ? cs->iterate(s->contact, ctx, &d->sys, &qk, &bb, &xb, err) : PL_OK;
         } else {
             pl_timer_start(ctx->timers, s->t_global);
-            rc = d->nfree ? gs->solve(s->solver, &bb, &xb, err) : PL_OK;
+            if (d->nfree)
+                rc = from_iterate ? gs->solve_from(s->solver, &bb, &xb, it, err)
+                                  : gs->solve(s->solver, &bb, &xb, err);
             pl_timer_stop(ctx->timers, s->t_global);
         }
         if (rc) return rc;
@@ -277,8 +371,19 @@ static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
             }
         if (s->compute_energy)
             pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, w, ctx->data, w->q));
-        if (s->tolerance > 0 && change < s->tolerance * scale) break;
+        done = it + 1;
+        residual = NAN;
+        if (s->force_tolerance > 0 && (rc = pl_lg_residual(s, ws, ctx, cs, &residual, err)))
+            return rc;
+        if (!(s->tolerance > 0 || s->force_tolerance > 0)) continue;
+        if ((s->tolerance <= 0 || change < s->tolerance * scale) &&
+            (s->force_tolerance <= 0 || residual < s->force_tolerance))
+            break;
     }
+    if (s->report_residual && isnan(residual) &&
+        (rc = pl_lg_residual(s, ws, ctx, cs, &residual, err)))
+        return rc;
+    pl_lg_record_residual(s, ctx, residual, done);
     if (cs)
         pl_lg_end_constraints(s, ws, ctx);
     else if (s->nconstraints)

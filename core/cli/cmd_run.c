@@ -180,6 +180,12 @@ int cli_run(int argc, char **argv)
     printf("%s: %d steps, t = %.4g s, load %.3f s, %.3f ms/step, %d thread%s", a.scene, done,
            pl_sim_time(sim), load_s, done ? 1e3 * run_s / done : 0.0, threads,
            threads == 1 ? "" : "s");
+    const double *residual;
+    int nres = pl_series_get(pl_sim_timers(sim), "force residual", &residual);
+    double res_max = 0.0;
+    for (int k = 0; k < nres; ++k) res_max = residual[k] > res_max ? residual[k] : res_max;
+    if (nres > 0)
+        printf("; force residual %.3g N at the last step (max %.3g N)", residual[nres - 1], res_max);
     for (int k = 0; k < nout; ++k) printf("%s%s", k ? ", " : "; output: ", outs[k]);
     if (a.timings) printf("; timings: %s", a.timings);
     printf("\n");

@@ -135,4 +135,15 @@ int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *
 int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
                        double *lambda, pl_error *err);
 
+/* ---- first iteration: contacts without force -----------------------------
+ * contact_stick_start.c: lambda of the contacts that start the step with
+ * lambda = 0 and that the free motion closes (delta_n < 0 at delta_free +
+ * h^2 W lambda) <- the forces holding them still (normal and friction rows
+ * as equalities, conjugate residual, cr_iterations products), projected on
+ * the cone.  delta_free: row values at q_free = A^-1 b^0.  Returns the rows
+ * started, or -(error code). */
+int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
+                        const double *delta_free, double *lambda, int cr_iterations,
+                        pl_error *err);
+
 #endif

@@ -111,6 +111,13 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
+    PL_FIELD(ncp_contact_solver, stick_start, "stickStart", PL_F_BOOL, "1",
+             "at the first iteration of a step, contacts without force (new ones, all of them "
+             "in the first step from rest) that the free motion closes start from the forces "
+             "that hold them still (normal and friction rows as equalities, one conjugate "
+             "residual solve), projected on the friction cone; 0: they start from 0 and the "
+             "friction grows over the iterations (docs/contact.md)",
+             PL_FIELD_RUNTIME),
     /* in every build: without CUDA, auto is the CPU */
     PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",
                   "where the iterations' constraint work runs: auto (where the animation loop "
@@ -259,6 +266,7 @@ static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys
     for (int j = 0; j < w->rows.m; ++j) w->lambda_all[w->rows.full[j]] = w->lambda[j];
     pl_ncpc_statistics(w, t);
     w->active = 1;
+    w->first_iteration = 1;
     return PL_OK;
 }
 
@@ -392,7 +400,17 @@ static int solver_iterate(const pl_component *c, pl_ctx *ctx, const pl_system *s
     pl_ncp_step_info info = {0, 0.0, 0.0};
     pl_ncp_line_info li = {1.0, 0.0, 0.0, 0, 0};
     pl_timer_start(t, w->t_solve);
-    st = constraint_solve(s, w, &info, &li, err);
+    if (w->first_iteration && s->stick_start) {
+        /* contacts without force start from the forces holding them still */
+        pl_ncp_operator op = pl_ncpc_delassus_operator(&w->D);
+        w->D.status = PL_OK;
+        int got = pl_ncpc_stick_start(&w->rows, &op, w->h, w->delta_free, w->lambda,
+                                      s->cr_iterations, err);
+        st = got < 0 ? -got : w->D.status;
+        if (st != PL_OK && w->D.status != PL_OK) *err = w->D.err;
+    }
+    w->first_iteration = 0;
+    if (st == PL_OK) st = constraint_solve(s, w, &info, &li, err);
     pl_timer_stop(t, w->t_solve);
     if (st == PL_OK) {
         pl_timer_start(t, w->t_corr);

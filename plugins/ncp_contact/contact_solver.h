@@ -29,6 +29,7 @@ typedef struct ncp_contact_solver {
     int project;
     int line_search;
     int device;               /* field: 0 cpu, 1 auto (follow the animation loop) */
+    int stick_start;
     /* model */
     int slot;                 /* pl_data slot of the warm-start records */
 } ncp_contact_solver;
@@ -41,6 +42,7 @@ typedef struct ncpc_ws {
     int inv_diag_n, inv_diag_ok;
     /* the step */
     int active;               /* begin ran for the step being taken */
+    int first_iteration;      /* the next iterate is the step's first */
     int nall, nfree;
     double h;
     pl_ncpc_rows rows;

@@ -119,7 +119,7 @@ typedef struct pl_system {
 } pl_system;
 
 /* ---- pl_global_solver: A^-1 for the constant system ---------------------- */
-#define PL_GLOBAL_SOLVER_OPS_VERSION 3 /* 2: accepts; 3: delassus_device */
+#define PL_GLOBAL_SOLVER_OPS_VERSION 4 /* 2: accepts; 3: delassus_device; 4: solve_from, approximate */
 typedef struct pl_global_solver_ops {
     int version;
     /* factors the scalar SPD matrix A (n x n over the unknowns, both triangles
@@ -149,6 +149,21 @@ typedef struct pl_global_solver_ops {
      * written).  PL_EINPUT when the solver is not on a device. */
     int (*delassus_device)(const pl_component *c, const pl_csr *H, int m, double *W, double *diag,
                            pl_error *err);
+    /* version 4, optional (NULL: callers use solve): the global step of an
+     * iterative solver, from the current iterate.  On entry x holds the guess
+     * (the iterate q^k over the unknowns, n x k), on return the new iterate;
+     * `iteration` is k, 0 on the first call of a time step (an acceleration
+     * restarts there).  b and x are distinct host float64 blocks.  What the
+     * solver carries from one iteration to the next (an acceleration's
+     * previous iterate) may be its own: several data's steps interleave a
+     * whole step at a time, and iteration 0 starts it again. */
+    int (*solve_from)(pl_component *c, const pl_buffer *b, pl_buffer *x, int iteration,
+                      pl_error *err);
+    /* version 4, optional (NULL: exact): non-zero when the solver only
+     * approximates A^-1 b (JacobiSolver: one sweep per call).  Constraint rows
+     * need W = H A^-1 H^T: LocalGlobalSolver refuses such a solver in a scene
+     * with constraint components. */
+    int (*approximate)(const pl_component *c);
 } pl_global_solver_ops;
 
 /* ---- pl_constraint: emits rows of H once per step ------------------------ */
