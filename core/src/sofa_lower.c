@@ -623,6 +623,44 @@ static void lower_tree(sofa_lower *L, xmlNode *node)
     }
 }
 
+/* The closest SOFA name of the table, or NULL. */
+static const char *suggest_sofa(const char *tag)
+{
+    const char *best = NULL;
+    int bestd = 1 << 30;
+    for (const pl_sofa_component *c = pl_sofa_components(); c->sofa; ++c) {
+        int d = pl_edit_distance(tag, c->sofa);
+        if (d < bestd) bestd = d, best = c->sofa;
+    }
+    return bestd <= 2 + (int)strlen(tag) / 4 ? best : NULL;
+}
+
+/* Names neither Pliant nor the table knows, in a SOFA scene. */
+static void check_unknown(sofa_lower *L, xmlNode *node)
+{
+    xmlNode *next;
+    for (xmlNode *e = node->children; e; e = next) {
+        next = e->next;
+        if (!sofa_is_element(e) || sofa_tag_is(e, "RequiredPlugin")) continue;
+        if (sofa_is_node(e)) {
+            check_unknown(L, e);
+            continue;
+        }
+        const char *tag = (const char *)e->name;
+        if (pl_registry_find(L->reg, tag) || pl_sofa_find(tag)) continue;
+        const char *p = pl_registry_suggest(L->reg, tag), *s = suggest_sofa(tag);
+        char hint[256] = "";
+        if (p && s)
+            snprintf(hint, sizeof hint, " (did you mean %s, or SOFA's %s?)", p, s);
+        else if (p || s)
+            snprintf(hint, sizeof hint, " (did you mean %s%s?)", p ? "" : "SOFA's ", p ? p : s);
+        sofa_error(L, e, "unknown component type '%s': neither a Pliant component nor a SOFA "
+                         "component Pliant knows (docs/sofa-vocabulary.md lists them)%s",
+                   tag, hint);
+        sofa_remove(e);
+    }
+}
+
 void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *diag)
 {
     sofa_lower L = {0};
@@ -641,6 +679,7 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     sofa_lower_rois(&L, L.root);
     lower_tree(&L, L.root);
     sofa_emit_solvers(&L);
+    check_unknown(&L, L.root);
     for (int k = 0; k < L.nnoted; ++k) free(L.noted[k]);
     xmlFree(L.ode_name);
     xmlFree(L.cg_iter);

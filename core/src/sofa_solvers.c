@@ -159,6 +159,8 @@ static void emit_plugins(sofa_lower *L)
         if (!e) return;
         e->line = L->root->line;
         sofa_set(e, "name", P[k].name);
+        pl_error err; /* now, so that unknown names can be told apart (scene_xml.c reports) */
+        pl_registry_load_plugin(L->reg, P[k].name, &err);
         if (first)
             xmlAddPrevSibling(first, e);
         else

@@ -55,7 +55,10 @@ static const bad_case CASES[] = {
     {"", "", "", "<DiagonalMass name=\"dm\" totalMass=\"1\"/>\n", "UniformMass totalMass", 8,
      "dm"},
     /* an unknown name in a SOFA scene */
-    {"", "", "", "<FooBarForceField/>\n", "unknown component type 'FooBarForceField'", 8, ""},
+    {"", "", "", "<FooBarForceField/>\n",
+     "unknown component type 'FooBarForceField': neither a Pliant component nor a SOFA", 8, ""},
+    {"", "", "", "<TetrahedronFEMForceFeld/>\n", "did you mean SOFA's TetrahedronFEMForceField?",
+     8, ""},
     /* integrators Pliant does not have */
     {FREE_MOTION, "firstOrder=\"true\"", "",
      CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",

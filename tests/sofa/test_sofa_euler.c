@@ -142,6 +142,21 @@ START_TEST(sofa_scene_gets_sofas_integrator)
 }
 END_TEST
 
+START_TEST(bad_settings_are_refused)
+{
+    static const char *bad[] = {"iterations=\"0\"", "tolerance=\"-1\"",
+                                "rayleighMass=\"-0.1\"", "linearSolver=\"lu\""};
+    for (int k = 0; k < 4; ++k) {
+        char xml[2048];
+        snprintf(xml, sizeof xml, SPRING, bad[k]);
+        pl_diag d = ct_load_fail(xml);
+        ck_assert_int_eq(d.items[0].line, 3);
+        ck_assert_int_eq(pl_diag_status(&d), PL_EINPUT);
+        pl_diag_free(&d);
+    }
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("sofa_euler");
@@ -150,6 +165,7 @@ int main(void)
     tcase_add_test(tc, spring_follows_sofas_recurrence);
     tcase_add_test(tc, bar_follows_converged_implicit_euler);
     tcase_add_test(tc, sofa_scene_gets_sofas_integrator);
+    tcase_add_test(tc, bad_settings_are_refused);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

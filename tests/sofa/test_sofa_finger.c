@@ -72,6 +72,15 @@ static const char *VERTEX_CABLE =
     "    <CableConstraint name=\"aCable\" indices=\"0 1 2 3 4 5 6 7 8 9 10 11 12 13\" " CABLE_ATTRS
     "/>\n";
 
+/* The same indices through an IdentityMapping: the body's vertices. */
+static const char *IDENTITY_CABLE =
+    "    <Node name=\"cable\">\n"
+    "      <MechanicalObject/>\n"
+    "      <CableConstraint name=\"aCable\" indices=\"0 1 2 3 4 5 6 7 8 9 10 11 12 13\" " CABLE_ATTRS
+    "/>\n"
+    "      <IdentityMapping/>\n"
+    "    </Node>\n";
+
 /* The same finger in Pliant's vocabulary. */
 static const char *NATIVE =
     "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
@@ -225,6 +234,21 @@ START_TEST(indices_are_not_reinterpreted)
 }
 END_TEST
 
+START_TEST(identity_mapped_cable_is_on_body_vertices)
+{
+    pl_sim *a = sofa_finger(IDENTITY_CABLE), *b = sofa_finger(VERTEX_CABLE);
+    ct_step(a, 20);
+    ct_step(b, 20);
+    int na, nb;
+    const double *xa = ct_positions(a, "finger/tetras", 0, &na);
+    const double *xb = ct_positions(b, "finger/tetras", 0, &nb);
+    ck_assert_int_eq(na, nb);
+    for (int i = 0; i < 3 * na; ++i) ck_assert_double_eq_tol(xa[i], xb[i], 1e-12);
+    pl_sim_free(a);
+    pl_sim_free(b);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("sofa_finger");
@@ -233,6 +257,7 @@ int main(void)
     tcase_add_test(tc, mapped_cable_is_the_native_cable);
     tcase_add_test(tc, mapped_cable_is_shortened_by_the_command);
     tcase_add_test(tc, indices_are_not_reinterpreted);
+    tcase_add_test(tc, identity_mapped_cable_is_on_body_vertices);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
