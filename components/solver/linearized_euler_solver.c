@@ -73,6 +73,11 @@ static int le_reinit(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "iterations must be >= 1 and tolerance, threshold and the "
                                   "Rayleigh factors >= 0");
+    pl_work_limits lim;
+    pl_work_limits_of(ctx->model, c->node, &lim);
+    if (pl_work_limit_check(c, ctx, s->iterations, lim.max_iterations,
+                            "iterations (CG, per time step)", "iterations"))
+        return PL_EINPUT;
     pl_dynamics_free(&s->dyn);
     int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 0);
     if (rc) return rc;
