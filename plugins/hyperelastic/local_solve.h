@@ -138,7 +138,9 @@ PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, d
         s[i] = mat == PL_HYPER_NEOHOOKEAN ? fmax(zh[i], 0.1 * fmax(1.0, scale)) : zh[i];
     double f = hm_objective(d, mat, mu, la, what, s, zh);
     for (int it = 0; it < max_iter; ++it) {
-        double H[9], r[3], rt[3];
+        /* zeroed: gcc cannot see that hm_residual fills the d x d block (and a
+         * Release build warns); the device compiler drops the dead stores */
+        double H[9] = {0}, r[3] = {0}, rt[3];
         double rn = hm_residual(d, mat, mu, la, what, s, zh, r, H);
         if (rn <= tol) return it;
         PL_UNROLL

@@ -111,12 +111,15 @@ static const pl_field FIELDS[] = {
              "linearisation point [m]), \"cr iterations\", \"cr residual\" (CR's relative residual) "
              "and \"step length\" into the timings",
              PL_FIELD_RUNTIME),
-    PL_FIELD(ncp_contact_solver, stick_start, "stickStart", PL_F_BOOL, "1",
+    PL_FIELD(ncp_contact_solver, stick_start, "stickStart", PL_F_BOOL, "0",
              "at the first iteration of a step, contacts without force (new ones, all of them "
              "in the first step from rest) that the free motion closes start from the forces "
              "that hold them still (normal and friction rows as equalities, one conjugate "
              "residual solve), projected on the friction cone; 0: they start from 0 and the "
-             "friction grows over the iterations (docs/contact.md)",
+             "friction grows over the iterations.  Makes the first step of a body resting on a "
+             "slope exact (scenes/stick_slip.xml sets it); off by default: on the gripper of "
+             "grabbing_raptor_small.xml it pushed the raptor out of the closing fingers "
+             "(docs/contact.md)",
              PL_FIELD_RUNTIME),
     /* in every build: without CUDA, auto is the CPU */
     PL_FIELD_ENUM(ncp_contact_solver, device, "device", DEVICE_CHOICES, "auto",

@@ -61,7 +61,7 @@ static char *scene_text(const sweep *sw)
              "  <RequiredPlugin name=\"collision\"/>\n"
              "  <LocalGlobalSolver name=\"solver\" iterations=\"10\"/>\n"
              "  <SparseInverseSolver name=\"global\"/>\n"
-             "  <NonSmoothNewtonContactSolver name=\"contact\" ncp=\"fischer-burmeister\" "
+             "  <NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"1\" ncp=\"fischer-burmeister\" "
              "crIterations=\"24\" preconditioner=\"delassus\"/>\n"
              "  <PlaneObstacle name=\"slope\" normal=\"0 1 0\" rotation=\"0 0 %.17g\" mu=\"0.18\" "
              "alarmDistance=\"0.002\" contactDistance=\"%g\"/>\n"
