@@ -97,6 +97,7 @@ bench: build
 
 docs: build
 	$(BUILD)/bin/pliant doc docs/components.md
+	$(BUILD)/bin/pliant doc --sofa docs/sofa-vocabulary.md
 
 # one picture of every scene (pliant render, off screen) for docs/scenes.md
 pictures: build

@@ -30,6 +30,7 @@ static const pl_type *const BUILTIN[] = {
     &pl_write_state_type,
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
+    &pl_linearized_euler_solver_type,
     &pl_jacobi_solver_type,
     &pl_keyframes_type,
     &pl_keyboard_controller_type,

@@ -19,6 +19,7 @@
 #include "roles.h"
 #include "rows.h"
 #include "sim.h"
+#include "sofa.h"
 #include "sparse.h"
 #include "timer.h"
 #include "work_limits.h"
