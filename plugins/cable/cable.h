@@ -29,23 +29,23 @@ typedef struct pl_cable_path {
     double pull[3];       /* [m] */
 } pl_cable_path;
 
-void pl_cable_path_init(pl_cable_path *c);
-void pl_cable_path_free(pl_cable_path *c);
+void cable_path_init(pl_cable_path *c);
+void cable_path_free(pl_cable_path *c);
 /* Allocates npoints points, every slot unused. PL_OK or PL_EINTERNAL. */
-int pl_cable_path_alloc(pl_cable_path *c, int npoints);
+int cable_path_alloc(pl_cable_path *c, int npoints);
 
 /* Point i of the cable for positions x (state-local, n x 3). */
-void pl_cable_point(const pl_cable_path *c, const double *x, int i, double p[3]);
+void cable_point(const pl_cable_path *c, const double *x, int i, double p[3]);
 /* Length of the cable [m] for positions x. */
-double pl_cable_length(const pl_cable_path *c, const double *x);
+double cable_path_length(const pl_cable_path *c, const double *x);
 /* Length, and g (npoints x 3) = dL/dP_i.  A segment of zero length adds no
  * gradient (its direction is undefined; SoftRobots normalises it to 0). */
-double pl_cable_gradient(const pl_cable_path *c, const double *x, double *g);
+double cable_gradient(const pl_cable_path *c, const double *x, double *g);
 /* The row -dL/dx over vertices: entries (vert[k], coef[3k..3k+2]) merged
  * per vertex and sorted by vertex, from the point gradients g.  vert and
  * coef hold at least 4 npoints entries.  Returns the number of entries,
  * or -1 on allocation failure. */
-int pl_cable_row(const pl_cable_path *c, const double *g, int *vert, double *coef);
+int cable_row(const pl_cable_path *c, const double *g, int *vert, double *coef);
 
 /* Barycentric location of p in the tetrahedra (x: vertices, tets: ntets x
  * 4).  Picks the tetrahedron whose smallest barycentric coordinate is the
@@ -54,10 +54,10 @@ int pl_cable_row(const pl_cable_path *c, const double *g, int *vert, double *coe
  * Writes its corners and weights; *outside gets that smallest coordinate's
  * deficit (0 when inside, > 0 outside).  Returns the tetrahedron or -1 when
  * there is none with a positive volume. */
-int pl_cable_locate(const double *x, const int *tets, int ntets, const double p[3], int v[4],
+int cable_locate(const double *x, const int *tets, int ntets, const double p[3], int v[4],
                     double w[4], double *outside);
 /* The vertex of x (n x 3) nearest to p (SoftRobots' `centers`); -1 if n = 0. */
-int pl_cable_nearest(const double *x, int n, const double p[3]);
+int cable_nearest(const double *x, int n, const double p[3]);
 
 #ifdef __cplusplus
 }

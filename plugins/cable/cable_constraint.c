@@ -244,7 +244,7 @@ static int build_path(cable_constraint *cc, pl_ctx *ctx, const double *x, int n)
     pl_component *c = &cc->base;
     pl_cable_path *p = &cc->path;
     int npoints = cc->indices.n ? cc->indices.n : (cc->position.n + cc->centers.n) / 3;
-    if (pl_cable_path_alloc(p, npoints) != PL_OK)
+    if (cable_path_alloc(p, npoints) != PL_OK)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     p->has_pull = cc->has_pull_point;
     memcpy(p->pull, cc->pull_point, sizeof p->pull);
@@ -261,7 +261,7 @@ static int build_path(cable_constraint *cc, pl_ctx *ctx, const double *x, int n)
         }
     } else if (cc->centers.n) {
         for (int i = 0; i < npoints; ++i) {
-            p->vert[4 * i] = pl_cable_nearest(x, n, cc->centers.v + 3 * i);
+            p->vert[4 * i] = cable_nearest(x, n, cc->centers.v + 3 * i);
             p->weight[4 * i] = 1.0;
         }
     } else {
@@ -275,7 +275,7 @@ static int build_path(cable_constraint *cc, pl_ctx *ctx, const double *x, int n)
         for (int i = 0; i < npoints; ++i) {
             const double *pt = cc->position.v + 3 * i;
             double outside;
-            if (pl_cable_locate(x, m->tets, m->ntets, pt, p->vert + 4 * i, p->weight + 4 * i,
+            if (cable_locate(x, m->tets, m->ntets, pt, p->vert + 4 * i, p->weight + 4 * i,
                                 &outside) < 0)
                 return pl_component_error(c, ctx, PL_EINPUT,
                                           "position: the mesh has no tetrahedron of positive "
@@ -301,14 +301,14 @@ static int cc_bind(pl_component *c, pl_ctx *ctx)
     int rc = build_path(cc, ctx, x, n);
     if (rc) return rc;
     int np = cc->path.npoints;
-    double Lrest = pl_cable_length(&cc->path, x);
+    double Lrest = cable_path_length(&cc->path, x);
     cc->L0 = cc->initial_length.n ? cc->initial_length.v[0] : Lrest;
     if (!(cc->L0 > 0.0))
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "the cable has zero length at rest (its points coincide)");
     const pl_state_ops *sops = pl_component_role(cc->state, PL_ROLE_STATE);
     pl_buffer xb = sops->positions(cc->state, ctx->data);
-    cc->out_length = pl_cable_length(&cc->path, pl_buffer_f64(&xb));
+    cc->out_length = cable_path_length(&cc->path, pl_buffer_f64(&xb));
     cc->out_displacement = cc->L0 - cc->out_length;
     *(double *)pl_data_slot(ctx->data, cc->slot) = 0.0;
     pl_log_debug("CableConstraint %s: %d points, rest length %g m", c->name, np, Lrest);
@@ -317,7 +317,7 @@ static int cc_bind(pl_component *c, pl_ctx *ctx)
 
 static void cc_destroy(pl_component *c)
 {
-    pl_cable_path_free(&((cable_constraint *)c)->path);
+    cable_path_free(&((cable_constraint *)c)->path);
 }
 
 static void cc_workspace_free(const pl_component *c, void *ws)
@@ -357,7 +357,7 @@ static int cc_get(const pl_component *c, const pl_data *d, const char *field, ch
         pl_buffer xb = sops->positions(cc->state, d);
         pl_cable_path p = cc->path; /* with the pull point as d's input says now */
         memcpy(p.pull, pl_input_vec3(d, c, cc->pull_point), sizeof p.pull);
-        double L = pl_cable_length(&p, pl_buffer_f64(&xb));
+        double L = cable_path_length(&p, pl_buffer_f64(&xb));
         v = field[0] == 'c' ? L : cc->L0 - L;
     } else {
         return PL_EINPUT;
@@ -413,8 +413,8 @@ static int cc_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     const double *x = qa + 3 * (size_t)offset;
     pl_cable_path path = cc->path; /* pullPoint is an input: this data's */
     memcpy(path.pull, in.pull, sizeof path.pull);
-    double L = pl_cable_gradient(&path, x, w->g);
-    int nent = pl_cable_row(&path, w->g, w->row_vert, w->row_coef);
+    double L = cable_gradient(&path, x, w->g);
+    int nent = cable_row(&path, w->g, w->row_vert, w->row_coef);
     if (nent < 0) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     double v = in.value.v[in.index];
     double lo = opt_set(&cc->min_force) ? cc->min_force.v[0] : -INFINITY;
@@ -488,7 +488,7 @@ static int cc_draw(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_e
     if (!pts) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     if (has_pull) memcpy(pts, pl_input_vec3(d, c, cc->pull_point), 3 * sizeof *pts);
     for (int i = 0; i < cc->path.npoints; ++i)
-        pl_cable_point(&cc->path, x, i, pts + 3 * (size_t)(i + has_pull));
+        cable_point(&cc->path, x, i, pts + 3 * (size_t)(i + has_pull));
     int rc = pl_draw_polyline(part, pts, n);
     free(pts);
     return rc ? pl_component_fail(c, err, rc, "cannot draw the cable") : PL_OK;

@@ -6,9 +6,9 @@
 
 #include "cable.h"
 
-void pl_cable_path_init(pl_cable_path *c) { memset(c, 0, sizeof *c); }
+void cable_path_init(pl_cable_path *c) { memset(c, 0, sizeof *c); }
 
-void pl_cable_path_free(pl_cable_path *c)
+void cable_path_free(pl_cable_path *c)
 {
     free(c->vert);
     free(c->weight);
@@ -17,14 +17,14 @@ void pl_cable_path_free(pl_cable_path *c)
     c->npoints = 0;
 }
 
-int pl_cable_path_alloc(pl_cable_path *c, int npoints)
+int cable_path_alloc(pl_cable_path *c, int npoints)
 {
-    pl_cable_path_free(c);
+    cable_path_free(c);
     if (npoints < 1) return PL_EINTERNAL;
     c->vert = malloc((size_t)npoints * 4 * sizeof *c->vert);
     c->weight = calloc((size_t)npoints * 4, sizeof *c->weight);
     if (!c->vert || !c->weight) {
-        pl_cable_path_free(c);
+        cable_path_free(c);
         return PL_EINTERNAL;
     }
     for (int k = 0; k < 4 * npoints; ++k) c->vert[k] = -1;
@@ -32,7 +32,7 @@ int pl_cable_path_alloc(pl_cable_path *c, int npoints)
     return PL_OK;
 }
 
-void pl_cable_point(const pl_cable_path *c, const double *x, int i, double p[3])
+void cable_point(const pl_cable_path *c, const double *x, int i, double p[3])
 {
     p[0] = p[1] = p[2] = 0.0;
     for (int s = 0; s < 4; ++s) {
@@ -52,11 +52,11 @@ static double segment(const double a[3], const double b[3], double u[3])
     return l;
 }
 
-double pl_cable_gradient(const pl_cable_path *c, const double *x, double *g)
+double cable_gradient(const pl_cable_path *c, const double *x, double *g)
 {
     double L = 0.0, prev[3], cur[3], u[3];
     if (g) memset(g, 0, (size_t)c->npoints * 3 * sizeof *g);
-    pl_cable_point(c, x, 0, cur);
+    cable_point(c, x, 0, cur);
     if (c->has_pull) {
         /* the pull point is fixed: only P_0 moves the first segment */
         L += segment(c->pull, cur, u);
@@ -65,7 +65,7 @@ double pl_cable_gradient(const pl_cable_path *c, const double *x, double *g)
     }
     for (int i = 1; i < c->npoints; ++i) {
         memcpy(prev, cur, sizeof prev);
-        pl_cable_point(c, x, i, cur);
+        cable_point(c, x, i, cur);
         L += segment(prev, cur, u);
         if (!g) continue;
         for (int k = 0; k < 3; ++k) {
@@ -76,9 +76,9 @@ double pl_cable_gradient(const pl_cable_path *c, const double *x, double *g)
     return L;
 }
 
-double pl_cable_length(const pl_cable_path *c, const double *x)
+double cable_path_length(const pl_cable_path *c, const double *x)
 {
-    return pl_cable_gradient(c, x, NULL);
+    return cable_gradient(c, x, NULL);
 }
 
 typedef struct entry {
@@ -92,7 +92,7 @@ static int cmp_entry(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int pl_cable_row(const pl_cable_path *c, const double *g, int *vert, double *coef)
+int cable_row(const pl_cable_path *c, const double *g, int *vert, double *coef)
 {
     /* every (point, slot) pair contributes -w g_i to its vertex; sort and
      * merge so that a vertex shared by several points appears once (the
@@ -153,7 +153,7 @@ static double barycentric(const double *a, const double *b, const double *c, con
     return det;
 }
 
-int pl_cable_locate(const double *x, const int *tets, int ntets, const double p[3], int v[4],
+int cable_locate(const double *x, const int *tets, int ntets, const double p[3], int v[4],
                     double w[4], double *outside)
 {
     int best = -1;
@@ -176,7 +176,7 @@ int pl_cable_locate(const double *x, const int *tets, int ntets, const double p[
     return best;
 }
 
-int pl_cable_nearest(const double *x, int n, const double p[3])
+int cable_nearest(const double *x, int n, const double p[3])
 {
     int best = -1;
     double bd = INFINITY;

@@ -7,26 +7,26 @@
 
 #include "detect.h"
 
-void pl_bvh_init(pl_bvh *b) { memset(b, 0, sizeof *b); }
+void bvh_init(pl_bvh *b) { memset(b, 0, sizeof *b); }
 
-void pl_bvh_free(pl_bvh *b)
+void bvh_free(pl_bvh *b)
 {
     free(b->box);
     free(b->left);
     free(b->start);
     free(b->count);
     free(b->order);
-    pl_bvh_init(b);
+    bvh_init(b);
 }
 
-void pl_ivec_free(pl_ivec *a)
+void ivec_free(pl_ivec *a)
 {
     free(a->v);
     a->v = NULL;
     a->n = a->cap = 0;
 }
 
-int pl_ivec_push(pl_ivec *a, int x)
+int ivec_push(pl_ivec *a, int x)
 {
     if (a->n == a->cap) {
         int cap = a->cap ? 2 * a->cap : 32;
@@ -136,9 +136,9 @@ static void build_node(build_ctx *bc, int node, int s, int n)
     build_node(bc, left + 1, s + half, n - half);
 }
 
-int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
+int bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
 {
-    pl_bvh_free(b);
+    bvh_free(b);
     size_t cap = (size_t)(n > 0 ? 2 * n : 1);
     b->box = malloc(cap * sizeof *b->box);
     b->left = malloc(cap * sizeof *b->left);
@@ -148,7 +148,7 @@ int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
     kv *scratch = malloc((size_t)(n > 0 ? n : 1) * sizeof *scratch);
     if (!b->box || !b->left || !b->start || !b->count || !b->order || !scratch) {
         free(scratch);
-        pl_bvh_free(b);
+        bvh_free(b);
         return PL_EINTERNAL;
     }
     b->nprims = n;
@@ -157,11 +157,11 @@ int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
     build_ctx bc = {b, prims, scratch};
     build_node(&bc, 0, 0, n);
     free(scratch);
-    pl_bvh_refit(b, prims);
+    bvh_refit(b, prims);
     return PL_OK;
 }
 
-void pl_bvh_refit(pl_bvh *b, const pl_aabb *prims)
+void bvh_refit(pl_bvh *b, const pl_aabb *prims)
 {
     for (int node = b->nnodes - 1; node >= 0; --node) {
         pl_aabb *r = &b->box[node];
@@ -199,7 +199,7 @@ static void sort_hits(int *v, int n)
     }
 }
 
-int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out)
+int bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out)
 {
     if (b->nprims == 0) return PL_OK;
     int first = out->n;
@@ -207,11 +207,11 @@ int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ive
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if (!pl_aabb_overlap(&b->box[node], q)) continue;
+        if (!aabb_overlap(&b->box[node], q)) continue;
         if (b->left[node] < 0) {
             for (int i = b->start[node]; i < b->start[node] + b->count[node]; ++i) {
                 int p = b->order[i];
-                if (pl_aabb_overlap(&prims[p], q) && pl_ivec_push(out, p)) return PL_EINTERNAL;
+                if (aabb_overlap(&prims[p], q) && ivec_push(out, p)) return PL_EINTERNAL;
             }
         } else {
             stack[top++] = b->left[node] + 1; /* left child popped first */

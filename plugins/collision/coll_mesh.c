@@ -9,14 +9,14 @@
 
 #include "detect.h"
 
-void pl_coll_mesh_init(pl_coll_mesh *m)
+void coll_mesh_init(pl_coll_mesh *m)
 {
     memset(m, 0, sizeof *m);
-    pl_bvh_init(&m->tbvh);
-    pl_bvh_init(&m->ebvh);
+    bvh_init(&m->tbvh);
+    bvh_init(&m->ebvh);
 }
 
-void pl_coll_mesh_free(pl_coll_mesh *m)
+void coll_mesh_free(pl_coll_mesh *m)
 {
     free(m->fnormal);
     free(m->edge_tris);
@@ -25,8 +25,8 @@ void pl_coll_mesh_free(pl_coll_mesh *m)
     free(m->vbox);
     free(m->tbox);
     free(m->ebox);
-    pl_bvh_free(&m->tbvh);
-    pl_bvh_free(&m->ebvh);
+    bvh_free(&m->tbvh);
+    bvh_free(&m->ebvh);
     m->fnormal = NULL;
     m->edge_tris = NULL;
     m->sharp = NULL;
@@ -108,7 +108,7 @@ static int build_adjacency(pl_coll_mesh *m)
 
 static int first_prepare(pl_coll_mesh *m, pl_error *err)
 {
-    pl_coll_mesh_free(m); /* what an earlier failed attempt left */
+    coll_mesh_free(m); /* what an earlier failed attempt left */
     for (int k = 0; k < 3 * m->ntris; ++k)
         if (m->tris[k] < 0 || m->tris[k] >= m->nverts)
             return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
@@ -230,7 +230,7 @@ static void boxes(pl_coll_mesh *m, double margin)
     }
 }
 
-int pl_coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
+int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
 {
     if (!m->built) {
         int rc = first_prepare(m, err);
@@ -240,12 +240,12 @@ int pl_coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
     sharp_edges(m);
     boxes(m, margin);
     if (!m->built) {
-        if (pl_bvh_build(&m->tbvh, m->tbox, m->ntris) || pl_bvh_build(&m->ebvh, m->ebox, m->nedges))
+        if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
         m->built = 1;
     } else {
-        pl_bvh_refit(&m->tbvh, m->tbox);
-        pl_bvh_refit(&m->ebvh, m->ebox);
+        bvh_refit(&m->tbvh, m->tbox);
+        bvh_refit(&m->ebvh, m->ebox);
     }
     return PL_OK;
 }

@@ -48,14 +48,14 @@ typedef struct pl_shape {
 
 /* Constructors: check the arguments (a zero normal or axis, a negative or
  * non-finite size) and return PL_EINPUT with a message, else PL_OK. */
-int pl_shape_plane(pl_shape *s, const double point[3], const double normal[3], pl_error *err);
-int pl_shape_sphere(pl_shape *s, const double center[3], double radius, pl_error *err);
+int shape_plane(pl_shape *s, const double point[3], const double normal[3], pl_error *err);
+int shape_sphere(pl_shape *s, const double center[3], double radius, pl_error *err);
 /* R: the box's orientation (local -> world, row-major), NULL = identity. */
-int pl_shape_box(pl_shape *s, const double center[3], const double half[3], const double R[9],
+int shape_box(pl_shape *s, const double center[3], const double half[3], const double R[9],
                  pl_error *err);
-int pl_shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double radius,
+int shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double radius,
                      pl_error *err);
-int pl_shape_cylinder(pl_shape *s, const double center[3], const double axis[3], double radius,
+int shape_cylinder(pl_shape *s, const double center[3], const double axis[3], double radius,
                       double length, pl_error *err);
 
 /* Signed distance phi(x) [m] (negative inside) of the world point x; writes
@@ -63,7 +63,7 @@ int pl_shape_cylinder(pl_shape *s, const double center[3], const double axis[3],
  * NULL).  Points with several closest points (the centre of a sphere, the
  * axis of a capsule, ties between box faces) get a fixed choice: the lowest
  * local axis, +x for radial directions. */
-double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3]);
+double shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3]);
 
 /* Look-ahead: whether the straight path y0 -> y1 (a body point's motion over
  * a step, relative to the shape) comes within alarm of the surface.  When it
@@ -73,16 +73,16 @@ double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], d
  * point's closest surface point and outward normal.  The shapes are convex,
  * so the plane through closest along normal keeps the point out whatever
  * the path does afterwards.  Returns 1 or 0. */
-int pl_shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
+int shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
                    double gap, double *t, double closest[3], double normal[3]);
 
 /* out = the shape moved by the rigid map x -> Rm x + tm. */
-void pl_shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out);
+void shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out);
 
 /* A unit vector orthogonal to the unit n and its complement, so that (t1, t2, n)
  * is a right-handed orthonormal frame: Gram-Schmidt of the coordinate axis
  * least aligned with n (the lowest index on ties); deterministic. */
-void pl_contact_tangents(const double n[3], double t1[3], double t2[3]);
+void contact_tangents(const double n[3], double t1[3], double t2[3]);
 
 /* ---- prescribed motion -------------------------------------------------- */
 
@@ -93,7 +93,7 @@ void pl_contact_tangents(const double n[3], double t1[3], double t2[3]);
  * with c the rotation centre (it travels with the translation). */
 typedef struct pl_motion {
     double velocity[3];        /* [m/s] */
-    double axis[3];            /* rotation axis (normalised by pl_motion_prepare) */
+    double axis[3];            /* rotation axis (normalised by motion_prepare) */
     double angular_velocity;   /* [rad/s], right-handed about axis */
     double center[3];          /* a point of the axis at t = 0 [m] */
     const double *times;       /* ntimes keyframe times [s], strictly increasing */
@@ -104,19 +104,19 @@ typedef struct pl_motion {
 /* Checks a motion and normalises its axis: finite values, a non-zero axis
  * when angular_velocity != 0, strictly increasing times, ntrans = 3 ntimes
  * translation values.  PL_EINPUT with a message naming the field. */
-int pl_motion_prepare(pl_motion *m, int ntrans, pl_error *err);
+int motion_prepare(pl_motion *m, int ntrans, pl_error *err);
 /* The rigid map of time t: x(t) = R x0 + tr. */
-void pl_motion_pose(const pl_motion *m, double t, double R[9], double tr[3]);
+void motion_pose(const pl_motion *m, double t, double R[9], double tr[3]);
 /* Velocity [m/s] at time t of the moving body's material point that is at
  * the world point p at time t: s'(t) + w axis x (p - c - s(t)).  Keyframed
  * translation uses its left derivative (the segment ending at t), i.e. the
  * velocity over a step that ends at t; 0 before the first key time. */
-void pl_motion_velocity(const pl_motion *m, double t, const double p[3], double v[3]);
+void motion_velocity(const pl_motion *m, double t, const double p[3], double v[3]);
 /* The rigid map of the motion from time t0 to t1: a point moving with the
  * shape from x at t0 is at R x + tr at t1. */
-void pl_motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3]);
+void motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3]);
 /* Whether the motion moves anything at all. */
-int pl_motion_is_static(const pl_motion *m);
+int motion_is_static(const pl_motion *m);
 
 /* ---- contacts ------------------------------------------------------------- */
 
@@ -151,13 +151,13 @@ typedef struct pl_reach {
 
 /* n points x (at t, or for an obstacle posed at t + h) with velocities v
  * (NULL: at rest), a body's gravity grav. */
-void pl_reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
+void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
                  double h, const double grav[3], pl_reach *r);
 /* The largest relative speed [m/s] at which another of the n models (not
  * model `except`, -1 for none; not sharing a group) can strike model k in
  * this step: their boxes come within alarm of each other.  Model k's
  * points may move that speed times h beyond their prediction. */
-double pl_hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
 
 /* ---- messy obstacle meshes (mesh_clean.c) ------------------------------- */
 
@@ -183,13 +183,13 @@ int coll_mesh_encloses(const coll_clean_report *r);
 /* The set of groups a model's `group` field lists, as a bit mask (bit k - 1
  * for group k; 0 in the list means none); PL_EINPUT for a number outside
  * 0..PL_COLLISION_MAX_GROUP. */
-int pl_collision_groups(const pl_ints *list, unsigned *mask, pl_error *err);
+int collision_groups(const pl_ints *list, unsigned *mask, pl_error *err);
 
 /* Appends the three rows of contact k (see the top of this file): nv vertices
  * with weights w, the obstacle's closest point p, outward normal n, surface
  * velocity vs, friction mu and contactDistance.  Fills ct's tangents.
  * Returns the normal row's index, or -1 on allocation failure. */
-int pl_collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
+int collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
                               const double *weight, const double p[3], const double n[3],
                               const double vs[3], double mu, double contact_distance,
                               double t1[3], double t2[3]);
@@ -215,13 +215,13 @@ typedef struct pl_contact_side {
  * d_f = t . (b.fixed_v - a.fixed_v).  Fills t1 and t2.  Returns the normal
  * row's index, -2 when no entry is left (nothing can move: no rows), -1 on
  * allocation failure. */
-int pl_collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
+int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
                            const pl_contact_side *b, const double n[3], double mu,
                            double contact_distance, double t1[3], double t2[3]);
 
 /* Fills lambda and force of the contacts from the multipliers of their rows
  * (3 per contact in emission order, lambda[0..3 ncontacts-1]). */
-void pl_collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda);
+void collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda);
 
 #ifdef __cplusplus
 }

@@ -22,12 +22,12 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int pl_collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
+int collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, const int *vertex,
                               const double *weight, const double p[3], const double n[3],
                               const double vs[3], double mu, double contact_distance,
                               double t1[3], double t2[3])
 {
-    pl_contact_tangents(n, t1, t2);
+    contact_tangents(n, t1, t2);
     /* delta = n . x - (n . p + contactDistance): the gap beyond contactDistance */
     int rn = add_row(rows, owner, PL_ROW_NORMAL, nv, vertex, weight, n,
                      dot3(n, p) + contact_distance);
@@ -45,7 +45,7 @@ int pl_collision_emit_contact(pl_rows *rows, const pl_component *owner, int nv, 
     return rn;
 }
 
-void pl_collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda)
+void collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda)
 {
     for (int k = 0; k < ncontacts; ++k) {
         const double *l = &lambda[3 * k];

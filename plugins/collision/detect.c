@@ -107,7 +107,7 @@ static int slides_over(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, cons
 {
     const double *a = &T->x1[3 * tri[0]], *b = &T->x1[3 * tri[1]], *c = &T->x1[3 * tri[2]];
     double w1[3], e1[3], e2[3], nf[3], d[3];
-    double d1 = sqrt(pl_closest_point_triangle(&P->x1[3 * p], a, b, c, w1));
+    double d1 = sqrt(closest_point_triangle(&P->x1[3 * p], a, b, c, w1));
     for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k];
     nf[0] = e1[1] * e2[2] - e1[2] * e2[1];
     nf[1] = e1[2] * e2[0] - e1[0] * e2[2];
@@ -170,12 +170,12 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
 {
     const int *tri = &T->tris[3 * j];
     if (self && (tri[0] == p || tri[1] == p || tri[2] == p)) return 0;
-    if (!pl_aabb_overlap(&P->vbox[p], &T->tbox[j])) return 0; /* the broad phase's test */
+    if (!aabb_overlap(&P->vbox[p], &T->tbox[j])) return 0; /* the broad phase's test */
     if (!is_active(P, p) && !is_active(T, tri[0]) && !is_active(T, tri[1]) &&
         !is_active(T, tri[2]))
         return 0;
     double w[3], s = 0.0, x[3], ta[3], tb[3], tc[3];
-    double d0 = sqrt(pl_closest_point_triangle(&P->x0[3 * p], &T->x0[3 * tri[0]],
+    double d0 = sqrt(closest_point_triangle(&P->x0[3 * p], &T->x0[3 * tri[0]],
                                                &T->x0[3 * tri[1]], &T->x0[3 * tri[2]], w));
     if (d0 >= prm->alarm) {
         /* far now: measured where the predicted motion brings it into
@@ -185,7 +185,7 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
         coll_at(T, tri[0], s, ta);
         coll_at(T, tri[1], s, tb);
         coll_at(T, tri[2], s, tc);
-        d0 = sqrt(pl_closest_point_triangle(x, ta, tb, tc, w));
+        d0 = sqrt(closest_point_triangle(x, ta, tb, tc, w));
     }
     for (int a = 0; a < 3; ++a)
         if (w[a] > 1.0 - EDGE_END &&
@@ -222,8 +222,8 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     }
     /* a thin mesh: the side of its oriented face the vertex was on last step
      * (this triangle, else a neighbour it touched) */
-    const pl_proximity *hint = T->two_sided ? pl_side_hints_find(prm->hints, out) : NULL;
-    if (!(hint && hint->side) && T->two_sided) hint = pl_side_hints_find_near(prm->hints, out);
+    const pl_proximity *hint = T->two_sided ? side_hints_find(prm->hints, out) : NULL;
+    if (!(hint && hint->side) && T->two_sided) hint = side_hints_find_near(prm->hints, out);
     int side = hint ? hint->side : 0;
     if (side && slides_over(P, p, T, tri, w)) {
         /* the row holds the point of the face the vertex will be over at the
@@ -332,7 +332,7 @@ static double height_over(const pl_coll_mesh *m, int t, const double q[3], int *
     const int *tri = &m->tris[3 * t];
     const double *a = &m->x0[3 * tri[0]], *nf = &m->fnormal[3 * t];
     double w[3], h = 0.0;
-    double d = sqrt(pl_closest_point_triangle(q, a, &m->x0[3 * tri[1]], &m->x0[3 * tri[2]], w));
+    double d = sqrt(closest_point_triangle(q, a, &m->x0[3 * tri[1]], &m->x0[3 * tri[2]], w));
     for (int i = 0; i < 3; ++i) h += (q[i] - a[i]) * nf[i];
     *over = foot_inside(h, d);
     return h;
@@ -411,7 +411,7 @@ static double border_side(const pl_coll_mesh *m, int e, const double mo[3], cons
         double X[3], f = s0 / (s0 - s1), w[3];
         for (int k = 0; k < 3; ++k) X[k] = q0[k] + f * (q1[k] - q0[k]);
         const int *tri = &m->tris[3 * m->edge_tris[2 * e]];
-        double d2 = pl_closest_point_triangle(X, &m->x0[3 * tri[0]], &m->x0[3 * tri[1]],
+        double d2 = closest_point_triangle(X, &m->x0[3 * tri[0]], &m->x0[3 * tri[1]],
                                               &m->x0[3 * tri[2]], w);
         double beyond = (X[0] - p[0]) * mo[0] + (X[1] - p[1]) * mo[1] + (X[2] - p[2]) * mo[2];
         int inside = d2 <= 1e-16; /* X is in the plane: inside up to round-off */
@@ -431,8 +431,8 @@ static int ends_near(const double p0[3], const double p1[3], const double q0[3],
                      const double q1[3], double dist)
 {
     double s, t;
-    return pl_closest_segments(p0, p0, q0, q1, &s, &t) < dist * dist &&
-           pl_closest_segments(p1, p1, q0, q1, &s, &t) < dist * dist;
+    return closest_segments(p0, p0, q0, q1, &s, &t) < dist * dist &&
+           closest_segments(p1, p1, q0, q1, &s, &t) < dist * dist;
 }
 
 /* Edge e of A against edge f of B (interior points of both). */
@@ -442,14 +442,14 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
     int a0 = A->edges[2 * e], a1 = A->edges[2 * e + 1];
     int b0 = B->edges[2 * f], b1 = B->edges[2 * f + 1];
     if (self && (f <= e || a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) return 0;
-    if (!pl_aabb_overlap(&A->ebox[e], &B->ebox[f])) return 0;
+    if (!aabb_overlap(&A->ebox[e], &B->ebox[f])) return 0;
     if (!A->sharp[e] && !B->sharp[f]) return 0;
     if (!is_active(A, a0) && !is_active(A, a1) && !is_active(B, b0) && !is_active(B, b1))
         return 0;
     const double *pa0 = &A->x0[3 * a0], *pa1 = &A->x0[3 * a1];
     const double *pb0 = &B->x0[3 * b0], *pb1 = &B->x0[3 * b1];
     double s, t, when = 0.0, xa0[3], xa1[3], xb0[3], xb1[3];
-    double d0 = sqrt(pl_closest_segments(pa0, pa1, pb0, pb1, &s, &t));
+    double d0 = sqrt(closest_segments(pa0, pa1, pb0, pb1, &s, &t));
     if (d0 >= prm->alarm) {
         /* far now: measured where the predicted motion brings them into
          * contact (look-ahead), or dropped when they never come near */
@@ -460,7 +460,7 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
         coll_at(B, b0, when, xb0);
         coll_at(B, b1, when, xb1);
         pa0 = xa0, pa1 = xa1, pb0 = xb0, pb1 = xb1;
-        d0 = sqrt(pl_closest_segments(pa0, pa1, pb0, pb1, &s, &t));
+        d0 = sqrt(closest_segments(pa0, pa1, pb0, pb1, &s, &t));
     }
     if (s < EDGE_END || s > 1.0 - EDGE_END || t < EDGE_END || t > 1.0 - EDGE_END) {
         /* closest at an end now (a cloth edge from a vertex that sits on a
@@ -472,7 +472,7 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
          * hold them). */
         if (!A->two_sided || !B->two_sided) return 0;
         double s1, t1;
-        pl_closest_segments(&A->x1[3 * a0], &A->x1[3 * a1], &B->x1[3 * b0], &B->x1[3 * b1], &s1, &t1);
+        closest_segments(&A->x1[3 * a0], &A->x1[3 * a1], &B->x1[3 * b0], &B->x1[3 * b1], &s1, &t1);
         if (s1 < EDGE_END || s1 > 1.0 - EDGE_END || t1 < EDGE_END || t1 > 1.0 - EDGE_END) return 0;
         s = s1, t = t1;
         double q[3];
@@ -528,7 +528,7 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
     else if (!B->two_sided && outward(B, f, cr, len, mo))
         sg = dot3(mo, cr) > 0.0 ? 1.0 : -1.0;
     const pl_proximity *hp = sg == 0.0 && A->two_sided && B->two_sided
-                                 ? pl_side_hints_find(prm->hints, out)
+                                 ? side_hints_find(prm->hints, out)
                                  : NULL;
     const double *hint = hp ? hp->normal : NULL;
     if (hint && dot3(hint, cr) != 0.0) sg = dot3(hint, cr) > 0.0 ? 1.0 : -1.0;

@@ -25,14 +25,14 @@ extern "C" {
  * (w0 a + w1 b + w2 c, all >= 0, summing to 1).  Returns the squared
  * distance.  Degenerate triangles are handled (the closest point of their
  * edges). */
-double pl_closest_point_triangle(const double p[3], const double a[3], const double b[3],
+double closest_point_triangle(const double p[3], const double a[3], const double b[3],
                                  const double c[3], double w[3]);
 
 /* Closest points of the segments p0 p1 and q0 q1: p0 + s (p1 - p0) and
  * q0 + t (q1 - q0), s and t in [0, 1].  Returns the squared distance.
  * Parallel segments get one pair of the closest set; points (zero-length
  * segments) are handled. */
-double pl_closest_segments(const double p0[3], const double p1[3], const double q0[3],
+double closest_segments(const double p0[3], const double p1[3], const double q0[3],
                            const double q1[3], double *s, double *t);
 
 /* ---- bounding boxes and the BVH ------------------------------------------ */
@@ -41,7 +41,7 @@ typedef struct pl_aabb {
     double lo[3], hi[3];
 } pl_aabb;
 
-static inline int pl_aabb_overlap(const pl_aabb *a, const pl_aabb *b)
+static inline int aabb_overlap(const pl_aabb *a, const pl_aabb *b)
 {
     return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] &&
            b->lo[1] <= a->hi[1] && a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
@@ -59,26 +59,26 @@ typedef struct pl_bvh {
     int *order;         /* primitive indices, grouped by leaf */
 } pl_bvh;
 
-void pl_bvh_init(pl_bvh *b);
-void pl_bvh_free(pl_bvh *b);
+void bvh_init(pl_bvh *b);
+void bvh_free(pl_bvh *b);
 /* Builds the tree over n primitive boxes (median splits of the centres along
  * the widest axis; deterministic) and fits it.  PL_OK or PL_EINTERNAL. */
-int pl_bvh_build(pl_bvh *b, const pl_aabb *prims, int n);
+int bvh_build(pl_bvh *b, const pl_aabb *prims, int n);
 /* Refits every node to the primitives' new boxes (same topology). */
-void pl_bvh_refit(pl_bvh *b, const pl_aabb *prims);
+void bvh_refit(pl_bvh *b, const pl_aabb *prims);
 
 /* A growable list of ints. */
 typedef struct pl_ivec {
     int *v;
     int n, cap;
 } pl_ivec;
-void pl_ivec_free(pl_ivec *a);
-int pl_ivec_push(pl_ivec *a, int x);
+void ivec_free(pl_ivec *a);
+int ivec_push(pl_ivec *a, int x);
 
 /* Appends to out the primitives whose boxes overlap q, in increasing order
  * (the same whatever the tree's shape).
  * PL_OK or PL_EINTERNAL. */
-int pl_bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out);
+int bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out);
 
 /* ---- meshes prepared for detection ----------------------------------------- */
 
@@ -90,7 +90,7 @@ typedef enum pl_mesh_sides {
 
 /* A triangle mesh at the start (x0) and predicted end (x1) of the step.
  * The caller owns x0, x1, tris and edges; detection owns the rest
- * (pl_coll_mesh_prepare / pl_coll_mesh_free). */
+ * (coll_mesh_prepare / coll_mesh_free). */
 typedef struct pl_coll_mesh {
     int nverts, ntris, nedges;
     const double *x0, *x1;      /* nverts x 3 [m] */
@@ -98,7 +98,7 @@ typedef struct pl_coll_mesh {
     const int *edges;           /* nedges x 2 */
     const unsigned char *active;/* per vertex: 0 = this point carries no DOF (NULL: all active) */
     pl_mesh_sides sides;
-    /* derived, by pl_coll_mesh_prepare */
+    /* derived, by coll_mesh_prepare */
     int two_sided;              /* resolved from sides */
     double orientation;         /* +1 outward-oriented triangles, -1 flipped (one-sided) */
     double *fnormal;            /* ntris x 3 unit face normals at x0, outward for one-sided */
@@ -115,13 +115,13 @@ typedef struct pl_coll_mesh {
 /* cos of the smallest angle between the face normals of a sharp edge (30 deg) */
 #define PL_SHARP_COS 0.8660254037844386
 
-void pl_coll_mesh_init(pl_coll_mesh *m);
-void pl_coll_mesh_free(pl_coll_mesh *m);
+void coll_mesh_init(pl_coll_mesh *m);
+void coll_mesh_free(pl_coll_mesh *m);
 /* Once per step after x0/x1 changed: face normals, swept boxes inflated by
  * margin / 2 on every side [m], BVHs built on first use and refitted after.
  * The topology (counts, tris, edges) must not change between calls.
  * PL_OK, PL_EINPUT (an index out of range), PL_EINTERNAL. */
-int pl_coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
+int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
 
 /* ---- proximities ------------------------------------------------------------ */
 
@@ -147,7 +147,7 @@ typedef struct pl_proximities {
     int n, cap;
 } pl_proximities;
 
-void pl_proximities_free(pl_proximities *p);
+void proximities_free(pl_proximities *p);
 
 /* Sides remembered from the previous step: a pair of primitives that was in
  * contact with a thin (two-sided) mesh keeps the side it was on, so that a
@@ -162,20 +162,20 @@ typedef struct pl_side_hints {
     int nvf, capvf;
 } pl_side_hints;
 
-void pl_side_hints_init(pl_side_hints *h);
-void pl_side_hints_free(pl_side_hints *h);
+void side_hints_init(pl_side_hints *h);
+void side_hints_free(pl_side_hints *h);
 /* Clears h and inserts the given proximities.  PL_OK or PL_EINTERNAL. */
-int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
+int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
 /* The remembered proximity with the same kind, models and vertices (NULL
  * when none): its normal, and for vertex-face ones its side. */
-const pl_proximity *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p);
+const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *p);
 /* For a vertex-face proximity without a remembered side: the same vertex's
  * contact last step with a triangle that shares an edge (or else a vertex)
  * with p's triangle, NULL when none.  A vertex sliding under a cloth (a
  * blade's apex) meets new triangles; they take the side of the neighbour it
  * touched (sides are relative to the oriented face normals, which neighbours
  * share), not the side it has reached by now. */
-const pl_proximity *pl_side_hints_find_near(const pl_side_hints *h, const pl_proximity *p);
+const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proximity *p);
 
 typedef struct pl_detect_params {
     double alarm;        /* alarmDistance [m] */
@@ -192,7 +192,7 @@ typedef struct pl_detect_params {
 } pl_detect_params;
 
 /* Default parameters for an alarm distance. */
-pl_detect_params pl_detect_defaults(double alarm);
+pl_detect_params detect_defaults(double alarm);
 
 /* Appends the proximities between the prepared meshes A (index ia) and B
  * (index ib); A == B (same pointer) is self-collision: primitives sharing a
@@ -204,12 +204,12 @@ pl_detect_params pl_detect_defaults(double alarm);
  * alarm, so fast bodies are caught before they cross.  Parallel (OpenMP),
  * deterministic: the order depends on the inputs only.  PL_OK or
  * PL_EINTERNAL. */
-int pl_detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                    const pl_detect_params *prm, pl_proximities *out);
 
 /* The same by brute force over all primitive pairs (tests, small meshes):
  * identical results, possibly in another order. */
-int pl_detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+int detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                          const pl_detect_params *prm, pl_proximities *out);
 
 /* ---- barycentric mapping into tetrahedra ------------------------------------ */
@@ -221,13 +221,13 @@ int pl_detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, i
  * bary: npts x 4.  *outside (may be NULL) counts the points outside every
  * tetrahedron.  PL_OK, PL_EINPUT (no tetrahedra, an index out of range, a
  * flat tetrahedron), PL_EINTERNAL. */
-int pl_barycentric_map(const double *verts, int nverts, const int *tets, int ntets,
+int barycentric_map(const double *verts, int nverts, const int *tets, int ntets,
                        const double *pts, int npts, int *tet_of, double *bary, int *outside,
                        pl_error *err);
 
 /* Unique undirected edges of triangles, sorted (a < b, lexicographic).
  * *edges malloc'ed (NULL when none).  PL_OK or PL_EINTERNAL. */
-int pl_triangle_edges(const int *tris, int ntris, int **edges, int *nedges);
+int triangle_edges(const int *tris, int ntris, int **edges, int *nedges);
 
 #ifdef __cplusplus
 }

@@ -17,14 +17,14 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-pl_detect_params pl_detect_defaults(double alarm)
+pl_detect_params detect_defaults(double alarm)
 {
     pl_detect_params p = {.alarm = alarm, .hints = NULL, .vertex_face = 1, .edge_edge = 1,
                           .max_per_vertex = 3, .normal_cos = 0.9};
     return p;
 }
 
-void pl_proximities_free(pl_proximities *p)
+void proximities_free(pl_proximities *p)
 {
     free(p->items);
     p->items = NULL;
@@ -140,7 +140,7 @@ static int run_item(const pass *ps, work *w, int i)
         const pl_bvh *b = ps->edges ? &T->ebvh : &T->tbvh;
         const pl_aabb *prims = ps->edges ? T->ebox : T->tbox;
         const pl_aabb *q = ps->edges ? &P->ebox[i] : &P->vbox[i];
-        if (pl_bvh_query(b, prims, q, &w->q)) return PL_EINTERNAL;
+        if (bvh_query(b, prims, q, &w->q)) return PL_EINTERNAL;
     }
     int count = ps->brute ? nt : w->q.n;
     for (int k = 0; k < count; ++k) {
@@ -203,8 +203,8 @@ static int run_pass(const pass *ps, pl_proximities *out)
             rc = coll_prox_push(out, &w[t].out.items[k]);
     }
     for (int t = 0; t < nw; ++t) {
-        pl_proximities_free(&w[t].out);
-        pl_ivec_free(&w[t].q);
+        proximities_free(&w[t].out);
+        ivec_free(&w[t].q);
         free(w[t].c);
     }
     free(w);
@@ -237,13 +237,13 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
     return rc;
 }
 
-int pl_detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                    const pl_detect_params *prm, pl_proximities *out)
 {
     return detect(A, ia, B, ib, prm, out, 0);
 }
 
-int pl_detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+int detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                          const pl_detect_params *prm, pl_proximities *out)
 {
     return detect(A, ia, B, ib, prm, out, 1);

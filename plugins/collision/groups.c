@@ -5,7 +5,7 @@
  * it) without sharing one with each other (so they touch when it bends). */
 #include "collision.h"
 
-int pl_collision_groups(const pl_ints *list, unsigned *mask, pl_error *err)
+int collision_groups(const pl_ints *list, unsigned *mask, pl_error *err)
 {
     unsigned m = 0;
     for (int i = 0; i < list->n; ++i) {

@@ -11,7 +11,7 @@
 
 #include "collision.h"
 
-void pl_reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
+void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
                  double h, const double grav[3], pl_reach *r)
 {
     memset(r, 0, sizeof *r);
@@ -43,7 +43,7 @@ static int near(const pl_aabb *a, const pl_aabb *b, double d)
     return 1;
 }
 
-double pl_hit_speed(const pl_reach *r, int n, int k, int except, double alarm)
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm)
 {
     double u = 0.0;
     if (r[k].n == 0) return 0.0;

@@ -38,7 +38,7 @@ static double vf_distance(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, c
     coll_at(T, tri[0], s, a);
     coll_at(T, tri[1], s, b);
     coll_at(T, tri[2], s, c);
-    return sqrt(pl_closest_point_triangle(x, a, b, c, w));
+    return sqrt(closest_point_triangle(x, a, b, c, w));
 }
 
 static double ee_distance(const pl_coll_mesh *A, const int *ea, const pl_coll_mesh *B,
@@ -49,7 +49,7 @@ static double ee_distance(const pl_coll_mesh *A, const int *ea, const pl_coll_me
     coll_at(A, ea[1], s, p1);
     coll_at(B, eb[0], s, q0);
     coll_at(B, eb[1], s, q1);
-    return sqrt(pl_closest_segments(p0, p1, q0, q1, &u, &v));
+    return sqrt(closest_segments(p0, p1, q0, q1, &u, &v));
 }
 
 /* The advancement over the distance function dist (d0 = dist(0) > reach,

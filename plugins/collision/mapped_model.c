@@ -47,7 +47,7 @@ static int check_fields(const mapped_model *m, pl_component *c, pl_ctx *ctx)
                                   m->mu);
     pl_error e;
     unsigned groups;
-    if (pl_collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
+    if (collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
@@ -113,13 +113,13 @@ static int mm_bind(pl_component *c, pl_ctx *ctx)
     m->local = malloc(cnt * 4 * sizeof *m->local);
     m->weight = malloc(cnt * 4 * sizeof *m->weight);
     if (!tet_of || !m->local || !m->weight ||
-        pl_triangle_edges(m->surface.tris, m->surface.ntris, &m->edges, &m->nedges)) {
+        triangle_edges(m->surface.tris, m->surface.ntris, &m->edges, &m->nedges)) {
         free(tet_of);
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     }
     pl_error err;
     int outside = 0;
-    rc = pl_barycentric_map(rest, n, vol->tets, vol->ntets, m->surface.verts, np, tet_of,
+    rc = barycentric_map(rest, n, vol->tets, vol->ntets, m->surface.verts, np, tet_of,
                             m->weight, &outside, &err);
     if (rc == PL_OK)
         for (int i = 0; i < np; ++i)
@@ -169,7 +169,7 @@ static int mm_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
     }
     pl_error ge;
     unsigned groups;
-    if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
+    if (collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->surface.nverts, .x = ws->x, .v = ws->v,
                                    .map_vertex = ws->vertex, .map_weight = m->weight,

@@ -73,7 +73,7 @@ static int motion_of(const mesh_obstacle *o, pl_motion *m, unsigned *groups, pl_
     if (!isfinite(o->mu) || !(o->mu >= 0.0 || o->mu == -1.0))
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "mu must be >= 0, or -1 (unset), got %g",
                             o->mu);
-    if (pl_collision_groups(&o->group, &mask, err) != PL_OK) return err->code;
+    if (collision_groups(&o->group, &mask, err) != PL_OK) return err->code;
     if (groups) *groups = mask;
     if (o->rotation_center.n != 0 && o->rotation_center.n != 3)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
@@ -88,7 +88,7 @@ static int motion_of(const mesh_obstacle *o, pl_motion *m, unsigned *groups, pl_
     m->times = o->times.v;
     m->ntimes = o->times.n;
     m->translations = o->translations.v;
-    return pl_motion_prepare(m, o->translations.n, err);
+    return motion_prepare(m, o->translations.n, err);
 }
 
 static void free_model(mesh_obstacle *o)
@@ -156,7 +156,7 @@ static int mo_bind(pl_component *c, pl_ctx *ctx)
     int rc = coll_mesh_source_load(c, ctx, &o->source, &o->mesh);
     if (rc) return rc;
     if ((rc = clean(o, ctx))) return rc;
-    if (pl_triangle_edges(o->mesh.tris, o->mesh.ntris, &o->edges, &o->nedges))
+    if (triangle_edges(o->mesh.tris, o->mesh.ntris, &o->edges, &o->nedges))
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     size_t n = (size_t)(o->mesh.nverts ? o->mesh.nverts : 1);
     o->map_vertex = malloc(n * 4 * sizeof *o->map_vertex);
@@ -202,13 +202,13 @@ static int mo_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
     unsigned groups = 0;
     if (motion_of(o, &m, &groups, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     double t1 = ctx->data->time + pl_node_dt(c->node), R[9], tr[3];
-    pl_motion_pose(&m, t1, R, tr);
+    motion_pose(&m, t1, R, tr);
     for (int i = 0; i < o->mesh.nverts; ++i) {
         const double *p = &o->mesh.verts[3 * i];
         double *x = &w->x[3 * i];
         for (int k = 0; k < 3; ++k)
             x[k] = R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2] + tr[k];
-        pl_motion_velocity(&m, t1, x, &w->v[3 * i]);
+        motion_velocity(&m, t1, x, &w->v[3 * i]);
     }
     *out = (pl_collision_geometry){.nverts = o->mesh.nverts, .x = w->x, .v = w->v,
                                    .map_vertex = o->map_vertex, .map_weight = o->map_weight,
@@ -243,7 +243,7 @@ static int mo_draw(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_e
     pl_error e;
     if (motion_of(o, &m, NULL, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     double R[9], tr[3];
-    pl_motion_pose(&m, d->time, R, tr);
+    motion_pose(&m, d->time, R, tr);
     pl_draw_part *p = pl_drawing_add(dw, c, PL_DRAW_OBSTACLE);
     int first = p ? pl_draw_vertices(p, o->mesh.verts, NULL, o->mesh.nverts) : -1;
     if (first < 0 || pl_draw_triangles(p, o->mesh.tris, o->mesh.ntris, first) != PL_OK)

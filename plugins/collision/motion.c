@@ -7,7 +7,7 @@
 
 #include "collision.h"
 
-int pl_motion_prepare(pl_motion *m, int ntrans, pl_error *err)
+int motion_prepare(pl_motion *m, int ntrans, pl_error *err)
 {
     for (int i = 0; i < 3; ++i)
         if (!isfinite(m->velocity[i]) || !isfinite(m->axis[i]) || !isfinite(m->center[i]))
@@ -46,7 +46,7 @@ int pl_motion_prepare(pl_motion *m, int ntrans, pl_error *err)
     return PL_OK;
 }
 
-int pl_motion_is_static(const pl_motion *m)
+int motion_is_static(const pl_motion *m)
 {
     if (m->velocity[0] != 0.0 || m->velocity[1] != 0.0 || m->velocity[2] != 0.0) return 0;
     if (m->angular_velocity != 0.0) return 0;
@@ -105,7 +105,7 @@ static void rodrigues(const double a[3], double angle, double R[9])
     R[6] = t * x * z - s * y; R[7] = t * y * z + s * x; R[8] = t * z * z + c;
 }
 
-void pl_motion_pose(const pl_motion *m, double t, double R[9], double tr[3])
+void motion_pose(const pl_motion *m, double t, double R[9], double tr[3])
 {
     double s[3], ds[3];
     translation(m, t, s, ds);
@@ -121,7 +121,7 @@ void pl_motion_pose(const pl_motion *m, double t, double R[9], double tr[3])
         tr[i] = c[i] - (R[3 * i] * c[0] + R[3 * i + 1] * c[1] + R[3 * i + 2] * c[2]) + s[i];
 }
 
-void pl_motion_velocity(const pl_motion *m, double t, const double p[3], double v[3])
+void motion_velocity(const pl_motion *m, double t, const double p[3], double v[3])
 {
     double s[3], ds[3];
     translation(m, t, s, ds);
@@ -134,11 +134,11 @@ void pl_motion_velocity(const pl_motion *m, double t, const double p[3], double 
     v[2] = ds[2] + w * (a[0] * r[1] - a[1] * r[0]);
 }
 
-void pl_motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3])
+void motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3])
 {
     double R0[9], t0v[3], R1[9], t1v[3];
-    pl_motion_pose(m, t0, R0, t0v);
-    pl_motion_pose(m, t1, R1, t1v);
+    motion_pose(m, t0, R0, t0v);
+    motion_pose(m, t1, R1, t1v);
     /* x(t1) = R1 R0^T (x(t0) - tr0) + tr1 */
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)

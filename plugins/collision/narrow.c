@@ -70,7 +70,7 @@ static double degenerate_triangle(const double p[3], const double a[3], const do
     return best;
 }
 
-double pl_closest_point_triangle(const double p[3], const double a[3], const double b[3],
+double closest_point_triangle(const double p[3], const double a[3], const double b[3],
                                  const double c[3], double w[3])
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], n[3];
@@ -125,7 +125,7 @@ double pl_closest_point_triangle(const double p[3], const double a[3], const dou
 
 static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
-double pl_closest_segments(const double p0[3], const double p1[3], const double q0[3],
+double closest_segments(const double p0[3], const double p1[3], const double q0[3],
                            const double q1[3], double *s, double *t)
 {
     double d1[3], d2[3], r[3];

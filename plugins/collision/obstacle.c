@@ -52,7 +52,7 @@ static int prepare(const coll_obstacle *o, pl_shape *s, pl_motion *m, pl_error *
     m->times = o->times.v;
     m->ntimes = o->times.n;
     m->translations = o->translations.v;
-    return pl_motion_prepare(m, o->translations.n, err);
+    return motion_prepare(m, o->translations.n, err);
 }
 
 int coll_obstacle_pose(const coll_obstacle *o, double t, pl_shape *s, pl_error *err)
@@ -61,8 +61,8 @@ int coll_obstacle_pose(const coll_obstacle *o, double t, pl_shape *s, pl_error *
     pl_motion m;
     if (prepare(o, &s0, &m, err) != PL_OK) return PL_EINPUT;
     double R[9], tr[3];
-    pl_motion_pose(&m, t, R, tr);
-    pl_shape_transform(&s0, R, tr, s);
+    motion_pose(&m, t, R, tr);
+    shape_transform(&s0, R, tr, s);
     return PL_OK;
 }
 
@@ -237,7 +237,7 @@ static double find_contact(const coll_obstacle *o, const posed *ps,
                            const pl_collision_geometry *g, int i, double p[3], double n[3])
 {
     const double *x = &g->x[3 * i];
-    double phi = pl_shape_query(&ps->s, x, p, n);
+    double phi = shape_query(&ps->s, x, p, n);
     if (phi < o->alarm_distance) return phi;
     double y0[3], y1[3], t;
     for (int k = 0; k < 3; ++k) {
@@ -246,7 +246,7 @@ static double find_contact(const coll_obstacle *o, const posed *ps,
         y0[k] = r[0] * x[0] + r[1] * x[1] + r[2] * x[2] + ps->tr[k]; /* rides with the shape */
         y1[k] = x[k] + ps->h * v + ps->h * ps->h * ps->g[k];
     }
-    if (!pl_shape_sweep(&ps->s, y0, y1, o->alarm_distance + ps->margin, o->contact_distance, &t,
+    if (!shape_sweep(&ps->s, y0, y1, o->alarm_distance + ps->margin, o->contact_distance, &t,
                         p, n))
         return NAN;
     return n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2]);
@@ -277,11 +277,11 @@ static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
         memcpy(r->point, p, sizeof r->point);
         memcpy(r->normal, n, sizeof r->normal);
         memcpy(r->body_point, x, sizeof r->body_point);
-        pl_motion_velocity(m, ps->t1, p, r->velocity);
+        motion_velocity(m, ps->t1, p, r->velocity);
         r->gap = phi;
         r->vertex = vert[0];
         r->model = k;
-        if (pl_collision_emit_contact(rows, &o->base, nv, vert, w, p, n, r->velocity, mu,
+        if (collision_emit_contact(rows, &o->base, nv, vert, w, p, n, r->velocity, mu,
                                       o->contact_distance, r->t1, r->t2) < 0)
             return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
     }
@@ -306,11 +306,11 @@ static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     double R[9], tr[3];
     ps.h = sys->h;
     ps.t1 = ctx->data->time + sys->h;
-    pl_motion_pose(&m, ps.t1, R, tr);
-    pl_shape_transform(&s0, R, tr, &ps.s);
-    pl_motion_step_map(&m, ctx->data->time, ps.t1, ps.R, ps.tr);
+    motion_pose(&m, ps.t1, R, tr);
+    shape_transform(&s0, R, tr, &ps.s);
+    motion_step_map(&m, ctx->data->time, ps.t1, ps.R, ps.tr);
     unsigned groups;
-    if (pl_collision_groups(&o->group, &groups, &e) != PL_OK)
+    if (collision_groups(&o->group, &groups, &e) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     ws->nwork = 0;
     /* every model first: a body struck by another in this step may move
@@ -324,14 +324,14 @@ static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
         if (rc) return rc;
         double grav[3] = {0.0, 0.0, 0.0};
         if (!g->is_obstacle) pl_node_gravity(mc->node, grav);
-        pl_reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &ws->reach[k]);
+        reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &ws->reach[k]);
     }
     for (int k = 0; k < o->nmodels; ++k) {
         const pl_collision_geometry *g = &ws->geo[k];
         /* geometry without DOFs cannot respond; groups opt out */
         if (g->is_obstacle || (groups & g->groups)) continue;
         pl_node_gravity(o->models[k]->node, ps.g);
-        ps.margin = sys->h * pl_hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance);
+        ps.margin = sys->h * hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance);
         int rc = model_contacts(o, ws, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }
@@ -356,7 +356,7 @@ static void ob_accept_multipliers(const pl_component *c, pl_data *d, const pl_ro
     int n = (int)(pl_data_slot_bytes(d, o->slot) / sizeof *items);
     /* our rows are 3 per contact in emission order, starting at first */
     if (count != 3 * n || (n && rows->kind[first] != PL_ROW_NORMAL)) return;
-    pl_collision_contact_forces(items, n, lambda + first);
+    collision_contact_forces(items, n, lambda + first);
 }
 
 const pl_constraint_ops coll_obstacle_constraint_ops = {

@@ -51,7 +51,7 @@ static int plane_shape(const coll_obstacle *o, pl_shape *s, pl_error *err)
     pl_util_rotation_deg(p->rotation, R);
     for (int i = 0; i < 3; ++i)
         n[i] = R[3 * i] * p->normal[0] + R[3 * i + 1] * p->normal[1] + R[3 * i + 2] * p->normal[2];
-    return pl_shape_plane(s, p->point, n, err);
+    return shape_plane(s, p->point, n, err);
 }
 
 static int plane_init(pl_component *c, pl_ctx *ctx)
@@ -81,7 +81,7 @@ static const pl_field SPHERE_FIELDS[] = {
 static int sphere_shape(const coll_obstacle *o, pl_shape *s, pl_error *err)
 {
     const sphere_obstacle *p = (const sphere_obstacle *)o;
-    return pl_shape_sphere(s, p->center, p->radius, err);
+    return shape_sphere(s, p->center, p->radius, err);
 }
 
 static int sphere_init(pl_component *c, pl_ctx *ctx)
@@ -114,7 +114,7 @@ static int box_shape(const coll_obstacle *o, pl_shape *s, pl_error *err)
     const box_obstacle *p = (const box_obstacle *)o;
     double R[9];
     pl_util_rotation_deg(p->rotation, R);
-    return pl_shape_box(s, p->center, p->half, R, err);
+    return shape_box(s, p->center, p->half, R, err);
 }
 
 static int box_init(pl_component *c, pl_ctx *ctx)
@@ -145,7 +145,7 @@ static const pl_field CAPSULE_FIELDS[] = {
 static int capsule_shape(const coll_obstacle *o, pl_shape *s, pl_error *err)
 {
     const capsule_obstacle *p = (const capsule_obstacle *)o;
-    return pl_shape_capsule(s, p->start, p->end, p->radius, err);
+    return shape_capsule(s, p->start, p->end, p->radius, err);
 }
 
 static int capsule_init(pl_component *c, pl_ctx *ctx)
@@ -179,7 +179,7 @@ static const pl_field CYLINDER_FIELDS[] = {
 static int cylinder_shape(const coll_obstacle *o, pl_shape *s, pl_error *err)
 {
     const cylinder_obstacle *p = (const cylinder_obstacle *)o;
-    return pl_shape_cylinder(s, p->center, p->axis, p->radius, p->length, err);
+    return shape_cylinder(s, p->center, p->axis, p->radius, p->length, err);
 }
 
 static int cylinder_init(pl_component *c, pl_ctx *ctx)

@@ -64,7 +64,7 @@ static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, c
     return r;
 }
 
-int pl_collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
+int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
                            const pl_contact_side *b, const double n[3], double mu,
                            double contact_distance, double t1[3], double t2[3])
 {
@@ -75,7 +75,7 @@ int pl_collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_co
     for (int k = 0; k < m.n; ++k) total += fabs(m.coef[k]);
     if (!(total > 1e-12)) return -2;
     sort_merged(&m);
-    pl_contact_tangents(n, t1, t2);
+    contact_tangents(n, t1, t2);
     double fx[3], fv[3];
     for (int k = 0; k < 3; ++k) {
         fx[k] = b->fixed[k] - a->fixed[k];

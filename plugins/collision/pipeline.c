@@ -138,15 +138,15 @@ static void cp_workspace_free(const pl_component *c, void *ws)
     coll_ws *w = ws;
     const collision_pipeline *p = (const collision_pipeline *)c;
     for (int k = 0; w->models && k < p->nmodels; ++k) {
-        pl_coll_mesh_free(&w->models[k].mesh);
+        coll_mesh_free(&w->models[k].mesh);
         free(w->models[k].x0);
         free(w->models[k].x1);
         free(w->models[k].active);
     }
     free(w->models);
     free(w->reach);
-    pl_proximities_free(&w->prox);
-    pl_side_hints_free(&w->hints);
+    proximities_free(&w->prox);
+    side_hints_free(&w->hints);
     free(w->prev);
     free(w->work);
 }
@@ -163,7 +163,7 @@ static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
     if (!w->models || !w->reach) return NULL;
     for (int k = 0; k < p->nmodels; ++k) {
         w->models[k].c = p->models[k];
-        pl_coll_mesh_init(&w->models[k].mesh);
+        coll_mesh_init(&w->models[k].mesh);
     }
     return w;
 }

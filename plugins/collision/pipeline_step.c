@@ -16,8 +16,8 @@ static int fit_model(pipe_model *m)
     if (m->x0 && g->nverts == m->nverts && g->ntris == m->ntris && g->nedges == m->nedges &&
         g->tris == m->tris && g->edges == m->edges)
         return PL_OK;
-    pl_coll_mesh_free(&m->mesh);
-    pl_coll_mesh_init(&m->mesh);
+    coll_mesh_free(&m->mesh);
+    coll_mesh_init(&m->mesh);
     free(m->x0);
     free(m->x1);
     free(m->active);
@@ -75,7 +75,7 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
         fill_positions(m, sys);
         double grav[3] = {0.0, 0.0, 0.0};
         if (!m->g.is_obstacle) pl_node_gravity(m->c->node, grav);
-        pl_reach_of(m->g.x, m->g.v, m->g.nverts, m->g.is_obstacle, m->g.groups, sys->h, grav,
+        reach_of(m->g.x, m->g.v, m->g.nverts, m->g.is_obstacle, m->g.groups, sys->h, grav,
                     &w->reach[k]);
     }
     for (int k = 0; k < p->nmodels; ++k) {
@@ -92,10 +92,10 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
         cm->sides = coll_model_sides(m->c);
         /* boxes reach alarm / 2 and how far a body struck by another may
          * move beyond its prediction */
-        double hit = sys->h * pl_hit_speed(w->reach, p->nmodels, k, -1, p->alarm);
+        double hit = sys->h * hit_speed(w->reach, p->nmodels, k, -1, p->alarm);
         pl_error e;
         int rc;
-        if ((rc = pl_coll_mesh_prepare(cm, p->alarm + 2.0 * hit, &e)))
+        if ((rc = coll_mesh_prepare(cm, p->alarm + 2.0 * hit, &e)))
             return pl_component_fail(&p->base, err, rc, "collision model '%s': %s", m->c->name,
                                      e.msg);
     }
@@ -121,7 +121,7 @@ static int build_hints(const collision_pipeline *p, coll_ws *w, const pl_data *d
         w->capprev = n;
     }
     for (int k = 0; k < n; ++k) w->prev[k] = items[k].prox;
-    return pl_side_hints_build(&w->hints, w->prev, n);
+    return side_hints_build(&w->hints, w->prev, n);
 }
 
 int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
@@ -130,7 +130,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
     w->prox.n = 0;
     if (build_hints(p, w, d))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
-    pl_detect_params prm = pl_detect_defaults(p->alarm);
+    pl_detect_params prm = detect_defaults(p->alarm);
     prm.contact = p->contact;
     prm.hints = &w->hints;
     prm.vertex_face = p->vertex_face;
@@ -147,9 +147,9 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
             if (a->g.groups & b->g.groups) continue; /* they share a group */
             if (!ak && !any_active(b)) continue;
             /* struck by a third model: beyond the prediction */
-            prm.margin = h * fmax(pl_hit_speed(w->reach, p->nmodels, k, l, p->alarm),
-                                  pl_hit_speed(w->reach, p->nmodels, l, k, p->alarm));
-            if (pl_detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &w->prox))
+            prm.margin = h * fmax(hit_speed(w->reach, p->nmodels, k, l, p->alarm),
+                                  hit_speed(w->reach, p->nmodels, l, k, p->alarm));
+            if (detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &w->prox))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         }
     }
@@ -243,7 +243,7 @@ int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system 
                                          mb->c->name, sb.vertex[a], sys->nverts);
         double t1[3], t2[3];
         double mu = pair_mu(p, ma->g.mu, mb->g.mu);
-        int rn = pl_collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu,
+        int rn = collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu,
                                         p->contact, t1, t2);
         if (rn == -2) continue; /* nothing movable */
         if (rn < 0) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");

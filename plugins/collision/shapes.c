@@ -19,7 +19,7 @@ static int finite3(const double a[3])
     return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
 }
 
-void pl_contact_tangents(const double n[3], double t1[3], double t2[3])
+void contact_tangents(const double n[3], double t1[3], double t2[3])
 {
     /* the coordinate axis least aligned with n keeps Gram-Schmidt well conditioned */
     int k = 0;
@@ -40,7 +40,7 @@ void pl_contact_tangents(const double n[3], double t1[3], double t2[3])
 static void frame_from_axis(const double axis[3], double R[9])
 {
     double t1[3], t2[3];
-    pl_contact_tangents(axis, t1, t2);
+    contact_tangents(axis, t1, t2);
     for (int i = 0; i < 3; ++i) {
         R[3 * i + 0] = t1[i];
         R[3 * i + 1] = t2[i];
@@ -79,7 +79,7 @@ static int point_ok(const double p[3], const char *what, pl_error *err)
     return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "%s must be finite", what);
 }
 
-int pl_shape_plane(pl_shape *s, const double point[3], const double normal[3], pl_error *err)
+int shape_plane(pl_shape *s, const double point[3], const double normal[3], pl_error *err)
 {
     memset(s, 0, sizeof *s);
     s->kind = PL_SHAPE_PLANE;
@@ -90,7 +90,7 @@ int pl_shape_plane(pl_shape *s, const double point[3], const double normal[3], p
     return PL_OK;
 }
 
-int pl_shape_sphere(pl_shape *s, const double center[3], double radius, pl_error *err)
+int shape_sphere(pl_shape *s, const double center[3], double radius, pl_error *err)
 {
     memset(s, 0, sizeof *s);
     s->kind = PL_SHAPE_SPHERE;
@@ -101,7 +101,7 @@ int pl_shape_sphere(pl_shape *s, const double center[3], double radius, pl_error
     return PL_OK;
 }
 
-int pl_shape_box(pl_shape *s, const double center[3], const double half[3], const double R[9],
+int shape_box(pl_shape *s, const double center[3], const double half[3], const double R[9],
                  pl_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -116,7 +116,7 @@ int pl_shape_box(pl_shape *s, const double center[3], const double half[3], cons
     return PL_OK;
 }
 
-int pl_shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double radius,
+int shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double radius,
                      pl_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -136,7 +136,7 @@ int pl_shape_capsule(pl_shape *s, const double p0[3], const double p1[3], double
     return PL_OK;
 }
 
-int pl_shape_cylinder(pl_shape *s, const double center[3], const double axis[3], double radius,
+int shape_cylinder(pl_shape *s, const double center[3], const double axis[3], double radius,
                       double length, pl_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -246,7 +246,7 @@ static double cylinder_local(double r, double hl, const double x[3], double c[3]
     return dz;
 }
 
-double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3])
+double shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3])
 {
     const double *R = s->R;
     double d[3] = {x[0] - s->center[0], x[1] - s->center[1], x[2] - s->center[2]};
@@ -269,7 +269,7 @@ double pl_shape_query(const pl_shape *s, const double x[3], double closest[3], d
     return phi;
 }
 
-void pl_shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out)
+void shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out)
 {
     pl_shape t = *s;
     for (int i = 0; i < 3; ++i) {

@@ -6,14 +6,14 @@
 
 #include "detect.h"
 
-void pl_side_hints_init(pl_side_hints *h) { memset(h, 0, sizeof *h); }
+void side_hints_init(pl_side_hints *h) { memset(h, 0, sizeof *h); }
 
-void pl_side_hints_free(pl_side_hints *h)
+void side_hints_free(pl_side_hints *h)
 {
     free(h->key);
     free(h->keyed);
     free(h->vf);
-    pl_side_hints_init(h);
+    side_hints_init(h);
 }
 
 /* What identifies a proximity: kind, models, vertices (b's triangle sorted,
@@ -102,7 +102,7 @@ static int shared_vertices(const int a[3], const int b[3])
     return n;
 }
 
-const pl_proximity *pl_side_hints_find_near(const pl_side_hints *h, const pl_proximity *p)
+const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proximity *p)
 {
     if (!h || h->nvf == 0 || p->kind != PL_PROX_VERTEX_FACE) return NULL;
     int lo = 0, hi = h->nvf; /* first record not below p's vertex */
@@ -122,16 +122,16 @@ const pl_proximity *pl_side_hints_find_near(const pl_side_hints *h, const pl_pro
     return best;
 }
 
-int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
+int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
 {
     int cap = 64;
     while (cap < 2 * n) cap *= 2;
     if (cap != h->cap) {
-        pl_side_hints_free(h);
+        side_hints_free(h);
         h->key = malloc((size_t)cap * sizeof *h->key);
         h->keyed = malloc((size_t)cap * sizeof *h->keyed);
         if (!h->key || !h->keyed) {
-            pl_side_hints_free(h);
+            side_hints_free(h);
             return PL_EINTERNAL;
         }
         h->cap = cap;
@@ -152,7 +152,7 @@ int pl_side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
     return build_vf(h, items, n);
 }
 
-const pl_proximity *pl_side_hints_find(const pl_side_hints *h, const pl_proximity *p)
+const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *p)
 {
     if (!h || h->n == 0) return NULL;
     int id[10];

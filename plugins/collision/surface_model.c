@@ -61,7 +61,7 @@ static int check_fields(const surface_model *m, pl_component *c, pl_ctx *ctx)
                                   "mu must be >= 0, or -1 to use the obstacle's, got %g", m->mu);
     pl_error e;
     unsigned groups;
-    if (pl_collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
+    if (collision_groups(&m->group, &groups, &e) != PL_OK) /* validates the list */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", e.msg);
     return PL_OK;
 }
@@ -242,7 +242,7 @@ static int sm_update(const pl_component *c, pl_ctx *ctx, const pl_buffer *q,
     }
     pl_error ge;
     unsigned groups;
-    if (pl_collision_groups(&m->group, &groups, &ge) != PL_OK)
+    if (collision_groups(&m->group, &groups, &ge) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", ge.msg);
     *out = (pl_collision_geometry){.nverts = m->npoints, .x = w->x, .v = w->v,
                                    .map_vertex = w->vertex, .map_weight = m->weight,

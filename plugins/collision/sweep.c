@@ -22,15 +22,15 @@ static double phi_at(const pl_shape *s, const double y0[3], const double y1[3], 
 {
     double y[3];
     along(y0, y1, t, y);
-    return pl_shape_query(s, y, NULL, NULL);
+    return shape_query(s, y, NULL, NULL);
 }
 
-int pl_shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
+int shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
                    double gap, double *t, double closest[3], double normal[3])
 {
     double d[3] = {y1[0] - y0[0], y1[1] - y0[1], y1[2] - y0[2]};
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    double phi0 = pl_shape_query(s, y0, closest, normal);
+    double phi0 = shape_query(s, y0, closest, normal);
     *t = 0.0;
     if (phi0 <= gap) return 1;
     /* phi is 1-Lipschitz: a path shorter than phi0 - alarm cannot come near */
@@ -66,7 +66,7 @@ int pl_shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], do
     }
     double y[3];
     along(y0, y1, tmin, y);
-    pl_shape_query(s, y, closest, normal);
+    shape_query(s, y, closest, normal);
     *t = tmin;
     return 1;
 }

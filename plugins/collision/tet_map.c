@@ -55,7 +55,7 @@ static double tet_distance(const double *v, const int *t, const double p[3])
     static const int F[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
     double best = INFINITY, w[3];
     for (int f = 0; f < 4; ++f) {
-        double d2 = pl_closest_point_triangle(p, &v[3 * t[F[f][0]]], &v[3 * t[F[f][1]]],
+        double d2 = closest_point_triangle(p, &v[3 * t[F[f][0]]], &v[3 * t[F[f][1]]],
                                               &v[3 * t[F[f][2]]], w);
         if (d2 < best) best = d2;
     }
@@ -100,7 +100,7 @@ static int nearest_tet(const pl_bvh *bvh, const pl_aabb *boxes, const double *ve
         pl_aabb q;
         point_box(p, r, &q);
         cand->n = 0;
-        if (pl_bvh_query(bvh, boxes, &q, cand)) return PL_EINTERNAL;
+        if (bvh_query(bvh, boxes, &q, cand)) return PL_EINTERNAL;
         for (int k = 0; k < cand->n; ++k) {
             int t = cand->v[k];
             double d = tet_distance(verts, &tets[4 * t], p);
@@ -116,7 +116,7 @@ static int nearest_tet(const pl_bvh *bvh, const pl_aabb *boxes, const double *ve
     return PL_OK;
 }
 
-int pl_barycentric_map(const double *verts, int nverts, const int *tets, int ntets,
+int barycentric_map(const double *verts, int nverts, const int *tets, int ntets,
                        const double *pts, int npts, int *tet_of, double *bary, int *outside,
                        pl_error *err)
 {
@@ -137,16 +137,16 @@ int pl_barycentric_map(const double *verts, int nverts, const int *tets, int nte
     }
     size /= ntets;
     pl_bvh bvh;
-    pl_bvh_init(&bvh);
+    bvh_init(&bvh);
     pl_ivec cand = {0};
-    rc = pl_bvh_build(&bvh, boxes, ntets);
+    rc = bvh_build(&bvh, boxes, ntets);
     int nout = 0;
     for (int i = 0; i < npts && rc == PL_OK; ++i) {
         const double *p = &pts[3 * i];
         pl_aabb q;
         point_box(p, 1e-12 * (size + 1.0), &q);
         cand.n = 0;
-        if (pl_bvh_query(&bvh, boxes, &q, &cand)) {
+        if (bvh_query(&bvh, boxes, &q, &cand)) {
             rc = PL_EINTERNAL;
             break;
         }
@@ -171,8 +171,8 @@ int pl_barycentric_map(const double *verts, int nverts, const int *tets, int nte
         tet_of[i] = best;
         bary_of(verts, &tets[4 * best], p, &bary[4 * i]);
     }
-    pl_ivec_free(&cand);
-    pl_bvh_free(&bvh);
+    ivec_free(&cand);
+    bvh_free(&bvh);
     free(boxes);
     if (outside) *outside = nout;
     if (rc == PL_EINTERNAL)
@@ -187,7 +187,7 @@ static int cmp_pair(const void *a, const void *b)
     return (x[1] > y[1]) - (x[1] < y[1]);
 }
 
-int pl_triangle_edges(const int *tris, int ntris, int **edges, int *nedges)
+int triangle_edges(const int *tris, int ntris, int **edges, int *nedges)
 {
     *edges = NULL;
     *nedges = 0;

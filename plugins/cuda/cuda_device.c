@@ -23,13 +23,13 @@ static const pl_field FIELDS[] = {
 
 static int device_init(pl_component *c, pl_ctx *ctx)
 {
-    return pl_cuda_device_open((cuda_device *)c, ctx);
+    return cuda_device_open((cuda_device *)c, ctx);
 }
 
 static void device_destroy(pl_component *c)
 {
     cuda_device *d = (cuda_device *)c;
-    pl_cuda_device_close(d);
+    cuda_device_close(d);
     if (d->live > 0)
         pl_log_warn("%s: %ld device allocations were never freed", c->name, d->live);
 }

@@ -24,8 +24,8 @@ typedef struct cuda_device {
  * the build has no CUDA, it warns once and marks the device absent (the
  * scene then runs on the CPU); an ordinal that is not a GPU of this
  * machine is an error.  close: frees what open made. */
-int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx);
-void pl_cuda_device_close(cuda_device *d);
+int cuda_device_open(cuda_device *d, pl_ctx *ctx);
+void cuda_device_close(cuda_device *d);
 extern const pl_device_ops pl_cuda_device_ops;
 
 #endif

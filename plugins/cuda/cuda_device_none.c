@@ -6,7 +6,7 @@
 
 #define NO_CUDA "this build has no CUDA"
 
-int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx)
+int cuda_device_open(cuda_device *d, pl_ctx *ctx)
 {
     if (!d->absent)
         pl_component_warn(&d->base, ctx, NO_CUDA " (configured without nvcc): the scene runs on "
@@ -15,7 +15,7 @@ int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx)
     return PL_OK;
 }
 
-void pl_cuda_device_close(cuda_device *d) { (void)d; }
+void cuda_device_close(cuda_device *d) { (void)d; }
 
 static int none(pl_component *c, pl_error *err)
 {

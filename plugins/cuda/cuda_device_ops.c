@@ -28,7 +28,7 @@ static int cuda_fail(const pl_component *c, pl_error *err, cudaError_t e, const 
         if (ck_ != cudaSuccess) return cuda_fail(c, err, ck_, what); \
     } while (0)
 
-int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx)
+int cuda_device_open(cuda_device *d, pl_ctx *ctx)
 {
     pl_component *c = &d->base;
     int count = 0;
@@ -66,7 +66,7 @@ int pl_cuda_device_open(cuda_device *d, pl_ctx *ctx)
     return PL_OK;
 }
 
-void pl_cuda_device_close(cuda_device *d)
+void cuda_device_close(cuda_device *d)
 {
     if (!d->stream) return;
     cudaStreamSynchronize((cudaStream_t)d->stream);
@@ -152,25 +152,25 @@ static int launched(pl_component *c, int code, const char *what, pl_error *err)
 static int dev_scale_rows(pl_component *c, int n, const double *s, const double *x, double *y,
                           pl_error *err)
 {
-    return launched(c, pl_cuda_scale_rows(STREAM(c), n, s, x, y), "scale_rows", err);
+    return launched(c, cuda_scale_rows(STREAM(c), n, s, x, y), "scale_rows", err);
 }
 
 static int dev_gather_rows(pl_component *c, int m, const int *map, const double *x, double *y,
                            pl_error *err)
 {
-    return launched(c, pl_cuda_gather_rows(STREAM(c), m, map, x, y), "gather_rows", err);
+    return launched(c, cuda_gather_rows(STREAM(c), m, map, x, y), "gather_rows", err);
 }
 
 static int dev_scatter_rows(pl_component *c, int m, const int *map, const double *y, double *x,
                             double *change, pl_error *err)
 {
-    return launched(c, pl_cuda_scatter_rows(STREAM(c), m, map, y, x, change), "scatter_rows",
+    return launched(c, cuda_scatter_rows(STREAM(c), m, map, y, x, change), "scatter_rows",
                     err);
 }
 
 static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double *y, pl_error *err)
 {
-    return launched(c, pl_cuda_sub_csr(STREAM(c), A->nrows, A->p, A->j, A->x, x, y), "sub_csr",
+    return launched(c, cuda_sub_csr(STREAM(c), A->nrows, A->p, A->j, A->x, x, y), "sub_csr",
                     err);
 }
 

@@ -87,7 +87,7 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
 
 } // namespace
 
-extern "C" int pl_cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x,
+extern "C" int cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x,
                                   double *y)
 {
     if (n <= 0) return 0;
@@ -95,7 +95,7 @@ extern "C" int pl_cuda_scale_rows(struct CUstream_st *st, int n, const double *s
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_cuda_gather_rows(struct CUstream_st *st, int m, const int *map, const double *x,
+extern "C" int cuda_gather_rows(struct CUstream_st *st, int m, const int *map, const double *x,
                                    double *y)
 {
     if (m <= 0) return 0;
@@ -103,7 +103,7 @@ extern "C" int pl_cuda_gather_rows(struct CUstream_st *st, int m, const int *map
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const double *y,
+extern "C" int cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const double *y,
                                     double *x, double *change)
 {
     if (m <= 0) return 0;
@@ -111,7 +111,7 @@ extern "C" int pl_cuda_scatter_rows(struct CUstream_st *st, int m, const int *ma
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j,
+extern "C" int cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j,
                                const double *a, const double *x, double *y)
 {
     if (nrows <= 0) return 0;

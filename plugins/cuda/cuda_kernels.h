@@ -11,14 +11,14 @@ extern "C" {
 struct CUstream_st;
 
 /* y[i] = s[i] x[i], i < n */
-int pl_cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x, double *y);
+int cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x, double *y);
 /* y[f] = x[map[f]], f < m */
-int pl_cuda_gather_rows(struct CUstream_st *st, int m, const int *map, const double *x, double *y);
+int cuda_gather_rows(struct CUstream_st *st, int m, const int *map, const double *x, double *y);
 /* x[map[f]] = y[f], f < m; *change = max(*change, max |x_new - x_old|), +inf if not finite */
-int pl_cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const double *y,
+int cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const double *y,
                          double *x, double *change);
 /* y[r] -= A(r, j) x[j] for the entries of row r in order, r < nrows (CSR p, j, a) */
-int pl_cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j, const double *a,
+int cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j, const double *a,
                     const double *x, double *y);
 
 #ifdef __cplusplus

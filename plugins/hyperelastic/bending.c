@@ -91,7 +91,7 @@ static int check_input(const int *tris, int ntris, const double *rest, int nvert
     return PL_OK;
 }
 
-int pl_hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int ntris,
+int hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int ntris,
                                      const double *rest, int nverts, double stiffness,
                                      int *nskipped, pl_error *err)
 {
@@ -136,7 +136,7 @@ int pl_hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int 
     return PL_OK;
 }
 
-int pl_hyper_laplace_beltrami_build(pl_hyper_stencils *s, const int *tris, int ntris,
+int hyper_laplace_beltrami_build(pl_hyper_stencils *s, const int *tris, int ntris,
                                     const double *rest, int nverts, double stiffness,
                                     pl_error *err)
 {
@@ -217,14 +217,14 @@ int pl_hyper_laplace_beltrami_build(pl_hyper_stencils *s, const int *tris, int n
     free(deg);
     if (hyper_stencils_finish(s, rest) != 0 || hyper_lb_fix_flat_boundary(s, rest, boundary) != 0) {
         free(boundary);
-        pl_hyper_stencils_free(s);
+        hyper_stencils_free(s);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory (bending)");
     }
     free(boundary);
     return PL_OK;
 }
 
-int pl_hyper_point_targets_build(pl_hyper_stencils *s, const int *idx, int n, int nverts,
+int hyper_point_targets_build(pl_hyper_stencils *s, const int *idx, int n, int nverts,
                                  double stiffness, pl_error *err)
 {
     memset(s, 0, sizeof *s);

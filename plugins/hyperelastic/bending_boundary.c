@@ -46,7 +46,7 @@ static int flat_ring(const pl_hyper_stencils *s, int r, const double *rest, doub
             for (int b = 0; b < 3; ++b) C[a * 3 + b] += d[a] * d[b];
     }
     /* the plane through x_i spanned by the two largest principal directions */
-    pl_hyper_sym_eigen(3, C, lam, Q);
+    hyper_sym_eigen(3, C, lam, Q);
     double t1[3] = {Q[2], Q[5], Q[8]}, t2[3] = {Q[1], Q[4], Q[7]}, n[3] = {Q[0], Q[3], Q[6]};
     for (int k = s->ptr[r]; k < s->ptr[r + 1]; ++k) {
         double d[3];

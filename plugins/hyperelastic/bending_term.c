@@ -37,7 +37,7 @@ int hyper_bending_bind(pl_component *c, pl_ctx *ctx)
 int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_bending *b = (hyper_bending *)c;
-    pl_hyper_stencils_free(&b->s); /* workspaces (device copies) are remade after a reinit */
+    hyper_stencils_free(&b->s); /* workspaces (device copies) are remade after a reinit */
     if (!b->state || !b->mesh) return PL_EINPUT;
     int n;
     const double *rest = pl_util_rest(b->state, &n);
@@ -45,10 +45,10 @@ int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
     pl_error err;
     int rc, skipped = 0;
     if (b->kind == HYPER_BENDING_ISOMETRIC)
-        rc = pl_hyper_isometric_bending_build(&b->s, b->mesh->tris, b->mesh->ntris, rest, n,
+        rc = hyper_isometric_bending_build(&b->s, b->mesh->tris, b->mesh->ntris, rest, n,
                                               b->stiffness, &skipped, &err);
     else
-        rc = pl_hyper_laplace_beltrami_build(&b->s, b->mesh->tris, b->mesh->ntris, rest, n,
+        rc = hyper_laplace_beltrami_build(&b->s, b->mesh->tris, b->mesh->ntris, rest, n,
                                              b->stiffness, &err);
     if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
     if (skipped)
@@ -77,7 +77,7 @@ int hyper_bending_reinit(pl_component *c, pl_ctx *ctx)
 
 void hyper_bending_destroy(pl_component *c)
 {
-    pl_hyper_stencils_free(&((hyper_bending *)c)->s);
+    hyper_stencils_free(&((hyper_bending *)c)->s);
 }
 
 static pl_component *bend_state(const pl_component *c)
@@ -88,7 +88,7 @@ static pl_component *bend_state(const pl_component *c)
 static int bend_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A, pl_error *err)
 {
     pl_error e;
-    if (pl_hyper_stencils_add_matrix(&((hyper_bending *)c)->s, offset, h2, A, &e) != PL_OK)
+    if (hyper_stencils_add_matrix(&((hyper_bending *)c)->s, offset, h2, A, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     return PL_OK;
 }
@@ -111,9 +111,9 @@ static int bend_project(const pl_component *c, pl_data *d, int offset, double h2
     const double *x = hyper_term_block(c, q, offset, b->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, b->s.nverts, "right-hand side", err) : NULL;
     if (!r) return PL_EINTERNAL;
-    double *work = hyper_term_work(c, d, pl_hyper_stencils_work_size(&b->s), err);
+    double *work = hyper_term_work(c, d, hyper_stencils_work_size(&b->s), err);
     if (!work) return err->code;
-    return pl_hyper_stencils_project(&b->s, offset, h2, x, NULL, work, r, err);
+    return hyper_stencils_project(&b->s, offset, h2, x, NULL, work, r, err);
 }
 
 static double bend_energy(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q)
@@ -122,7 +122,7 @@ static double bend_energy(const pl_component *c, const pl_data *d, int offset, c
     (void)d;
     const double *x = pl_buffer_f64(q);
     if (!x || q->rows < (size_t)offset + (size_t)b->s.nverts) return NAN;
-    return pl_hyper_stencils_energy(&b->s, offset, x, NULL);
+    return hyper_stencils_energy(&b->s, offset, x, NULL);
 }
 
 static int bend_add_gradient(const pl_component *c, const pl_data *d, int offset,
@@ -133,7 +133,7 @@ static int bend_add_gradient(const pl_component *c, const pl_data *d, int offset
     const double *x = hyper_term_block(c, q, offset, b->s.nverts, "positions", err);
     double *g = x ? hyper_term_block(c, grad, offset, b->s.nverts, "gradient", err) : NULL;
     if (!g) return PL_EINTERNAL;
-    return pl_hyper_stencils_add_gradient(&b->s, offset, x, NULL, g, err);
+    return hyper_stencils_add_gradient(&b->s, offset, x, NULL, g, err);
 }
 
 static int bend_add_hessian(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
@@ -143,7 +143,7 @@ static int bend_add_hessian(const pl_component *c, const pl_data *d, int offset,
     (void)d;
     const double *x = hyper_term_block(c, q, offset, b->s.nverts, "positions", err);
     if (!x) return PL_EINTERNAL;
-    return pl_hyper_stencils_add_hessian(&b->s, offset, x, psd, H, err);
+    return hyper_stencils_add_hessian(&b->s, offset, x, psd, H, err);
 }
 
 /* Host float64 always; device float64 in CUDA builds. */

@@ -12,7 +12,7 @@
 /* Relative size under which an element counts as degenerate. */
 #define PL_HYPER_DEGENERATE 1e-12
 
-int pl_hyper_tet_shape(const double x[12], double D[12], double *volume)
+int hyper_tet_shape(const double x[12], double D[12], double *volume)
 {
     double e[3][3]; /* e[c] = x_{c+1} - x0 */
     double lmax = 0.0;
@@ -43,7 +43,7 @@ int pl_hyper_tet_shape(const double x[12], double D[12], double *volume)
     return PL_OK;
 }
 
-int pl_hyper_tri_shape(const double x[9], double D[6], double *area)
+int hyper_tri_shape(const double x[9], double D[6], double *area)
 {
     double e1[3], e2[3], n[3], t1[3], t2[3];
     hm_sub3(x + 3, x, e1);

@@ -8,7 +8,7 @@
 #include "hyperelastic.h"
 #include "incidence.h"
 
-void pl_hyper_elements_free(pl_hyper_elements *e)
+void hyper_elements_free(pl_hyper_elements *e)
 {
     if (!e) return;
     free(e->verts);
@@ -24,7 +24,7 @@ void pl_hyper_elements_free(pl_hyper_elements *e)
 
 static int fail(pl_hyper_elements *e, pl_error *err, int code, const char *msg, int i)
 {
-    pl_hyper_elements_free(e);
+    hyper_elements_free(e);
     if (i >= 0) return pl_error_set(err, code, NULL, 0, NULL, "element %d: %s", i, msg);
     return pl_error_set(err, code, NULL, 0, NULL, "%s", msg);
 }
@@ -37,13 +37,13 @@ static int element_shape(pl_hyper_elements *e, int i, const double *rest, double
     for (int c = 0; c < k; ++c)
         for (int r = 0; r < 3; ++r) x[3 * c + r] = rest[3 * (size_t)e->verts[i * k + c] + r];
     double *D = e->D + (size_t)i * k * e->d;
-    if (k == 4) return pl_hyper_tet_shape(x, D, &e->volume[i]);
-    int rc = pl_hyper_tri_shape(x, D, &e->volume[i]);
+    if (k == 4) return hyper_tet_shape(x, D, &e->volume[i]);
+    int rc = hyper_tri_shape(x, D, &e->volume[i]);
     e->volume[i] *= thickness;
     return rc;
 }
 
-int pl_hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, int k,
+int hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, int k,
                             const int *elems, int nelem, const double *rest, int nverts,
                             const double *E, int nE, const double *nu, int nnu,
                             double thickness, pl_error *err)
@@ -78,7 +78,7 @@ int pl_hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, in
             pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                          "element %d: vertex index %d out of range [0, %d)", i / k, elems[i],
                          nverts);
-            pl_hyper_elements_free(e);
+            hyper_elements_free(e);
             return PL_EINPUT;
         }
         e->verts[i] = elems[i];
@@ -87,29 +87,29 @@ int pl_hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, in
         if (element_shape(e, i, rest, thickness) != PL_OK)
             return fail(e, err, PL_EINPUT, "degenerate (zero volume or area)", i);
         pl_error lame_err;
-        int rc = pl_hyper_lame(E[nE == 1 ? 0 : i], nu[nnu == 1 ? 0 : i], k == 3, &e->mu[i],
+        int rc = hyper_lame(E[nE == 1 ? 0 : i], nu[nnu == 1 ? 0 : i], k == 3, &e->mu[i],
                                &e->lambda[i], &lame_err);
         if (rc != PL_OK) return fail(e, err, rc, lame_err.msg, i);
-        pl_hyper_law law = pl_hyper_elements_law(e, i);
-        e->w[i] = pl_hyper_law_weight(&law) * e->volume[i];
+        pl_hyper_law law = hyper_elements_law(e, i);
+        e->w[i] = hyper_law_weight(&law) * e->volume[i];
     }
     if (hyper_incidence_build(nverts, nelem * k, e->verts, &e->vptr, &e->vinc) != 0)
         return fail(e, err, PL_EINTERNAL, "out of memory building the incidence", -1);
     return PL_OK;
 }
 
-pl_hyper_law pl_hyper_elements_law(const pl_hyper_elements *e, int i)
+pl_hyper_law hyper_elements_law(const pl_hyper_elements *e, int i)
 {
     pl_hyper_law law = {e->material, e->d, e->mu[i], e->lambda[i]};
     return law;
 }
 
-int pl_hyper_elements_dual_size(const pl_hyper_elements *e)
+int hyper_elements_dual_size(const pl_hyper_elements *e)
 {
     return e->material == PL_HYPER_ARAP ? 0 : 3 * e->d;
 }
 
-int pl_hyper_elements_add_matrix(const pl_hyper_elements *e, int offset, double h2,
+int hyper_elements_add_matrix(const pl_hyper_elements *e, int offset, double h2,
                                  pl_triplets *A, pl_error *err)
 {
     const int k = e->k, d = e->d;

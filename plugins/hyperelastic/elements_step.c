@@ -38,12 +38,12 @@ static void spread(const pl_hyper_elements *e, int i, double scale, const double
         }
 }
 
-size_t pl_hyper_elements_work_size(const pl_hyper_elements *e)
+size_t hyper_elements_work_size(const pl_hyper_elements *e)
 {
     return (size_t)(e->n > 0 ? e->n : 1) * 3 * (size_t)e->k;
 }
 
-int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
+int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
                               double *dual, double *work, double *rhs, int stats[2],
                               pl_error *err)
 {
@@ -57,10 +57,10 @@ int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2,
     for (int i = 0; i < e->n; ++i) {
         double F[9], z[9], p[9];
         deformation_gradient(e, i, offset, q, F);
-        pl_hyper_law law = pl_hyper_elements_law(e, i);
+        pl_hyper_law law = hyper_elements_law(e, i);
         double *u = dual ? dual + (size_t)i * nd : NULL;
         for (int a = 0; a < nd; ++a) z[a] = u && e->material != PL_HYPER_ARAP ? F[a] + u[a] : F[a];
-        int it = pl_hyper_local_solve(&law, pl_hyper_law_weight(&law), z, p);
+        int it = hyper_local_solve(&law, hyper_law_weight(&law), z, p);
         int finite = 1;
         for (int a = 0; a < nd; ++a) finite &= isfinite(p[a]);
         if (!finite) {
@@ -92,7 +92,7 @@ int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2,
     return PL_OK;
 }
 
-double pl_hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q)
+double hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q)
 {
     double *en = malloc((size_t)(e->n > 0 ? e->n : 1) * sizeof *en);
     if (!en) return NAN;
@@ -100,8 +100,8 @@ double pl_hyper_elements_energy(const pl_hyper_elements *e, int offset, const do
     for (int i = 0; i < e->n; ++i) {
         double F[9];
         deformation_gradient(e, i, offset, q, F);
-        pl_hyper_law law = pl_hyper_elements_law(e, i);
-        en[i] = pl_hyper_psi(&law, F) * e->volume[i];
+        pl_hyper_law law = hyper_elements_law(e, i);
+        en[i] = hyper_psi(&law, F) * e->volume[i];
     }
     double sum = 0.0; /* fixed order: deterministic */
     for (int i = 0; i < e->n; ++i) sum += en[i];
@@ -109,7 +109,7 @@ double pl_hyper_elements_energy(const pl_hyper_elements *e, int offset, const do
     return sum;
 }
 
-int pl_hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const double *q,
+int hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const double *q,
                                    double *grad, pl_error *err)
 {
     const int k = e->k;
@@ -120,8 +120,8 @@ int pl_hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const
     for (int i = 0; i < e->n; ++i) {
         double F[9], P[9];
         deformation_gradient(e, i, offset, q, F);
-        pl_hyper_law law = pl_hyper_elements_law(e, i);
-        pl_hyper_piola(&law, F, P);
+        pl_hyper_law law = hyper_elements_law(e, i);
+        hyper_piola(&law, F, P);
         spread(e, i, e->volume[i], P, slots + (size_t)i * 3 * k); /* dE/dx_c = V P D^T */
     }
     hyper_incidence_gather(e->nverts, e->vptr, e->vinc, slots, offset, grad);
@@ -137,7 +137,7 @@ static void element_hessian(const pl_hyper_elements *e, int i, int offset, const
     const double *D = e->D + (size_t)i * k * d;
     double F[9], H[81];
     deformation_gradient(e, i, offset, q, F);
-    pl_hyper_law law = pl_hyper_elements_law(e, i);
+    pl_hyper_law law = hyper_elements_law(e, i);
     pl_hyper_dPdF(&law, F, psd, H);
     for (int c = 0; c < k; ++c)
         for (int a = 0; a < 3; ++a)
@@ -151,7 +151,7 @@ static void element_hessian(const pl_hyper_elements *e, int i, int offset, const
                 }
 }
 
-int pl_hyper_elements_add_hessian(const pl_hyper_elements *e, int offset, const double *q,
+int hyper_elements_add_hessian(const pl_hyper_elements *e, int offset, const double *q,
                                   int psd, pl_triplets *H, pl_error *err)
 {
     const int k = e->k, n = 3 * k;

@@ -59,7 +59,7 @@ int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
     for (int i = 0; i < f->nelem; ++i) {
         double mu, la;
         pl_error e;
-        int rc = pl_hyper_lame(f->young.v[f->young.n == 1 ? 0 : i],
+        int rc = hyper_lame(f->young.v[f->young.n == 1 ? 0 : i],
                                f->poisson.v[f->poisson.n == 1 ? 0 : i], 0, &mu, &la, &e);
         if (rc != PL_OK && f->young.n == 1 && f->poisson.n == 1)
             return pl_component_error(c, ctx, rc, "%s", e.msg);
@@ -88,14 +88,14 @@ int hyper_fem_bind(pl_component *c, pl_ctx *ctx)
 int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
 {
     hyper_fem *f = (hyper_fem *)c;
-    pl_hyper_elements_free(&f->el); /* workspaces (device copies) are remade after a reinit */
+    hyper_elements_free(&f->el); /* workspaces (device copies) are remade after a reinit */
     if (!f->state || !f->mesh) return PL_EINPUT; /* init or bind already reported why */
     int nrest;
     const double *rest = pl_util_rest(f->state, &nrest);
     if (!rest) return pl_component_error(c, ctx, PL_EINPUT, "its state has no rest positions");
     pl_error err;
     const int *cells = f->k == 4 ? f->mesh->tets : f->mesh->tris;
-    int rc = pl_hyper_elements_build(&f->el, f->material, f->k, cells, f->nelem, rest, nrest,
+    int rc = hyper_elements_build(&f->el, f->material, f->k, cells, f->nelem, rest, nrest,
                                      f->young.v, f->young.n, f->poisson.v, f->poisson.n,
                                      f->thickness, &err);
     if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
@@ -132,7 +132,7 @@ int hyper_fem_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 
 void hyper_fem_destroy(pl_component *c)
 {
-    pl_hyper_elements_free(&((hyper_fem *)c)->el);
+    hyper_elements_free(&((hyper_fem *)c)->el);
 }
 
 /* ---- PL_ROLE_LOCAL_TERM --------------------------------------------------- */
@@ -146,7 +146,7 @@ static int fem_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A
 {
     hyper_fem *f = (hyper_fem *)c;
     pl_error e;
-    if (pl_hyper_elements_add_matrix(&f->el, offset, h2, A, &e) != PL_OK)
+    if (hyper_elements_add_matrix(&f->el, offset, h2, A, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     return PL_OK;
 }
@@ -168,18 +168,18 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
     if (!b) return PL_EINTERNAL;
     double *dual = NULL;
     if (f->dual_slot >= 0) {
-        size_t bytes = (size_t)f->el.n * pl_hyper_elements_dual_size(&f->el) * sizeof(double);
+        size_t bytes = (size_t)f->el.n * hyper_elements_dual_size(&f->el) * sizeof(double);
         /* a pl_data made before the model knew its size gets zero duals */
         if (pl_data_slot_bytes(d, f->dual_slot) != bytes &&
             pl_data_resize_slot(d, f->dual_slot, bytes) != 0)
             return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (duals)");
         dual = pl_data_slot(d, f->dual_slot);
     }
-    double *work = hyper_term_work(c, d, pl_hyper_elements_work_size(&f->el), err);
+    double *work = hyper_term_work(c, d, hyper_elements_work_size(&f->el), err);
     if (!work) return err->code;
     pl_error e;
     int stats[2];
-    if (pl_hyper_elements_project(&f->el, offset, h2, x, dual, work, b, stats, &e) != PL_OK)
+    if (hyper_elements_project(&f->el, offset, h2, x, dual, work, b, stats, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     if (stats[1] > 0)
         pl_log_debug("%s: %d local solves stopped before their tolerance", c->name, stats[1]);
@@ -192,7 +192,7 @@ static double fem_energy(const pl_component *c, const pl_data *d, int offset, co
     (void)d;
     const double *x = pl_buffer_f64(q);
     if (!x || q->rows < (size_t)offset + (size_t)f->el.nverts) return NAN;
-    return pl_hyper_elements_energy(&f->el, offset, x);
+    return hyper_elements_energy(&f->el, offset, x);
 }
 
 static int fem_add_gradient(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
@@ -204,7 +204,7 @@ static int fem_add_gradient(const pl_component *c, const pl_data *d, int offset,
     double *g = x ? hyper_term_block(c, grad, offset, f->el.nverts, "gradient", err) : NULL;
     if (!g) return PL_EINTERNAL;
     pl_error e;
-    if (pl_hyper_elements_add_gradient(&f->el, offset, x, g, &e) != PL_OK)
+    if (hyper_elements_add_gradient(&f->el, offset, x, g, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     return PL_OK;
 }
@@ -217,7 +217,7 @@ static int fem_add_hessian(const pl_component *c, const pl_data *d, int offset, 
     const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
     if (!x) return PL_EINTERNAL;
     pl_error e;
-    if (pl_hyper_elements_add_hessian(&f->el, offset, x, psd, H, &e) != PL_OK)
+    if (hyper_elements_add_hessian(&f->el, offset, x, psd, H, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     return PL_OK;
 }

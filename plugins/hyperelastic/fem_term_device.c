@@ -48,16 +48,16 @@ static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
     if (!gpu) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     gpu->stream = ops->stream(dev);
     pl_error e;
-    gpu->g = pl_hyper_cuda_create(&f->el, &e);
+    gpu->g = hyper_cuda_create(&f->el, &e);
     if (!gpu->g) {
         free(gpu);
         return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     }
     if (f->dual_slot >= 0) {
-        gpu->dual_bytes = (size_t)f->el.n * pl_hyper_elements_dual_size(&f->el) * sizeof(double);
+        gpu->dual_bytes = (size_t)f->el.n * hyper_elements_dual_size(&f->el) * sizeof(double);
         cudaError_t ce = cudaMalloc((void **)&gpu->dual, gpu->dual_bytes ? gpu->dual_bytes : 1);
         if (ce != cudaSuccess) {
-            pl_hyper_cuda_destroy(gpu->g);
+            hyper_cuda_destroy(gpu->g);
             free(gpu);
             return fail_cuda(f, err, ce, "device duals");
         }
@@ -110,7 +110,7 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
     gpu->fresh = 1;
     gpu->used = 1;
     pl_error e;
-    if (pl_hyper_cuda_project(gpu->g, offset, h2, q->data, gpu->dual, rhs->data,
+    if (hyper_cuda_project(gpu->g, offset, h2, q->data, gpu->dual, rhs->data,
                               PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
@@ -129,7 +129,7 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     gpu->fresh = 0;
     int stats[2];
     pl_error e;
-    if (pl_hyper_cuda_stats(gpu->g, gpu->stream, stats, &e) != PL_OK) /* waits for the stream */
+    if (hyper_cuda_stats(gpu->g, gpu->stream, stats, &e) != PL_OK) /* waits for the stream */
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
                                  "local step on the device, step %ld: %s", d->step, e.msg);
     if (stats[1] > 0)
@@ -148,7 +148,7 @@ void hyper_fem_device_free(hyper_fem_gpu **slot)
 {
     hyper_fem_gpu *gpu = *slot;
     if (!gpu) return;
-    pl_hyper_cuda_destroy(gpu->g);
+    hyper_cuda_destroy(gpu->g);
     if (gpu->dual) cudaFree(gpu->dual);
     free(gpu);
     *slot = NULL;

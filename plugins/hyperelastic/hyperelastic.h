@@ -45,34 +45,34 @@ extern "C" {
  * rotations (det +1), |s0| >= |s1| >= |s2|, s0, s1 >= 0; s2 < 0 exactly when
  * det F < 0 (the smallest singular value carries the inversion).  One-sided
  * Jacobi (Hestenes): accurate for tiny singular values. */
-void pl_hyper_svd3(const double F[9], double U[9], double s[3], double V[9]);
+void hyper_svd3(const double F[9], double U[9], double s[3], double V[9]);
 /* SVD of a 3x2 F: F = U diag(s) V^T, U 3x2 with orthonormal columns,
  * s0 >= s1 >= 0, V 2x2 rotation. */
-void pl_hyper_svd32(const double F[6], double U[6], double s[2], double V[4]);
+void hyper_svd32(const double F[6], double U[6], double s[2], double V[4]);
 /* Closest proper rotation to F (3x3), also for inverted F. */
-void pl_hyper_polar3(const double F[9], double R[9]);
+void hyper_polar3(const double F[9], double R[9]);
 /* Closest 3x2 matrix with orthonormal columns to F (3x2). */
-void pl_hyper_polar32(const double F[6], double R[6]);
+void hyper_polar32(const double F[6], double R[6]);
 
 #define PL_HYPER_SYM_MAX 12
 /* Cyclic Jacobi eigen-decomposition of a symmetric n x n A (row-major,
  * n <= PL_HYPER_SYM_MAX): A = Q diag(lambda) Q^T, Q's columns the
  * eigenvectors, lambda ascending.  PL_EINPUT if n is out of range. */
-int pl_hyper_sym_eigen(int n, const double *A, double *lambda, double *Q);
+int hyper_sym_eigen(int n, const double *A, double *lambda, double *Q);
 /* Replaces A (symmetric n x n) by its projection on the PSD cone (negative
  * eigenvalues set to zero). */
-int pl_hyper_project_psd(int n, double *A);
+int hyper_project_psd(int n, double *A);
 
 /* ---- element geometry (element_geometry.c) ------------------------------ */
 
 /* x: the 4 rest vertices (4 x 3).  D (4 x 3) with F = X D; volume > 0 (the
  * absolute value: a negatively oriented rest tet still has F = I at rest).
  * PL_EINPUT if the tetrahedron is degenerate. */
-int pl_hyper_tet_shape(const double x[12], double D[12], double *volume);
+int hyper_tet_shape(const double x[12], double D[12], double *volume);
 /* x: the 3 rest vertices (3 x 3).  D (3 x 2) with F = X D mapping the rest
  * frame (t1 along edge 01, t2 in-plane) to 3D; at rest F = [t1 t2].
  * PL_EINPUT if the triangle is degenerate. */
-int pl_hyper_tri_shape(const double x[9], double D[6], double *area);
+int hyper_tri_shape(const double x[9], double D[6], double *area);
 
 /* ---- material laws (material_law.c, material_hessian.c, local_solve.c) -- */
 /* (The laws on the singular values and the local solve are material_law.h
@@ -98,13 +98,13 @@ typedef struct pl_hyper_law {
  * the plane-stress lambda* = 2 mu lambda/(lambda + 2 mu) (= E nu/(1-nu^2)),
  * which makes a 2D law's uniaxial stiffness E.  PL_EINPUT unless E > 0 and
  * -1 < nu < 0.5. */
-int pl_hyper_lame(double E, double nu, int membrane, double *mu, double *lambda, pl_error *err);
+int hyper_lame(double E, double nu, int membrane, double *mu, double *lambda, pl_error *err);
 /* The PD weight per unit volume: 2 mu (ARAP), 2 mu + lambda (ADMM-PD). */
-double pl_hyper_law_weight(const pl_hyper_law *m);
+double hyper_law_weight(const pl_hyper_law *m);
 /* Energy density psi(F); +INFINITY for Neo-Hookean when J <= 0. */
-double pl_hyper_psi(const pl_hyper_law *m, const double *F);
+double hyper_psi(const pl_hyper_law *m, const double *F);
 /* First Piola-Kirchhoff stress P = dpsi/dF (3 x d). */
-void pl_hyper_piola(const pl_hyper_law *m, const double *F, double *P);
+void hyper_piola(const pl_hyper_law *m, const double *F, double *P);
 /* dP/dF as a (3d x 3d) row-major matrix over vec(F) (index a*d + b for
  * F_ab).  psd != 0: projected to PSD (exactly: the Hessian is block-diagonal
  * in the singular frame; each block's eigenvalues are clamped at zero). */
@@ -114,7 +114,7 @@ void pl_hyper_dPdF(const pl_hyper_law *m, const double *F, int psd, double *H);
  * singular values of z by Newton with backtracking (s > 0 kept for
  * Neo-Hookean).  Returns the Newton iterations (>= 0), or -1 if it did not
  * reach its tolerance (p is then the last iterate) or z is not finite. */
-int pl_hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p);
+int hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p);
 
 /* ---- element sets: one FEM term's elements (elements.c, elements_step.c) */
 
@@ -128,7 +128,7 @@ typedef struct pl_hyper_elements {
     double *D;          /* n x (k*d): each a k x d row-major shape matrix */
     double *volume;     /* n rest volumes [m^3] (triangles: area * thickness) */
     double *mu, *lambda;/* n Lame parameters [Pa] (lambda plane-stress for triangles) */
-    double *w;          /* n PD weights [N m] = pl_hyper_law_weight * volume */
+    double *w;          /* n PD weights [N m] = hyper_law_weight * volume */
     int *vptr, *vinc;   /* vertex -> (element*k + corner) incidence, for gathers */
 } pl_hyper_elements;
 
@@ -138,42 +138,42 @@ typedef struct pl_hyper_elements {
  * triangle areas into volumes (ignored for tetrahedra).  On error (bad index,
  * degenerate element, bad material) e is left empty and err says which
  * element. */
-int pl_hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, int k,
+int hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, int k,
                             const int *elems, int nelem, const double *rest, int nverts,
                             const double *E, int nE, const double *nu, int nnu,
                             double thickness, pl_error *err);
-void pl_hyper_elements_free(pl_hyper_elements *e);
+void hyper_elements_free(pl_hyper_elements *e);
 /* The law of element i. */
-pl_hyper_law pl_hyper_elements_law(const pl_hyper_elements *e, int i);
+pl_hyper_law hyper_elements_law(const pl_hyper_elements *e, int i);
 /* Doubles per element in the dual (3 * d; 0 for ARAP, which has none). */
-int pl_hyper_elements_dual_size(const pl_hyper_elements *e);
+int hyper_elements_dual_size(const pl_hyper_elements *e);
 /* A += h2 * w D D^T, scalar, at global vertices offset + v (full matrix,
  * both triangles). */
-int pl_hyper_elements_add_matrix(const pl_hyper_elements *e, int offset, double h2,
+int hyper_elements_add_matrix(const pl_hyper_elements *e, int offset, double h2,
                                  pl_triplets *A, pl_error *err);
 /* Doubles of scratch the local step needs (n x 3k). */
-size_t pl_hyper_elements_work_size(const pl_hyper_elements *e);
+size_t hyper_elements_work_size(const pl_hyper_elements *e);
 /* The local step: q global positions (>= offset + nverts rows, x 3); dual
  * n x dual_size (NULL for ARAP; ADMM duals updated in place); work: the
- * caller's scratch of pl_hyper_elements_work_size doubles (the element set
+ * caller's scratch of hyper_elements_work_size doubles (the element set
  * is only read, so several states may project with it at once); adds
  * h2 * w (p - u) D^T into rhs (global n x 3).  If stats != NULL, stats[0] =
  * the largest Newton iteration count, stats[1] = elements whose local solve
  * missed its tolerance.  PL_EINTERNAL if q gives a non-finite F. */
-int pl_hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
+int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
                               double *dual, double *work, double *rhs, int stats[2],
                               pl_error *err);
 /* Elastic energy sum psi(F_e) V_e [J] (+INFINITY if a Neo-Hookean element is
  * inverted).  Summed in element order. */
-double pl_hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q);
+double hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q);
 /* grad (global n x 3) += d energy / dq. */
-int pl_hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const double *q,
+int hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const double *q,
                                    double *grad, pl_error *err);
 /* H (3n x 3n, index 3*vertex + coordinate) += d2 energy / dq2.  psd != 0:
  * each element's dP/dF is projected to PSD (pl_hyper_dPdF), so each 3k x 3k
  * block V G^T (dP/dF) G is PSD too.  Every entry of every block is appended
  * (a constant pattern). */
-int pl_hyper_elements_add_hessian(const pl_hyper_elements *e, int offset, const double *q,
+int hyper_elements_add_hessian(const pl_hyper_elements *e, int offset, const double *q,
                                   int psd, pl_triplets *H, pl_error *err);
 
 /* ---- stencil terms: bending and targets (stencils.c, bending.c) --------- */
@@ -212,7 +212,7 @@ typedef struct pl_hyper_stencils {
  * one edge family (measured, test_hyper_bending).  Edges with more than two
  * triangles are skipped and counted in *nskipped (may be NULL).  stiffness
  * [N m]. */
-int pl_hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int ntris,
+int hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int ntris,
                                      const double *rest, int nverts, double stiffness,
                                      int *nskipped, pl_error *err);
 /* Laplace-Beltrami bending: one stencil per vertex used by a triangle,
@@ -225,31 +225,31 @@ int pl_hyper_isometric_bending_build(pl_hyper_stencils *s, const int *tris, int 
  * the rest one-ring and calibrated to 2H on a paraboloid, with rest value 0
  * (bending_boundary.c).  No Gaussian-curvature term: like a plate with
  * nu = 1, a soft membrane can relax by anticlastic curvature. */
-int pl_hyper_laplace_beltrami_build(pl_hyper_stencils *s, const int *tris, int ntris,
+int hyper_laplace_beltrami_build(pl_hyper_stencils *s, const int *tris, int ntris,
                                     const double *rest, int nverts, double stiffness,
                                     pl_error *err);
 /* Position targets: stencil r = vertex idx[r] with coefficient 1, w =
  * stiffness [N/m]; energy stiffness/2 ||x_a - t_a||^2 (FIXED, targets given
  * to project/energy). */
-int pl_hyper_point_targets_build(pl_hyper_stencils *s, const int *idx, int n, int nverts,
+int hyper_point_targets_build(pl_hyper_stencils *s, const int *idx, int n, int nverts,
                                  double stiffness, pl_error *err);
-void pl_hyper_stencils_free(pl_hyper_stencils *s);
+void hyper_stencils_free(pl_hyper_stencils *s);
 /* A += h2 * w g g^T (scalar, global vertices offset + v). */
-int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,
+int hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,
                                  pl_triplets *A, pl_error *err);
 /* Doubles of scratch project needs (3 per entry). */
-size_t pl_hyper_stencils_work_size(const pl_hyper_stencils *s);
+size_t hyper_stencils_work_size(const pl_hyper_stencils *s);
 /* rhs += h2 * w g^T p (p from targets, n x 3, for FIXED; NULL = zero);
- * work: the caller's scratch of pl_hyper_stencils_work_size doubles. */
-int pl_hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
+ * work: the caller's scratch of hyper_stencils_work_size doubles. */
+int hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
                               const double *targets, double *work, double *rhs, pl_error *err);
-double pl_hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const double *q,
+double hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const double *q,
                                 const double *targets);
-int pl_hyper_stencils_add_gradient(const pl_hyper_stencils *s, int offset, const double *q,
+int hyper_stencils_add_gradient(const pl_hyper_stencils *s, int offset, const double *q,
                                    const double *targets, double *grad, pl_error *err);
 /* H += w g g^T (x) M: M = I for FIXED; for KEEP_NORM the Hessian of
  * (|y| - r)^2 / 2, clamped to PSD when psd != 0. */
-int pl_hyper_stencils_add_hessian(const pl_hyper_stencils *s, int offset, const double *q,
+int hyper_stencils_add_hessian(const pl_hyper_stencils *s, int offset, const double *q,
                                   int psd, pl_triplets *H, pl_error *err);
 
 /* ---- target motion (target_motion.c) ------------------------------------ */
@@ -277,9 +277,9 @@ typedef struct pl_hyper_motion {
 
 /* Checks the motion for npoints points (axis non-zero, times increasing,
  * values of a valid size); PL_EINPUT with a message otherwise. */
-int pl_hyper_motion_check(const pl_hyper_motion *m, int npoints, pl_error *err);
+int hyper_motion_check(const pl_hyper_motion *m, int npoints, pl_error *err);
 /* out (npoints x 3) = the targets at time t from base (npoints x 3). */
-void pl_hyper_motion_eval(const pl_hyper_motion *m, int npoints, const double *base, double t,
+void hyper_motion_eval(const pl_hyper_motion *m, int npoints, const double *base, double t,
                           double *out);
 
 #ifdef __cplusplus

@@ -5,7 +5,7 @@
 
 #include "hyperelastic.h"
 
-int pl_hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p)
+int hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p)
 {
     /* d as a constant in each call: the shared code is written for it */
     if (m->d == 3) return hm_local_solve(3, (int)m->material, m->mu, m->lambda, what, z, p);

@@ -1,5 +1,5 @@
 /* local_solve.h - the per-element local step, the one implementation for
- * the CPU (local_solve.c, pl_hyper_local_solve) and the GPU
+ * the CPU (local_solve.c, hyper_local_solve) and the GPU
  * (cuda/hyper_cuda.cu); compiled as C and as CUDA (pliant/hostdevice.h).
  *
  * ARAP: the projection on rotations (closest proper rotation, closest 3x2

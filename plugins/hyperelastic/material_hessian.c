@@ -37,7 +37,7 @@ void pl_hyper_dPdF(const pl_hyper_law *m, const double *F, int psd, double *H)
     }
     double Hh[81];
     memset(Hh, 0, sizeof Hh);
-    if (psd) pl_hyper_project_psd(d, Hs);
+    if (psd) hyper_project_psd(d, Hs);
     for (int i = 0; i < d; ++i)
         for (int j = 0; j < d; ++j) Hh[(i * d + i) * n + (j * d + j)] = Hs[i * d + j];
     for (int i = 0; i < d; ++i)

@@ -12,7 +12,7 @@
 #include "small_matrix.h"
 #include "svd.h"
 
-int pl_hyper_lame(double E, double nu, int membrane, double *mu, double *lambda, pl_error *err)
+int hyper_lame(double E, double nu, int membrane, double *mu, double *lambda, pl_error *err)
 {
     if (!(E > 0.0) || !isfinite(E))
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
@@ -29,7 +29,7 @@ int pl_hyper_lame(double E, double nu, int membrane, double *mu, double *lambda,
     return PL_OK;
 }
 
-double pl_hyper_law_weight(const pl_hyper_law *m)
+double hyper_law_weight(const pl_hyper_law *m)
 {
     return m->material == PL_HYPER_ARAP ? 2.0 * m->mu : 2.0 * m->mu + m->lambda;
 }
@@ -90,7 +90,7 @@ void hyper_sv_pair(const pl_hyper_law *m, const double *s, const double *g, int 
     *t = 2.0 * mu + (2.0 * lc * tr - 4.0 * mu) / guard(s[i] + s[j]);
 }
 
-double pl_hyper_psi(const pl_hyper_law *m, const double *F)
+double hyper_psi(const pl_hyper_law *m, const double *F)
 {
     const int d = m->d;
     if (m->material == PL_HYPER_NEOHOOKEAN) {
@@ -115,7 +115,7 @@ double pl_hyper_psi(const pl_hyper_law *m, const double *F)
     return psi;
 }
 
-void pl_hyper_piola(const pl_hyper_law *m, const double *F, double *P)
+void hyper_piola(const pl_hyper_law *m, const double *F, double *P)
 {
     const int d = m->d;
     double U[9], s[3], V[9], g[3], psi;

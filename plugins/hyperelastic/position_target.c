@@ -90,7 +90,7 @@ static int pt_init(pl_component *c, pl_ctx *ctx)
                                   p->stiffness);
     pl_hyper_motion m = motion_of(p, NULL);
     pl_error err;
-    if (pl_hyper_motion_check(&m, p->indices.n, &err) != PL_OK)
+    if (hyper_motion_check(&m, p->indices.n, &err) != PL_OK)
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     p->slot = pl_model_add_slot(ctx->build, c, "target", (size_t)p->indices.n * 3 * sizeof(double));
     if (p->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
@@ -118,7 +118,7 @@ static int pt_bind(pl_component *c, pl_ctx *ctx)
         memcpy(p->base_pos + 3 * i, rest + 3 * (size_t)p->indices.v[i], 3 * sizeof(double));
     /* initial state: the targets at the initial time */
     pl_hyper_motion m = motion_of(p, ctx->data);
-    pl_hyper_motion_eval(&m, p->indices.n, p->base_pos, ctx->data->time,
+    hyper_motion_eval(&m, p->indices.n, p->base_pos, ctx->data->time,
                          pl_data_slot(ctx->data, p->slot));
     return PL_OK;
 }
@@ -126,15 +126,15 @@ static int pt_bind(pl_component *c, pl_ctx *ctx)
 static int pt_reinit(pl_component *c, pl_ctx *ctx)
 {
     position_target *p = (position_target *)c;
-    pl_hyper_stencils_free(&p->s); /* workspaces (device copies) are remade after a reinit */
+    hyper_stencils_free(&p->s); /* workspaces (device copies) are remade after a reinit */
     if (!p->state) return PL_EINPUT;
     int n;
     pl_util_rest(p->state, &n);
     pl_error err;
-    int rc = pl_hyper_point_targets_build(&p->s, p->indices.v, p->indices.n, n, p->stiffness, &err);
+    int rc = hyper_point_targets_build(&p->s, p->indices.v, p->indices.n, n, p->stiffness, &err);
     if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
     pl_hyper_motion m = motion_of(p, NULL);
-    if (pl_hyper_motion_check(&m, p->indices.n, &err) != PL_OK) /* fields may have changed */
+    if (hyper_motion_check(&m, p->indices.n, &err) != PL_OK) /* fields may have changed */
         return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     return PL_OK;
 }
@@ -144,11 +144,11 @@ static int pt_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
     const position_target *p = (const position_target *)c;
     pl_hyper_motion m = motion_of(p, ctx->data);
     pl_error e;
-    if (pl_hyper_motion_check(&m, p->indices.n, &e) != PL_OK) /* runtime edits */
+    if (hyper_motion_check(&m, p->indices.n, &e) != PL_OK) /* runtime edits */
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     /* the step ends at t + dt: implicit Euler pulls towards the targets there */
     double t = ctx->data->time + pl_node_dt(c->node);
-    pl_hyper_motion_eval(&m, p->indices.n, p->base_pos, t, pl_data_slot(ctx->data, p->slot));
+    hyper_motion_eval(&m, p->indices.n, p->base_pos, t, pl_data_slot(ctx->data, p->slot));
 #ifdef PLIANT_HAVE_CUDA
     /* new targets go up at the next device project */
     hyper_term_ws *w = pl_data_workspace(ctx->data, c);
@@ -160,7 +160,7 @@ static int pt_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 static void pt_destroy(pl_component *c)
 {
     position_target *p = (position_target *)c;
-    pl_hyper_stencils_free(&p->s);
+    hyper_stencils_free(&p->s);
     free(p->base_pos);
 }
 
@@ -173,7 +173,7 @@ static pl_component *pt_state(const pl_component *c)
 
 static int pt_add_matrix(pl_component *c, int offset, double h2, pl_triplets *A, pl_error *err)
 {
-    return pl_hyper_stencils_add_matrix(&((position_target *)c)->s, offset, h2, A, err);
+    return hyper_stencils_add_matrix(&((position_target *)c)->s, offset, h2, A, err);
 }
 
 static int pt_project(const pl_component *c, pl_data *d, int offset, double h2, const pl_buffer *q,
@@ -194,9 +194,9 @@ static int pt_project(const pl_component *c, pl_data *d, int offset, double h2, 
     const double *x = hyper_term_block(c, q, offset, p->s.nverts, "positions", err);
     double *r = x ? hyper_term_block(c, rhs, offset, p->s.nverts, "right-hand side", err) : NULL;
     if (!r) return PL_EINTERNAL;
-    double *work = hyper_term_work(c, d, pl_hyper_stencils_work_size(&p->s), err);
+    double *work = hyper_term_work(c, d, hyper_stencils_work_size(&p->s), err);
     if (!work) return err->code;
-    return pl_hyper_stencils_project(&p->s, offset, h2, x, pl_data_slot(d, p->slot), work, r, err);
+    return hyper_stencils_project(&p->s, offset, h2, x, pl_data_slot(d, p->slot), work, r, err);
 }
 
 static double pt_energy(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q)
@@ -204,7 +204,7 @@ static double pt_energy(const pl_component *c, const pl_data *d, int offset, con
     const position_target *p = (const position_target *)c;
     const double *x = pl_buffer_f64(q);
     if (!x || q->rows < (size_t)offset + (size_t)p->s.nverts) return NAN;
-    return pl_hyper_stencils_energy(&p->s, offset, x, pl_data_slot(d, p->slot));
+    return hyper_stencils_energy(&p->s, offset, x, pl_data_slot(d, p->slot));
 }
 
 static int pt_add_gradient(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
@@ -214,7 +214,7 @@ static int pt_add_gradient(const pl_component *c, const pl_data *d, int offset, 
     const double *x = hyper_term_block(c, q, offset, p->s.nverts, "positions", err);
     double *g = x ? hyper_term_block(c, grad, offset, p->s.nverts, "gradient", err) : NULL;
     if (!g) return PL_EINTERNAL;
-    return pl_hyper_stencils_add_gradient(&p->s, offset, x, pl_data_slot(d, p->slot), g, err);
+    return hyper_stencils_add_gradient(&p->s, offset, x, pl_data_slot(d, p->slot), g, err);
 }
 
 static int pt_add_hessian(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
@@ -224,7 +224,7 @@ static int pt_add_hessian(const pl_component *c, const pl_data *d, int offset, c
     (void)d;
     const double *x = hyper_term_block(c, q, offset, p->s.nverts, "positions", err);
     if (!x) return PL_EINTERNAL;
-    return pl_hyper_stencils_add_hessian(&p->s, offset, x, psd, H, err);
+    return hyper_stencils_add_hessian(&p->s, offset, x, psd, H, err);
 }
 
 /* Host float64 always; device float64 in CUDA builds. */

@@ -39,7 +39,7 @@ static int prepare(const pl_component *c, const pl_hyper_stencils *s, hyper_sten
     if (!g) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     g->stream = ops->stream(dev);
     pl_error e;
-    g->g = pl_stencil_cuda_create(s, &e);
+    g->g = stencil_cuda_create(s, &e);
     if (!g->g) {
         free(g);
         return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
@@ -62,11 +62,11 @@ int hyper_stencil_project_device(const pl_component *c, const pl_hyper_stencils 
     hyper_stencil_gpu *g = *gpu;
     pl_error e;
     if (targets && g->fresh != d) {
-        if (pl_stencil_cuda_set_targets(g->g, targets, g->stream, &e) != PL_OK)
+        if (stencil_cuda_set_targets(g->g, targets, g->stream, &e) != PL_OK)
             return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         g->fresh = d;
     }
-    if (pl_stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, g->stream,
+    if (stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, g->stream,
                                 &e) != PL_OK)
         return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
@@ -80,7 +80,7 @@ void hyper_stencil_device_begin_step(hyper_stencil_gpu *gpu)
 void hyper_stencil_device_free(hyper_stencil_gpu **gpu)
 {
     if (!*gpu) return;
-    pl_stencil_cuda_destroy((*gpu)->g);
+    stencil_cuda_destroy((*gpu)->g);
     free(*gpu);
     *gpu = NULL;
 }

@@ -12,7 +12,7 @@
 #include "small_matrix.h"
 #include "stencils_internal.h"
 
-void pl_hyper_stencils_free(pl_hyper_stencils *s)
+void hyper_stencils_free(pl_hyper_stencils *s)
 {
     if (!s) return;
     free(s->ptr);
@@ -46,7 +46,7 @@ static void target_of(const pl_hyper_stencils *s, int r, const double *y, const 
     hm_keep_norm_target(s->rest + 3 * r, y, p);
 }
 
-int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,
+int hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double h2,
                                  pl_triplets *A, pl_error *err)
 {
     for (int r = 0; r < s->n; ++r)
@@ -59,13 +59,13 @@ int pl_hyper_stencils_add_matrix(const pl_hyper_stencils *s, int offset, double 
     return PL_OK;
 }
 
-size_t pl_hyper_stencils_work_size(const pl_hyper_stencils *s)
+size_t hyper_stencils_work_size(const pl_hyper_stencils *s)
 {
     size_t nz = s->ptr ? (size_t)s->ptr[s->n] : 0;
     return 3 * (nz > 0 ? nz : 1);
 }
 
-int pl_hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
+int hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2, const double *q,
                               const double *targets, double *work, double *rhs, pl_error *err)
 {
     (void)err;
@@ -81,7 +81,7 @@ int pl_hyper_stencils_project(const pl_hyper_stencils *s, int offset, double h2,
     return PL_OK;
 }
 
-double pl_hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const double *q,
+double hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const double *q,
                                 const double *targets)
 {
     double sum = 0.0; /* sequential: fixed order, and cheap next to the elements */
@@ -95,7 +95,7 @@ double pl_hyper_stencils_energy(const pl_hyper_stencils *s, int offset, const do
     return sum;
 }
 
-int pl_hyper_stencils_add_gradient(const pl_hyper_stencils *s, int offset, const double *q,
+int hyper_stencils_add_gradient(const pl_hyper_stencils *s, int offset, const double *q,
                                    const double *targets, double *grad, pl_error *err)
 {
     (void)err;
@@ -134,7 +134,7 @@ static void row_curvature(const pl_hyper_stencils *s, int r, const double *y, in
             M[a * 3 + b] = yh[a] * yh[b] + across * ((a == b) - yh[a] * yh[b]);
 }
 
-int pl_hyper_stencils_add_hessian(const pl_hyper_stencils *s, int offset, const double *q,
+int hyper_stencils_add_hessian(const pl_hyper_stencils *s, int offset, const double *q,
                                   int psd, pl_triplets *H, pl_error *err)
 {
     for (int r = 0; r < s->n; ++r) {
@@ -170,7 +170,7 @@ int hyper_stencils_alloc(pl_hyper_stencils *s, pl_hyper_stencil_kind kind, int n
     if (kind == PL_HYPER_STENCIL_KEEP_NORM) s->rest = malloc(3 * nn * sizeof *s->rest);
     if (!s->ptr || !s->vert || !s->coef || !s->w ||
         (kind == PL_HYPER_STENCIL_KEEP_NORM && !s->rest)) {
-        pl_hyper_stencils_free(s);
+        hyper_stencils_free(s);
         return -1;
     }
     return 0;
@@ -179,7 +179,7 @@ int hyper_stencils_alloc(pl_hyper_stencils *s, pl_hyper_stencil_kind kind, int n
 int hyper_stencils_finish(pl_hyper_stencils *s, const double *rest_positions)
 {
     if (hyper_incidence_build(s->nverts, s->ptr[s->n], s->vert, &s->vptr, &s->vinc) != 0) {
-        pl_hyper_stencils_free(s);
+        hyper_stencils_free(s);
         return -1;
     }
     if (s->kind == PL_HYPER_STENCIL_KEEP_NORM)

@@ -4,24 +4,24 @@
 #include "hyperelastic.h"
 #include "svd.h"
 
-void pl_hyper_svd3(const double F[9], double U[9], double s[3], double V[9])
+void hyper_svd3(const double F[9], double U[9], double s[3], double V[9])
 {
     hm_svd3(F, U, s, V);
 }
 
-void pl_hyper_svd32(const double F[6], double U[6], double s[2], double V[4])
+void hyper_svd32(const double F[6], double U[6], double s[2], double V[4])
 {
     hm_svd32(F, U, s, V);
 }
 
-void pl_hyper_polar3(const double F[9], double R[9])
+void hyper_polar3(const double F[9], double R[9])
 {
     double U[9], s[3], V[9];
     hm_svd3(F, U, s, V);
     hm_polar_from_svd(3, U, V, R);
 }
 
-void pl_hyper_polar32(const double F[6], double R[6])
+void hyper_polar32(const double F[6], double R[6])
 {
     double U[6], s[2], V[4];
     hm_svd32(F, U, s, V);

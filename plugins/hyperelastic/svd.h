@@ -165,7 +165,7 @@ PL_HD int hm_scale_exponent(const int len, const double *F)
 }
 
 /* Signed SVD of a 3x3 F = U diag(s) V^T, U and V proper rotations,
- * |s0| >= |s1| >= |s2|, s2 < 0 exactly when det F < 0 (pl_hyper_svd3). */
+ * |s0| >= |s1| >= |s2|, s2 < 0 exactly when det F < 0 (hyper_svd3). */
 PL_HD void hm_svd3(const double *F, double *U, double *s, double *V)
 {
     double A[9];
@@ -200,7 +200,7 @@ PL_HD void hm_svd3(const double *F, double *U, double *s, double *V)
 }
 
 /* SVD of a 3x2 F = U diag(s) V^T: U 3x2 with orthonormal columns,
- * s0 >= s1 >= 0, V a 2x2 rotation (pl_hyper_svd32). */
+ * s0 >= s1 >= 0, V a 2x2 rotation (hyper_svd32). */
 PL_HD void hm_svd32(const double *F, double *U, double *s, double *V)
 {
     double A[6], Fs[6];

@@ -5,7 +5,7 @@
 
 #include "hyperelastic.h"
 
-int pl_hyper_sym_eigen(int n, const double *A, double *lambda, double *Q)
+int hyper_sym_eigen(int n, const double *A, double *lambda, double *Q)
 {
     if (n < 1 || n > PL_HYPER_SYM_MAX) return PL_EINPUT;
     double M[PL_HYPER_SYM_MAX * PL_HYPER_SYM_MAX];
@@ -13,10 +13,10 @@ int pl_hyper_sym_eigen(int n, const double *A, double *lambda, double *Q)
     return PL_OK;
 }
 
-int pl_hyper_project_psd(int n, double *A)
+int hyper_project_psd(int n, double *A)
 {
     double lambda[PL_HYPER_SYM_MAX], Q[PL_HYPER_SYM_MAX * PL_HYPER_SYM_MAX];
-    int rc = pl_hyper_sym_eigen(n, A, lambda, Q);
+    int rc = hyper_sym_eigen(n, A, lambda, Q);
     if (rc != PL_OK) return rc;
     if (lambda[0] >= 0.0) return PL_OK; /* already PSD: leave it bit-for-bit */
     for (int i = 0; i < n; ++i)

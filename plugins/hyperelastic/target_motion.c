@@ -5,7 +5,7 @@
 #include "hyperelastic.h"
 #include "small_matrix.h"
 
-int pl_hyper_motion_check(const pl_hyper_motion *m, int npoints, pl_error *err)
+int hyper_motion_check(const pl_hyper_motion *m, int npoints, pl_error *err)
 {
     switch (m->kind) {
     case PL_HYPER_MOTION_NONE:
@@ -66,7 +66,7 @@ static void eval_keyframes(const pl_hyper_motion *m, int npoints, const double *
         }
 }
 
-void pl_hyper_motion_eval(const pl_hyper_motion *m, int npoints, const double *base, double t,
+void hyper_motion_eval(const pl_hyper_motion *m, int npoints, const double *base, double t,
                           double *out)
 {
     switch (m->kind) {

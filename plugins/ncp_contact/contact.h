@@ -39,29 +39,29 @@ typedef struct pl_ncpc_rows {
     double *mu, *compliance, *lo, *hi; /* m */
 } pl_ncpc_rows;
 
-void pl_ncpc_rows_init(pl_ncpc_rows *r);
-void pl_ncpc_rows_free(pl_ncpc_rows *r);
+void ncpc_rows_init(pl_ncpc_rows *r);
+void ncpc_rows_free(pl_ncpc_rows *r);
 /* Builds the active rows of `rows` for the system `sys`; q_t (n x 3) gives
  * the friction offsets.  Checks vertices and coefficients. */
-int pl_ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
+int ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
                        const double *q_t, pl_error *err);
 /* The core's view of the active rows. */
-pl_ncp_rows pl_ncpc_rows_view(const pl_ncpc_rows *r);
+pl_ncp_rows ncpc_rows_view(const pl_ncpc_rows *r);
 /* delta_j = H_j [x; q_p] - offset_j: x over the unknowns (nfree x 3), the
  * prescribed vertices read from q (n x 3). */
-void pl_ncpc_rows_delta(const pl_ncpc_rows *r, const double *x, const double *q, double *delta);
+void ncpc_rows_delta(const pl_ncpc_rows *r, const double *x, const double *q, double *delta);
 /* delta_j = H_j q - offset_j, q over all vertices (n x 3). */
-void pl_ncpc_rows_delta_all(const pl_ncpc_rows *r, const int *free_vertex, const double *q,
+void ncpc_rows_delta_all(const pl_ncpc_rows *r, const int *free_vertex, const double *q,
                             double *delta);
 /* X (nfree x 3) = alpha H_free^T x (overwrites X; rows with x_j = 0 skipped). */
-void pl_ncpc_rows_scatter(const pl_ncpc_rows *r, int nfree, const double *x, double alpha,
+void ncpc_rows_scatter(const pl_ncpc_rows *r, int nfree, const double *x, double alpha,
                           double *X);
 /* y_j = H_j,free X (X: nfree x 3). */
-void pl_ncpc_rows_gather(const pl_ncpc_rows *r, const double *X, double *y);
+void ncpc_rows_gather(const pl_ncpc_rows *r, const double *X, double *y);
 /* The scalar rows of the active rows list[0..count-1] as a CSR over the
  * unknowns: 3 count rows, coordinate-major (row k count + t is coordinate k
  * of row list[t]); zero coefficients dropped. */
-int pl_ncpc_rows_scalar_csr(const pl_ncpc_rows *r, int nfree, const int *list, int count,
+int ncpc_rows_scalar_csr(const pl_ncpc_rows *r, int nfree, const int *list, int count,
                             pl_csr *H, pl_error *err);
 
 /* ---- the Delassus operator ---------------------------------------------- */
@@ -80,17 +80,17 @@ typedef struct pl_ncpc_delassus {
     pl_error err;             /* its message */
 } pl_ncpc_delassus;
 
-void pl_ncpc_delassus_init(pl_ncpc_delassus *D);
-void pl_ncpc_delassus_free(pl_ncpc_delassus *D);
+void ncpc_delassus_init(pl_ncpc_delassus *D);
+void ncpc_delassus_free(pl_ncpc_delassus *D);
 /* Builds W explicitly: Y = S P H^T (apply_inverse_to_rows on the 3 m
  * scalar rows), W = sum over coordinates Y_k^T Y_k (dense, OpenMP over
  * rows of W, deterministic).  Also fills diag. */
-int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+int ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
                               pl_error *err);
 /* Builds W explicitly on the global solver's device (its delassus_device
  * op, cuBLAS) into the device array W_dev (m x m); diag comes back to the
  * host.  D->W stays NULL: only the device path can use this W. */
-int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
+int ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
                                      const pl_ncpc_rows *r, double *W_dev, pl_error *err);
 /* Prepares the matrix-free W and its exact diagonal: rows with one free
  * vertex a get |c|^2 [A^-1]_aa from inv_diag (the global solver's inverse
@@ -98,15 +98,15 @@ int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
  * squared norms of their Y columns (apply_inverse_to_rows, in chunks so
  * that Y never holds more than a bounded number of columns), or (W e_j)_j
  * when the solver cannot apply its inverse to rows. */
-int pl_ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
+int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
                                  const pl_ncpc_rows *r, const double *inv_diag, pl_error *err);
 /* The core's operator (dense or matrix-free) over D. */
-pl_ncp_operator pl_ncpc_delassus_operator(pl_ncpc_delassus *D);
+pl_ncp_operator ncpc_delassus_operator(pl_ncpc_delassus *D);
 /* y = W x (matrix-free: scatter, solve, gather). */
-int pl_ncpc_delassus_apply(void *user, const double *x, double *y);
+int ncpc_delassus_apply(void *user, const double *x, double *y);
 /* The mass scaling's diagonal: (H M^-1 H^T)_jj = sum_a |c_a|^2 / m_a over
  * the free entries (entries merged per vertex, M lumped). */
-int pl_ncpc_mass_diagonal(const pl_ncpc_rows *r, const pl_system *sys, double *diag,
+int ncpc_mass_diagonal(const pl_ncpc_rows *r, const pl_system *sys, double *diag,
                           pl_error *err);
 
 /* ---- warm start ---------------------------------------------------------
@@ -124,15 +124,15 @@ typedef struct pl_ncpc_key {
 
 /* The check of restored warm-start records (a pl_slot_check): kinds known,
  * friction pairs in range, directions and multipliers finite. */
-int pl_ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err);
+int ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err);
 
 /* Keys of the active rows (lambda left 0). */
-int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys,
+int ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys,
                        pl_error *err);
 /* lambda (m) from the previous step's records `old` (nold): see
  * contact_warmstart.c for the matching rule.  Returns the rows matched, or
  * -(error code) (err filled). */
-int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
+int ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
                        double *lambda, pl_error *err);
 
 /* ---- first iteration: contacts without force -----------------------------
@@ -142,7 +142,7 @@ int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, i
  * as equalities, conjugate residual, cr_iterations products), projected on
  * the cone.  delta_free: row values at q_free = A^-1 b^0.  Returns the rows
  * started, or -(error code). */
-int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
+int ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
                         const double *delta_free, double *lambda, int cr_iterations,
                         pl_error *err);
 

@@ -18,14 +18,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-void pl_ncpc_delassus_init(pl_ncpc_delassus *D) { memset(D, 0, sizeof *D); }
+void ncpc_delassus_init(pl_ncpc_delassus *D) { memset(D, 0, sizeof *D); }
 
-void pl_ncpc_delassus_free(pl_ncpc_delassus *D)
+void ncpc_delassus_free(pl_ncpc_delassus *D)
 {
     free(D->W);
     free(D->diag);
     free(D->X);
-    pl_ncpc_delassus_init(D);
+    ncpc_delassus_init(D);
 }
 
 static int oom(pl_error *err) { return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory"); }
@@ -41,7 +41,7 @@ static const pl_global_solver_ops *solver_ops(const pl_system *sys, pl_error *er
 
 static int prepare(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r, pl_error *err)
 {
-    pl_ncpc_delassus_free(D);
+    ncpc_delassus_free(D);
     D->m = r->m;
     D->nfree = sys->nfree;
     D->rows = r;
@@ -97,7 +97,7 @@ static int compute_y(const pl_ncpc_delassus *D, const pl_ncpc_rows *r, const int
                      pl_csc *Y, pl_error *err)
 {
     pl_csr H;
-    int st = pl_ncpc_rows_scalar_csr(r, D->nfree, list, cnt, &H, err);
+    int st = ncpc_rows_scalar_csr(r, D->nfree, list, cnt, &H, err);
     if (st != PL_OK) return st;
     memset(Y, 0, sizeof *Y);
     st = D->ops->apply_inverse_to_rows(D->solver, &H, Y, err);
@@ -108,7 +108,7 @@ static int compute_y(const pl_ncpc_delassus *D, const pl_ncpc_rows *r, const int
     return st;
 }
 
-int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+int ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
                               pl_error *err)
 {
     int st = prepare(D, sys, r, err), m = r->m;
@@ -144,7 +144,7 @@ int pl_ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const p
     return st;
 }
 
-int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
+int ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
                                      const pl_ncpc_rows *r, double *W_dev, pl_error *err)
 {
     int st = prepare(D, sys, r, err);
@@ -153,28 +153,28 @@ int pl_ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
                             "the global solver cannot build W on its device");
     pl_csr H;
-    if ((st = pl_ncpc_rows_scalar_csr(r, D->nfree, NULL, r->m, &H, err)) != PL_OK) return st;
+    if ((st = ncpc_rows_scalar_csr(r, D->nfree, NULL, r->m, &H, err)) != PL_OK) return st;
     st = D->ops->delassus_device(D->solver, &H, r->m, W_dev, D->diag, err);
     pl_csr_free(&H);
     if (st == PL_OK) D->explicit_w = 1, D->W_dev = W_dev;
     return st;
 }
 
-int pl_ncpc_delassus_apply(void *user, const double *x, double *y)
+int ncpc_delassus_apply(void *user, const double *x, double *y)
 {
     pl_ncpc_delassus *D = user;
     if (D->explicit_w) {
         pl_ncp_operator op = {D->m, D->W, NULL, NULL, D->diag};
-        return pl_ncp_operator_apply(&op, x, y);
+        return ncp_operator_apply(&op, x, y);
     }
-    pl_ncpc_rows_scatter(D->rows, D->nfree, x, 1.0, D->X);
+    ncpc_rows_scatter(D->rows, D->nfree, x, 1.0, D->X);
     pl_buffer b = pl_buffer_host_f64(D->X, (size_t)D->nfree, 3);
     int st = D->ops->solve(D->solver, &b, &b, &D->err);
     if (st != PL_OK) {
         if (D->status == PL_OK) D->status = st;
         return st;
     }
-    pl_ncpc_rows_gather(D->rows, D->X, y);
+    ncpc_rows_gather(D->rows, D->X, y);
     return PL_OK;
 }
 
@@ -208,7 +208,7 @@ static int diag_from_products(pl_ncpc_delassus *D, const int *list, int cnt, pl_
     int st = e && y ? PL_OK : oom(err);
     for (int t = 0; t < cnt && st == PL_OK; ++t) {
         e[list[t]] = 1.0;
-        if ((st = pl_ncpc_delassus_apply(D, e, y)) != PL_OK) *err = D->err;
+        if ((st = ncpc_delassus_apply(D, e, y)) != PL_OK) *err = D->err;
         D->diag[list[t]] = y[list[t]];
         e[list[t]] = 0.0;
     }
@@ -217,7 +217,7 @@ static int diag_from_products(pl_ncpc_delassus *D, const int *list, int cnt, pl_
     return st;
 }
 
-int pl_ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
+int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
                                  const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
 {
     int st = prepare(D, sys, r, err), m = r->m, nmulti = 0;
@@ -243,13 +243,13 @@ int pl_ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
     return st;
 }
 
-pl_ncp_operator pl_ncpc_delassus_operator(pl_ncpc_delassus *D)
+pl_ncp_operator ncpc_delassus_operator(pl_ncpc_delassus *D)
 {
-    pl_ncp_operator op = {D->m, D->explicit_w ? D->W : NULL, pl_ncpc_delassus_apply, D, D->diag};
+    pl_ncp_operator op = {D->m, D->explicit_w ? D->W : NULL, ncpc_delassus_apply, D, D->diag};
     return op;
 }
 
-int pl_ncpc_mass_diagonal(const pl_ncpc_rows *r, const pl_system *sys, double *diag, pl_error *err)
+int ncpc_mass_diagonal(const pl_ncpc_rows *r, const pl_system *sys, double *diag, pl_error *err)
 {
     if (!sys->mass)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",

@@ -53,7 +53,7 @@ static int cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *
                              cudaGetErrorString((cudaError_t)e));
 }
 
-pl_ncpc_device *pl_ncpc_device_create(const pl_component *c, pl_error *err)
+pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
 {
     pl_component *dev = pl_util_device(c);
     const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
@@ -79,7 +79,7 @@ pl_ncpc_device *pl_ncpc_device_create(const pl_component *c, pl_error *err)
         if (!g->h_sc) pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
         free(g->h_sc);
         g->h_sc = NULL;
-        pl_ncpc_device_destroy(g);
+        ncpc_device_destroy(g);
         return NULL;
     }
     return g;
@@ -92,7 +92,7 @@ static void free_host(pl_ncpc_device *g, void **p)
     *p = NULL;
 }
 
-void pl_ncpc_device_destroy(pl_ncpc_device *g)
+void ncpc_device_destroy(pl_ncpc_device *g)
 {
     if (!g) return;
     pl_error err;
@@ -106,22 +106,22 @@ void pl_ncpc_device_destroy(pl_ncpc_device *g)
     free(g);
 }
 
-void pl_ncpc_device_begin(pl_ncpc_device *g)
+void ncpc_device_begin(pl_ncpc_device *g)
 {
     if (g) g->stale = 1, g->ran = 0;
 }
 
-int pl_ncpc_device_ran(const pl_ncpc_device *g)
+int ncpc_device_ran(const pl_ncpc_device *g)
 {
     return g && g->ran;
 }
 
-const double *pl_ncpc_device_lambda(const pl_ncpc_device *g)
+const double *ncpc_device_lambda(const pl_ncpc_device *g)
 {
     return g->h_lambda;
 }
 
-const double *pl_ncpc_device_lambda_all(const pl_ncpc_device *g)
+const double *ncpc_device_lambda_all(const pl_ncpc_device *g)
 {
     return g->h_lambda_all;
 }
@@ -233,7 +233,7 @@ static int *transpose(const pl_ncpc_rows *r, int nfree)
     return t;
 }
 
-double *pl_ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
+double *ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
 {
     size_t mm = (size_t)(m > 0 ? m : 1);
     return reserve(g, (void **)&g->W, &g->W_cap, sizeof(double) * mm * mm, err) == PL_OK ? g->W : NULL;
@@ -244,7 +244,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
 {
     const pl_ncpc_rows *r = st->rows;
     int m = r->m, nf = sys->nfree, rc;
-    for (int j = 0; j < m; ++j) /* pl_ncp_step's check, once for the step */
+    for (int j = 0; j < m; ++j) /* ncp_step's check, once for the step */
         if (r->kind[j] != PL_ROW_BILATERAL && !(st->r[j] > 0.0 && st->r[j] < 1e308))
             return pl_component_fail(g->owner, err, PL_EINPUT, "row %d: scaling r = %g must be > 0",
                                      j, st->r[j]);
@@ -305,7 +305,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     P->fn = st->fn, P->h = st->h, P->fb_eps = st->fb_eps, P->cr_rtol = st->cr_tolerance;
     P->damping = st->damping, P->cr_max_iter = st->cr_iterations, P->full_force = st->full_force;
     P->project = st->project, P->line_search = st->line_search, P->cr_jacobi = st->cr_jacobi;
-    int e = pl_ncp_cuda_reset(g->stream, g->sc);
+    int e = ncp_cuda_reset(g->stream, g->sc);
     if (e) return cuda_fail(g, err, e, "reset");
     g->stale = 0;
     return PL_OK;
@@ -317,21 +317,21 @@ static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, dou
 {
     int e;
     if (g->explicit_w) {
-        e = pl_ncp_cuda_dense(g->stream, g->R.m, g->W, x, y);
+        e = ncp_cuda_dense(g->stream, g->R.m, g->W, x, y);
         return e ? cuda_fail(g, err, e, "W product") : PL_OK;
     }
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    if ((e = pl_ncp_cuda_scatter(g->stream, &g->R, x, 1.0, g->X))) return cuda_fail(g, err, e, "H^T x");
+    if ((e = ncp_cuda_scatter(g->stream, &g->R, x, 1.0, g->X))) return cuda_fail(g, err, e, "H^T x");
     int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
     if (rc) return rc;
-    e = pl_ncp_cuda_gather(g->stream, &g->R, g->X, y);
+    e = ncp_cuda_gather(g->stream, &g->R, g->X, y);
     return e ? cuda_fail(g, err, e, "H X") : PL_OK;
 }
 
 static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err)
 {
-    int e = pl_ncp_cuda_phase_run(g->stream, p, &g->R, &g->V, &g->P, last);
+    int e = ncp_cuda_phase_run(g->stream, p, &g->R, &g->V, &g->P, last);
     return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
 }
 
@@ -384,7 +384,7 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     return rc;
 }
 
-int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
+int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
                            pl_buffer *q_next, pl_error *err)
 {
@@ -418,8 +418,8 @@ int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_
     int e = 0;
     lap(g, ctx, profile, st->t_assembly, 1, err);
     if (g->jacobian)
-        e = pl_ncp_cuda_delta(g->stream, &g->R, NULL, q_k->data, g->free_vertex, g->V.delta);
-    if (!e) e = pl_ncp_cuda_delta(g->stream, &g->R, g->q_free, q_k->data, NULL, g->V.delta_free);
+        e = ncp_cuda_delta(g->stream, &g->R, NULL, q_k->data, g->free_vertex, g->V.delta);
+    if (!e) e = ncp_cuda_delta(g->stream, &g->R, g->q_free, q_k->data, NULL, g->V.delta_free);
     if (e) return cuda_fail(g, err, e, "row values");
     if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
     lap(g, ctx, profile, st->t_solve, 1, err);
@@ -429,10 +429,10 @@ int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
     lap(g, ctx, profile, st->t_corr, 1, err);
     rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
-    if (!rc && (e = pl_ncp_cuda_scatter(g->stream, &g->R, g->V.force, st->h * st->h, g->corr)))
+    if (!rc && (e = ncp_cuda_scatter(g->stream, &g->R, g->V.force, st->h * st->h, g->corr)))
         rc = cuda_fail(g, err, e, "H^T lambda");
     if (!rc) rc = gs->solve(sys->global_solver, &cb, &cb, err);
-    if (!rc && (e = pl_ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))
+    if (!rc && (e = ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))
         rc = cuda_fail(g, err, e, "correction");
     if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
     if (rc) return rc;
@@ -449,7 +449,7 @@ int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_
     return lap(g, ctx, profile, st->t_cglobal, 0, err);
 }
 
-int pl_ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
+int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
 {
     if (!g || !g->ran) return PL_OK;
     int rc = g->ops->sync(g->dev, err);

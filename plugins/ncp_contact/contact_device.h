@@ -39,25 +39,25 @@ typedef struct pl_ncpc_device_step {
 
 /* The device path of contact solver c, on the device service found in its
  * node or above; NULL with err set when there is none. */
-pl_ncpc_device *pl_ncpc_device_create(const pl_component *c, pl_error *err);
-void pl_ncpc_device_destroy(pl_ncpc_device *g);
+pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err);
+void ncpc_device_destroy(pl_ncpc_device *g);
 /* The device array for an explicit W of m rows (grown as needed), for
  * the global solver to build W into; NULL with err set on failure. */
-double *pl_ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err);
+double *ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err);
 /* A new step began (its data goes up at the next iterate). */
-void pl_ncpc_device_begin(pl_ncpc_device *g);
+void ncpc_device_begin(pl_ncpc_device *g);
 /* One iteration on device buffers (q_k: n x 3; b, q_next: nfree x 3). */
-int pl_ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
+int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
                            pl_buffer *q_next, pl_error *err);
 /* Whether an iterate ran on the device since the last begin. */
-int pl_ncpc_device_ran(const pl_ncpc_device *g);
+int ncpc_device_ran(const pl_ncpc_device *g);
 /* The multipliers of the last iteration (m and nall values, host), valid
  * once the device's stream has been waited for (the loop's last copy). */
-const double *pl_ncpc_device_lambda(const pl_ncpc_device *g);
-const double *pl_ncpc_device_lambda_all(const pl_ncpc_device *g);
+const double *ncpc_device_lambda(const pl_ncpc_device *g);
+const double *ncpc_device_lambda_all(const pl_ncpc_device *g);
 /* End of the step: device errors of the step (CR or residual not finite)
  * and, with record, the per-iteration series pushed into timers. */
-int pl_ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err);
+int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err);
 
 #endif

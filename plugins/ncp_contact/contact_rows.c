@@ -11,9 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-void pl_ncpc_rows_init(pl_ncpc_rows *r) { memset(r, 0, sizeof *r); }
+void ncpc_rows_init(pl_ncpc_rows *r) { memset(r, 0, sizeof *r); }
 
-void pl_ncpc_rows_free(pl_ncpc_rows *r)
+void ncpc_rows_free(pl_ncpc_rows *r)
 {
     free(r->full);
     free(r->sub);
@@ -30,7 +30,7 @@ void pl_ncpc_rows_free(pl_ncpc_rows *r)
     free(r->compliance);
     free(r->lo);
     free(r->hi);
-    pl_ncpc_rows_init(r);
+    ncpc_rows_init(r);
 }
 
 static int nonzero3(const double *c) { return c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0; }
@@ -139,10 +139,10 @@ static int mark_active(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *row
     return PL_OK;
 }
 
-int pl_ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
+int ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
                        const double *q_t, pl_error *err)
 {
-    pl_ncpc_rows_free(r);
+    ncpc_rows_free(r);
     int st = check_input(sys, rows, err);
     if (st != PL_OK) return st;
     int N = rows->n;
@@ -197,7 +197,7 @@ int pl_ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *row
     return PL_OK;
 }
 
-pl_ncp_rows pl_ncpc_rows_view(const pl_ncpc_rows *r)
+pl_ncp_rows ncpc_rows_view(const pl_ncpc_rows *r)
 {
     pl_ncp_rows v = {r->m, r->kind, r->pair, r->mu, r->compliance, r->lo, r->hi};
     return v;
@@ -212,7 +212,7 @@ static double prescribed_part(const pl_ncpc_rows *r, int j, const double *q)
     return s;
 }
 
-void pl_ncpc_rows_delta(const pl_ncpc_rows *r, const double *x, const double *q, double *delta)
+void ncpc_rows_delta(const pl_ncpc_rows *r, const double *x, const double *q, double *delta)
 {
     /* each row writes its own delta[j] (deterministic) */
 #pragma omp parallel for schedule(static) if (r->m >= 2048)
@@ -223,7 +223,7 @@ void pl_ncpc_rows_delta(const pl_ncpc_rows *r, const double *x, const double *q,
     }
 }
 
-void pl_ncpc_rows_delta_all(const pl_ncpc_rows *r, const int *free_vertex, const double *q,
+void ncpc_rows_delta_all(const pl_ncpc_rows *r, const int *free_vertex, const double *q,
                             double *delta)
 {
 #pragma omp parallel for schedule(static) if (r->m >= 2048)
@@ -235,7 +235,7 @@ void pl_ncpc_rows_delta_all(const pl_ncpc_rows *r, const int *free_vertex, const
     }
 }
 
-void pl_ncpc_rows_scatter(const pl_ncpc_rows *r, int nfree, const double *x, double alpha,
+void ncpc_rows_scatter(const pl_ncpc_rows *r, int nfree, const double *x, double alpha,
                           double *X)
 {
     /* rows share unknowns: sequential, in row order (deterministic) */
@@ -253,7 +253,7 @@ void pl_ncpc_rows_scatter(const pl_ncpc_rows *r, int nfree, const double *x, dou
     }
 }
 
-void pl_ncpc_rows_gather(const pl_ncpc_rows *r, const double *X, double *y)
+void ncpc_rows_gather(const pl_ncpc_rows *r, const double *X, double *y)
 {
 #pragma omp parallel for schedule(static) if (r->m >= 2048)
     for (int j = 0; j < r->m; ++j) {
@@ -263,7 +263,7 @@ void pl_ncpc_rows_gather(const pl_ncpc_rows *r, const double *X, double *y)
     }
 }
 
-int pl_ncpc_rows_scalar_csr(const pl_ncpc_rows *r, int nfree, const int *list, int count,
+int ncpc_rows_scalar_csr(const pl_ncpc_rows *r, int nfree, const int *list, int count,
                             pl_csr *H, pl_error *err)
 {
     memset(H, 0, sizeof *H);

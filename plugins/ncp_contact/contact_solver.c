@@ -11,7 +11,7 @@
  *                       for correction=jacobian)
  *   "Constraint solve"  the linearisation point (correction=multiplier:
  *                       delta = delta_free + h^2 W lambda^k), dlambda by
- *                       pl_ncp_step (CR), the step length, lambda +=
+ *                       ncp_step (CR), the step length, lambda +=
  *                       damping alpha dlambda, the projection
  *   "Correction"        q^{k+1} = q_free + h^2 A^-1 H^T (S .* lambda)
  * correction=multiplier (default) applies the force lambda itself (S = 1)
@@ -156,16 +156,16 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
         return PL_EINPUT;
     s->slot = pl_model_add_var_slot(ctx->build, c, "warmStart", sizeof(pl_ncpc_key), INT_MAX);
     if (s->slot < 0) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
-    pl_model_set_slot_check(ctx->build, s->slot, pl_ncpc_keys_check);
+    pl_model_set_slot_check(ctx->build, s->slot, ncpc_keys_check);
     return PL_OK;
 }
 
 static void free_step(ncpc_ws *w)
 {
-    pl_ncp_work_destroy(w->work);
+    ncp_work_destroy(w->work);
     w->work = NULL;
-    pl_ncpc_delassus_free(&w->D);
-    pl_ncpc_rows_free(&w->rows);
+    ncpc_delassus_free(&w->D);
+    ncpc_rows_free(&w->rows);
     double **arrays[] = {&w->r, &w->diag_mass, &w->lambda, &w->dlambda, &w->scale, &w->delta,
                          &w->delta_free, &w->force, &w->ls0, &w->ls1, &w->q_free, &w->corr, &w->lambda_all};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
@@ -183,7 +183,7 @@ static void solver_workspace_free(const pl_component *c, void *ws)
     ncpc_ws *w = ws;
     (void)c;
 #ifdef PLIANT_HAVE_CUDA
-    pl_ncpc_device_destroy(w->gpu);
+    ncpc_device_destroy(w->gpu);
     w->gpu = NULL;
 #endif
     free_step(w);
@@ -223,7 +223,7 @@ static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys
     if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     w->active = 0;
 #ifdef PLIANT_HAVE_CUDA
-    pl_ncpc_device_begin(w->gpu);
+    ncpc_device_begin(w->gpu);
 #endif
     free_step(w);
     if (check_fields(s, msg, sizeof msg) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", msg);
@@ -243,22 +243,22 @@ static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys
     w->nfree = sys->nfree;
     w->h = sys->h;
     pl_timer_start(t, w->t_schur);
-    int st = pl_ncpc_rows_build(&w->rows, sys, rows, qt, err);
+    int st = ncpc_rows_build(&w->rows, sys, rows, qt, err);
     if (st == PL_OK) st = alloc_step(s, w, w->rows.m, err);
     if (st == PL_OK && w->rows.m > 0) {
-        pl_ncp_rows view = pl_ncpc_rows_view(&w->rows);
-        st = pl_ncp_work_create(&view, &w->work, err);
-        if (st == PL_OK) st = pl_ncpc_build_delassus(s, w, ctx, sys, err);
-        if (st == PL_OK && s->preconditioner == 1) st = pl_ncpc_mass_diagonal(&w->rows, sys, w->diag_mass, err);
+        pl_ncp_rows view = ncpc_rows_view(&w->rows);
+        st = ncp_work_create(&view, &w->work, err);
+        if (st == PL_OK) st = ncpc_build_delassus(s, w, ctx, sys, err);
+        if (st == PL_OK && s->preconditioner == 1) st = ncpc_mass_diagonal(&w->rows, sys, w->diag_mass, err);
         if (st == PL_OK)
-            st = pl_ncp_scaling(w->work, s->preconditioner == 1 ? w->diag_mass : w->D.diag, sys->h, w->r, err);
+            st = ncp_scaling(w->work, s->preconditioner == 1 ? w->diag_mass : w->D.diag, sys->h, w->r, err);
     }
     pl_timer_stop(t, w->t_schur);
-    if (st == PL_OK && w->rows.m > 0) st = pl_ncpc_keys_build(&w->rows, rows, w->keys, err);
+    if (st == PL_OK && w->rows.m > 0) st = ncpc_keys_build(&w->rows, rows, w->keys, err);
     if (st == PL_OK && w->rows.m > 0 && s->warm_start && s->slot >= 0) {
         const pl_ncpc_key *old = pl_data_slot(ctx->data, s->slot);
         int nold = (int)(pl_data_slot_bytes(ctx->data, s->slot) / sizeof *old);
-        int got = pl_ncpc_warm_start(w->keys, w->rows.m, old, nold, w->lambda, err);
+        int got = ncpc_warm_start(w->keys, w->rows.m, old, nold, w->lambda, err);
         if (got < 0) st = -got;
     }
     if (st != PL_OK) {
@@ -267,7 +267,7 @@ static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys
         return st;
     }
     for (int j = 0; j < w->rows.m; ++j) w->lambda_all[w->rows.full[j]] = w->lambda[j];
-    pl_ncpc_statistics(w, t);
+    ncpc_statistics(w, t);
     w->active = 1;
     w->first_iteration = 1;
     return PL_OK;
@@ -286,7 +286,7 @@ static int correction(ncpc_ws *w, const pl_system *sys, double *qn, pl_error *er
         return PL_OK;
     }
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S .* lambda) */
-    pl_ncpc_rows_scatter(&w->rows, w->nfree, w->force, w->h * w->h, w->corr);
+    ncpc_rows_scatter(&w->rows, w->nfree, w->force, w->h * w->h, w->corr);
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_buffer cb = pl_buffer_host_f64(w->corr, (size_t)w->nfree, 3);
     int st = ops->solve(sys->global_solver, &cb, &cb, err);
@@ -306,29 +306,29 @@ static int line_search(const ncp_contact_solver *s, ncpc_ws *w, const pl_ncp_ope
     double h2 = w->h * w->h;
     if (s->correction == 0) {
         for (int j = 0; j < m; ++j) w->force[j] = w->scale[j] * w->lambda[j];
-        st = pl_ncp_operator_apply(op, w->force, w->ls0);
+        st = ncp_operator_apply(op, w->force, w->ls0);
         for (int j = 0; j < m && st == PL_OK; ++j) w->ls0[j] = w->delta_free[j] + h2 * w->ls0[j];
     }
     if (st == PL_OK) {
         for (int j = 0; j < m; ++j) w->force[j] = w->scale[j] * w->dlambda[j];
-        st = pl_ncp_operator_apply(op, w->force, w->ls1);
+        st = ncp_operator_apply(op, w->force, w->ls1);
     }
     if (st != PL_OK || w->D.status != PL_OK) {
         *err = w->D.err;
         return w->D.status != PL_OK ? w->D.status : st;
     }
     for (int j = 0; j < m; ++j) w->ls1[j] *= h2;
-    return pl_ncp_line_search(w->work, w->r, w->h, w->ls0, w->ls1, w->lambda, w->dlambda, 3, li, err);
+    return ncp_line_search(w->work, w->r, w->h, w->ls0, w->ls1, w->lambda, w->dlambda, 3, li, err);
 }
 
-/* The constraint update of one iteration: dlambda by pl_ncp_step, the step
+/* The constraint update of one iteration: dlambda by ncp_step, the step
  * length, lambda += damping alpha dlambda, the projection. */
 static int constraint_solve(const ncp_contact_solver *s, ncpc_ws *w, pl_ncp_step_info *info,
                             pl_ncp_line_info *li, pl_error *err)
 {
     int m = w->rows.m, st = PL_OK;
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB;
     par.h = w->h;
     par.fb_eps = s->fb_eps;
@@ -336,17 +336,17 @@ static int constraint_solve(const ncp_contact_solver *s, ncpc_ws *w, pl_ncp_step
     par.cr_rtol = s->cr_tolerance;
     par.full_force = s->correction == 1;
     par.cr_jacobi = s->cr_scaling == 0;
-    pl_ncp_operator op = pl_ncpc_delassus_operator(&w->D);
+    pl_ncp_operator op = ncpc_delassus_operator(&w->D);
     w->D.status = PL_OK;
     if (s->correction == 1) {
         /* linearise at the corrected point qbar = A^-1 (b^k + h^2 H^T lambda^k):
          * delta = delta_free + h^2 W lambda^k (DERIVATION.md section 7) */
-        st = pl_ncp_operator_apply(&op, w->lambda, w->ls0);
+        st = ncp_operator_apply(&op, w->lambda, w->ls0);
         if (st == PL_OK && w->D.status == PL_OK)
             for (int j = 0; j < m; ++j) w->delta[j] = w->ls0[j] = w->delta_free[j] + w->h * w->h * w->ls0[j];
     }
     if (st == PL_OK && w->D.status == PL_OK)
-        st = pl_ncp_step(w->work, &par, &op, w->r, w->delta, w->delta_free, w->lambda, w->dlambda, w->scale,
+        st = ncp_step(w->work, &par, &op, w->r, w->delta, w->delta_free, w->lambda, w->dlambda, w->scale,
                          info, err);
     if (w->D.status != PL_OK) {
         *err = w->D.err; /* the global solver's own message */
@@ -355,7 +355,7 @@ static int constraint_solve(const ncp_contact_solver *s, ncpc_ws *w, pl_ncp_step
     if (st == PL_OK && s->line_search) st = line_search(s, w, &op, li, err);
     if (st != PL_OK) return st;
     for (int j = 0; j < m; ++j) w->lambda[j] += s->damping * li->alpha * w->dlambda[j];
-    if (s->project) pl_ncp_project(w->work, w->lambda);
+    if (s->project) ncp_project(w->work, w->lambda);
     return PL_OK;
 }
 
@@ -370,7 +370,7 @@ static int solver_iterate(const pl_component *c, pl_ctx *ctx, const pl_system *s
     if (!w || !w->active)
         return pl_component_fail(c, err, PL_EINTERNAL, "iterate called before begin");
     if (q_k->location == PL_DEVICE || b->location == PL_DEVICE || q_next->location == PL_DEVICE)
-        return pl_ncpc_iterate_device(s, w, ctx, sys, q_k, b, q_next, err);
+        return ncpc_iterate_device(s, w, ctx, sys, q_k, b, q_next, err);
     if (!qk || !bb || !qn || q_k->rows != (size_t)sys->nverts || b->rows != (size_t)sys->nfree ||
         q_next->rows != (size_t)sys->nfree || q_k->cols != 3 || b->cols != 3 || q_next->cols != 3 ||
         sys->nfree != w->nfree)
@@ -382,7 +382,7 @@ static int solver_iterate(const pl_component *c, pl_ctx *ctx, const pl_system *s
     /* W was built on the device for a device loop that did not come (the
      * loop chose the CPU after all): build it here once for the step */
     if (m > 0 && w->D.explicit_w && !w->D.W &&
-        (st = pl_ncpc_delassus_explicit(&w->D, sys, &w->rows, err)) != PL_OK)
+        (st = ncpc_delassus_explicit(&w->D, sys, &w->rows, err)) != PL_OK)
         return st;
     pl_timer_start(t, w->t_cglobal);
     /* q_free = A^-1 b^k */
@@ -397,17 +397,17 @@ static int solver_iterate(const pl_component *c, pl_ctx *ctx, const pl_system *s
     }
     /* row values at q_free (and, for the paper's linearisation, at q^k) */
     pl_timer_start(t, w->t_assembly);
-    if (s->correction == 0) pl_ncpc_rows_delta_all(&w->rows, sys->free_vertex, qk, w->delta);
-    pl_ncpc_rows_delta(&w->rows, w->q_free, qk, w->delta_free);
+    if (s->correction == 0) ncpc_rows_delta_all(&w->rows, sys->free_vertex, qk, w->delta);
+    ncpc_rows_delta(&w->rows, w->q_free, qk, w->delta_free);
     pl_timer_stop(t, w->t_assembly);
     pl_ncp_step_info info = {0, 0.0, 0.0};
     pl_ncp_line_info li = {1.0, 0.0, 0.0, 0, 0};
     pl_timer_start(t, w->t_solve);
     if (w->first_iteration && s->stick_start) {
         /* contacts without force start from the forces holding them still */
-        pl_ncp_operator op = pl_ncpc_delassus_operator(&w->D);
+        pl_ncp_operator op = ncpc_delassus_operator(&w->D);
         w->D.status = PL_OK;
-        int got = pl_ncpc_stick_start(&w->rows, &op, w->h, w->delta_free, w->lambda,
+        int got = ncpc_stick_start(&w->rows, &op, w->h, w->delta_free, w->lambda,
                                       s->cr_iterations, err);
         st = got < 0 ? -got : w->D.status;
         if (st != PL_OK && w->D.status != PL_OK) *err = w->D.err;
@@ -438,7 +438,7 @@ static const double *solver_multipliers(const pl_component *c, pl_data *d, int *
     *count = w && w->active ? w->nall : 0;
     if (!*count) return NULL;
 #ifdef PLIANT_HAVE_CUDA
-    if (w->active && pl_ncpc_device_ran(w->gpu)) return pl_ncpc_device_lambda_all(w->gpu);
+    if (w->active && ncpc_device_ran(w->gpu)) return ncpc_device_lambda_all(w->gpu);
 #endif
     return w->active ? w->lambda_all : NULL;
 }
@@ -452,11 +452,11 @@ static int solver_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
     if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     int m = w->active ? w->rows.m : 0;
 #ifdef PLIANT_HAVE_CUDA
-    if (m > 0 && pl_ncpc_device_ran(w->gpu)) {
+    if (m > 0 && ncpc_device_ran(w->gpu)) {
         /* the device's multipliers (the loop has waited for its stream) */
-        int rc = pl_ncpc_device_end_step(w->gpu, ctx->timers, s->record, err);
-        memcpy(w->lambda, pl_ncpc_device_lambda(w->gpu), sizeof(double) * (size_t)m);
-        pl_ncpc_device_begin(w->gpu);
+        int rc = ncpc_device_end_step(w->gpu, ctx->timers, s->record, err);
+        memcpy(w->lambda, ncpc_device_lambda(w->gpu), sizeof(double) * (size_t)m);
+        ncpc_device_begin(w->gpu);
         if (rc) {
             w->active = 0;
             return rc;

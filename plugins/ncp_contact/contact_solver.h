@@ -61,12 +61,12 @@ typedef struct ncpc_ws {
 enum { W_AUTO = 0, W_EXPLICIT = 1, W_MATRIX_FREE = 2 };
 
 /* W explicit or matrix-free for the step's rows (see the delassus field). */
-int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, pl_error *err);
 /* contacts max, constraint rows max, W memory into the timers' statistics. */
-void pl_ncpc_statistics(const ncpc_ws *w, pl_timers *t);
+void ncpc_statistics(const ncpc_ws *w, pl_timers *t);
 /* iterate() on device buffers: contact_device.c in CUDA builds, an error otherwise. */
-int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+int ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
                            pl_buffer *q_next, pl_error *err);
 

@@ -66,17 +66,17 @@ static int on_device(const ncp_contact_solver *s, const pl_global_solver_ops *op
 static int device_w(const ncp_contact_solver *s, ncpc_ws *w, const pl_system *sys, pl_error *err)
 {
 #ifdef PLIANT_HAVE_CUDA
-    if (!w->gpu && !(w->gpu = pl_ncpc_device_create(&s->base, err))) return err->code ? err->code : PL_EINPUT;
-    double *W = pl_ncpc_device_w(w->gpu, w->rows.m, err);
+    if (!w->gpu && !(w->gpu = ncpc_device_create(&s->base, err))) return err->code ? err->code : PL_EINPUT;
+    double *W = ncpc_device_w(w->gpu, w->rows.m, err);
     if (!W) return err->code ? err->code : PL_EINTERNAL;
-    return pl_ncpc_delassus_explicit_device(&w->D, sys, &w->rows, W, err);
+    return ncpc_delassus_explicit_device(&w->D, sys, &w->rows, W, err);
 #else
     (void)s, (void)w, (void)sys;
     return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "no CUDA in this build");
 #endif
 }
 
-int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, pl_error *err)
 {
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
@@ -85,7 +85,7 @@ int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                                                    auto_explicit(s, ctx->timers, w->rows.m, sys->nfree, dev_w) &&
                                                    (w->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
     if (explicit_w && dev_w) return device_w(s, w, sys, err);
-    if (explicit_w) return pl_ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
+    if (explicit_w) return ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
     if (!w->inv_diag_ok && ops && ops->inverse_diagonal) {
         free(w->inv_diag);
         w->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
@@ -96,10 +96,10 @@ int pl_ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
         w->inv_diag_ok = 1;
     }
     const double *inv = w->inv_diag_ok && w->inv_diag_n == sys->nfree ? w->inv_diag : NULL;
-    return pl_ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
+    return ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
 }
 
-void pl_ncpc_statistics(const ncpc_ws *w, pl_timers *t)
+void ncpc_statistics(const ncpc_ws *w, pl_timers *t)
 {
     int contacts = 0;
     for (int j = 0; j < w->rows.m; ++j) contacts += w->rows.kind[j] == PL_ROW_NORMAL;
@@ -110,7 +110,7 @@ void pl_ncpc_statistics(const ncpc_ws *w, pl_timers *t)
 }
 
 /* iterate() on device buffers: contact_device.c (CUDA builds). */
-int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
+int ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
                            pl_buffer *q_next, pl_error *err)
 {
@@ -121,7 +121,7 @@ int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
     if (sys->nfree != w->nfree)
         return pl_component_fail(c, err, PL_EINPUT, "iterate: %d unknowns, begin saw %d", sys->nfree,
                                  w->nfree);
-    if (!w->gpu && !(w->gpu = pl_ncpc_device_create(c, err))) return err->code ? err->code : PL_EINPUT;
+    if (!w->gpu && !(w->gpu = ncpc_device_create(c, err))) return err->code ? err->code : PL_EINPUT;
     pl_ncpc_device_step st = {
         .rows = &w->rows, .D = &w->D, .work = w->work, .r = w->r, .lambda = w->lambda,
         .lambda_all = w->lambda_all, .nall = w->nall, .h = w->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
@@ -132,7 +132,7 @@ int pl_ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
         .t_solve = w->t_solve, .t_corr = w->t_corr, .t_cglobal = w->t_cglobal};
     pl_ncp_work empty = {0};
     if (!st.work) st.work = &empty; /* no active row */
-    return pl_ncpc_device_iterate(w->gpu, &st, ctx, sys, q_k, b, q_next, err);
+    return ncpc_device_iterate(w->gpu, &st, ctx, sys, q_k, b, q_next, err);
 #else
     (void)w, (void)ctx, (void)sys, (void)q_k, (void)b, (void)q_next;
     return pl_component_fail(&s->base, err, PL_EINPUT, "iterate: device buffers, but this build has no CUDA");

@@ -5,7 +5,7 @@
  * step's force, and the Newton iteration then converges in one or two
  * iterations.  A contact without history starts at lambda = 0, where the
  * friction cone mu lambda_n is empty: the first Newton step treats its
- * friction as inactive (lambda_f stays 0, pl_ncp_friction) and only the
+ * friction as inactive (lambda_f stays 0, ncp_eval_friction) and only the
  * normal force appears.  From there the friction force grows by a fixed
  * fraction per iteration (its compliance is frozen in each Newton step and
  * the contact still slips, DERIVATION.md section 6): on a box resting on a
@@ -48,7 +48,7 @@ static int apply_sub(void *user, const double *x, double *y)
     sub_operator *o = user;
     memset(o->x, 0, sizeof(double) * (size_t)o->m);
     for (int k = 0; k < o->n; ++k) o->x[o->rows[k]] = o->d[k] * x[k];
-    int st = pl_ncp_operator_apply(o->W, o->x, o->y);
+    int st = ncp_operator_apply(o->W, o->x, o->y);
     for (int k = 0; k < o->n; ++k) y[k] = o->h2 * o->d[k] * o->y[o->rows[k]];
     return st;
 }
@@ -101,7 +101,7 @@ static void project(const pl_ncpc_rows *r, const int *list, int n, double *lambd
     }
 }
 
-int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
+int ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double h,
                         const double *delta_free, double *lambda, int cr_iterations,
                         pl_error *err)
 {
@@ -118,7 +118,7 @@ int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double 
         goto done;
     }
     /* the linearisation point of the first Newton step */
-    if ((st = pl_ncp_operator_apply(W, lambda, delta)) != PL_OK) goto done;
+    if ((st = ncp_operator_apply(W, lambda, delta)) != PL_OK) goto done;
     for (int j = 0; j < m; ++j) delta[j] = delta_free[j] + h * h * delta[j];
     n = select_rows(r, delta, lambda, list);
     if (n == 0) goto done;
@@ -139,7 +139,7 @@ int pl_ncpc_stick_start(const pl_ncpc_rows *r, const pl_ncp_operator *W, double 
         }
         sub_operator op = {W, m, n, list, d, h * h, x, y};
         pl_error cr_err;
-        if (pl_ncp_cr(n, apply_sub, &op, b, z, cr_iterations, 1e-12, work, NULL, NULL, &cr_err) !=
+        if (ncp_cr(n, apply_sub, &op, b, z, cr_iterations, 1e-12, work, NULL, NULL, &cr_err) !=
             PL_OK) {
             n = 0; /* a breakdown: the Newton iterations start from lambda as it is */
             break;

@@ -37,7 +37,7 @@ static uint64_t fnv1a(const char *s)
     return h;
 }
 
-int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys, pl_error *err)
+int ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *keys, pl_error *err)
 {
     const pl_component *last = NULL;
     uint64_t hash = 0;
@@ -64,7 +64,7 @@ int pl_ncpc_keys_build(const pl_ncpc_rows *r, const pl_rows *rows, pl_ncpc_key *
     return PL_OK;
 }
 
-int pl_ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err)
+int ncpc_keys_check(const pl_component *owner, const void *data, size_t bytes, pl_error *err)
 {
     const pl_ncpc_key *k = data;
     size_t n = bytes / sizeof *k;
@@ -99,7 +99,7 @@ static int cmp_sorted(const void *pa, const void *pb)
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-int pl_ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
+int ncpc_warm_start(const pl_ncpc_key *keys, int m, const pl_ncpc_key *old, int nold,
                        double *lambda, pl_error *err)
 {
     for (int j = 0; j < m; ++j) lambda[j] = 0.0;

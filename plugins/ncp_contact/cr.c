@@ -16,7 +16,7 @@ static double dot(int n, const double *x, const double *y)
     return s;
 }
 
-int pl_ncp_cr(int n, pl_ncp_apply_fn op, void *user, const double *b, double *x,
+int ncp_cr(int n, pl_ncp_apply_fn op, void *user, const double *b, double *x,
               int max_iter, double rtol, double *work, int *iters, double *relres,
               pl_error *err)
 {

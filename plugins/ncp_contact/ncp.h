@@ -43,7 +43,7 @@ typedef struct pl_ncp_rows {
 } pl_ncp_rows;
 
 /* The view of a pl_rows (valid while r is not modified). */
-static inline pl_ncp_rows pl_ncp_rows_view(const pl_rows *r)
+static inline pl_ncp_rows ncp_rows_view(const pl_rows *r)
 {
     pl_ncp_rows v = {r->n, r->kind, r->pair, r->mu, r->compliance, r->lo, r->hi};
     return v;
@@ -60,12 +60,12 @@ typedef struct pl_ncp_operator {
     const double *dense;        /* m x m, or NULL to use apply */
     pl_ncp_apply_fn apply;      /* used when dense is NULL */
     void *user;                 /* passed to apply */
-    const double *diag;         /* m: W_jj, for pl_ncp_scaling (Delassus variant);
+    const double *diag;         /* m: W_jj, for ncp_scaling (Delassus variant);
                                    the step itself does not read it */
 } pl_ncp_operator;
 
 /* y = W x. */
-int pl_ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y);
+int ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y);
 
 /* ---- conjugate residual -------------------------------------------------- */
 
@@ -75,7 +75,7 @@ int pl_ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y);
  * the iterations done and ||b - A x|| / ||b||.  Not converging within
  * max_iter is not an error (the caller decides); a breakdown or a non-finite
  * value is (PL_EINTERNAL). */
-int pl_ncp_cr(int n, pl_ncp_apply_fn op, void *user, const double *b, double *x,
+int ncp_cr(int n, pl_ncp_apply_fn op, void *user, const double *b, double *x,
               int max_iter, double rtol, double *work, int *iters, double *relres,
               pl_error *err);
 
@@ -87,7 +87,7 @@ typedef enum pl_ncp_function { PL_NCP_FB = 0, PL_NCP_MINMAP = 1 } pl_ncp_functio
  * phi [m], omega = dphi/ddelta (the split indicator Omega_jj), e = dphi/dlambda
  * [m/N].  FB uses s = sqrt(delta^2 + (r lambda)^2 + eps^2), eps [m]: at
  * delta = lambda = 0 it gives omega = 1, e = r (finite), even with eps = 0. */
-void pl_ncp_normal(pl_ncp_function fn, double delta, double lambda, double r, double eps,
+void ncp_eval_normal(pl_ncp_function fn, double delta, double lambda, double r, double eps,
                    double *phi, double *omega, double *e);
 
 /* Coulomb friction of one contact with nt (1 or 2) tangent rows, position
@@ -100,17 +100,17 @@ void pl_ncp_normal(pl_ncp_function fn, double delta, double lambda, double r, do
  * outside the cone where Appendix B's denominator can vanish or change sign;
  * both agree on the cone.  Inactive (mu ln <= 0): omega = 0, e = rho, so the
  * step sets lf to 0. */
-void pl_ncp_friction(pl_ncp_function fn, int nt, const double *y, const double *lf, double ln,
+void ncp_eval_friction(pl_ncp_function fn, int nt, const double *y, const double *lf, double ln,
                      double mu, double rho, double *phi, double *omega, double *e);
 
 /* Bounded row, lambda in [lo, hi] (box complementarity: delta = 0 inside,
  * delta >= 0 at lo, delta <= 0 at hi), min-map form
  * phi = r lambda - mid(r lo, r lambda - delta, r hi) [m]. */
-void pl_ncp_bounded(double delta, double lambda, double lo, double hi, double r,
+void ncp_eval_bounded(double delta, double lambda, double lo, double hi, double r,
                     double *phi, double *omega, double *e);
 
 /* Bilateral row with compliance E_b [m/N]: phi = delta + E_b lambda, omega = 1, e = E_b. */
-void pl_ncp_bilateral(double delta, double lambda, double compliance,
+void ncp_eval_bilateral(double delta, double lambda, double compliance,
                       double *phi, double *omega, double *e);
 
 /* ---- one constraint update of Algorithm 4 -------------------------------- */
@@ -133,7 +133,7 @@ typedef struct pl_ncp_params {
                                    iterations (docs/contact.md, "CR scaling") */
 } pl_ncp_params;
 
-void pl_ncp_params_default(pl_ncp_params *p);
+void ncp_params_default(pl_ncp_params *p);
 
 /* Per time step: the contact table and all scratch arrays, for fixed rows. */
 typedef struct pl_ncp_work {
@@ -157,13 +157,13 @@ typedef struct pl_ncp_work {
 
 /* Validates the rows (kinds, pairs, mu >= 0, lo <= hi, E_b >= 0) and builds
  * the work; *out = NULL on error. */
-int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err);
-void pl_ncp_work_destroy(pl_ncp_work *w);
+int ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err);
+void ncp_work_destroy(pl_ncp_work *w);
 
 /* The complementarity scaling r (paper units, see top) from a diagonal D
  * (W_jj for the Delassus variant, (H M^-1 H^T)_jj for the mass variant);
  * bilateral rows get h^2 D_jj (unused).  D must be > 0 on NCP rows. */
-int pl_ncp_scaling(const pl_ncp_work *w, const double *diag, double h, double *r, pl_error *err);
+int ncp_scaling(const pl_ncp_work *w, const double *diag, double h, double *r, pl_error *err);
 
 typedef struct pl_ncp_step_info {
     int cr_iters;               /* CR products */
@@ -177,7 +177,7 @@ typedef struct pl_ncp_step_info {
  *   delta_free: m, the same with q_free = A^-1 b^k instead of q^k, SAME
  *               offsets (d, and H_f q_t + h d_f for friction) [m]
  *   lambda:     m, lambda^k [N]
- *   r:          m, from pl_ncp_scaling (once per time step)
+ *   r:          m, from ncp_scaling (once per time step)
  * Outputs dlambda (m) [N] and force_scale S (m, may be NULL; also
  * w->scale): Omega_jj (the paper's J = Omega H), but 1 on bounded rows;
  * 1 on every row with par->full_force.
@@ -185,7 +185,7 @@ typedef struct pl_ncp_step_info {
  *   q^{k+1} = A^-1 (b^k + h^2 H^T (S .* lambda^{k+1}))
  *           = q_free + h^2 A^-1 H^T (S .* lambda^{k+1}),
  * with the S of this same step (at a solution S .* lambda = lambda). */
-int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator *W,
+int ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator *W,
                 const double *r, const double *delta, const double *delta_free,
                 const double *lambda, double *dlambda, double *force_scale,
                 pl_ncp_step_info *info, pl_error *err);
@@ -194,7 +194,7 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
  * mu lambda_n per contact (scaling the tangent rows), lo <= lambda <= hi on
  * bounded rows.  Returns the number of rows or contacts changed.  A
  * solution is a fixed point; the plugin applies it after each update. */
-int pl_ncp_project(const pl_ncp_work *w, double *lambda);
+int ncp_project(const pl_ncp_work *w, double *lambda);
 
 typedef struct pl_ncp_line_info {
     double alpha;               /* the step length taken */
@@ -203,12 +203,12 @@ typedef struct pl_ncp_line_info {
     int decreased;              /* 1 when alpha gave a sufficient decrease */
 } pl_ncp_line_info;
 
-/* Backtracking on pl_ncp_residual_eval's norm2 along a Newton direction
+/* Backtracking on ncp_residual_eval's norm2 along a Newton direction
  * with affine constraint values: delta(alpha) = delta0 + alpha ddelta,
  * lambda(alpha) = lambda + alpha dlambda.  Halves alpha (at most
  * max_halvings times) until norm2(alpha) <= (1 - 1e-4 alpha) norm2(0);
  * when no length decreases it, alpha = 1.  Uses w->tmp and w->tmp2. */
-int pl_ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *delta0,
+int ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *delta0,
                        const double *ddelta, const double *lambda, const double *dlambda,
                        int max_halvings, pl_ncp_line_info *info, pl_error *err);
 
@@ -225,8 +225,8 @@ typedef struct pl_ncp_residual {
 } pl_ncp_residual;
 
 /* The residual of (delta, lambda) for the rows of w with scaling r (paper
- * units as from pl_ncp_scaling; h converts friction r to rho = h r). */
-int pl_ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const double *delta,
+ * units as from ncp_scaling; h converts friction r to rho = h r). */
+int ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const double *delta,
                          const double *lambda, pl_ncp_residual *res, pl_error *err);
 
 /* ---- standalone 3D frictional contact (Siconos' fc3d convention) --------- */
@@ -234,7 +234,7 @@ int pl_ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const 
 /* nc contacts, rows 3i (normal), 3i+1, 3i+2 (tangents); W (3nc x 3nc,
  * row-major, SPD), q, mu (nc).  Finds r, u = W r + q with 0 <= u_n perp
  * r_n >= 0, |r_t| <= mu r_n, maximal dissipation.  The same machinery as
- * the plugin: pl_ncp_step with h = 1 and the Delassus scaling. */
+ * the plugin: ncp_step with h = 1 and the Delassus scaling. */
 typedef struct pl_ncp_solve_opts {
     pl_ncp_function fn;
     int max_iter;               /* Newton iterations (default 500: friction converges linearly) */
@@ -250,18 +250,18 @@ typedef struct pl_ncp_solve_info {
     int converged;              /* residual <= tol */
 } pl_ncp_solve_info;
 
-void pl_ncp_solve_opts_default(pl_ncp_solve_opts *o);
+void ncp_solve_opts_default(pl_ncp_solve_opts *o);
 
 /* reaction: initial guess on entry (zeros are fine), solution on exit; u (3 nc) out.
  * Not converging is reported in info (status PL_OK); bad input is PL_EINPUT. */
-int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu,
+int ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu,
                       double *reaction, double *u, const pl_ncp_solve_opts *opts,
                       pl_ncp_solve_info *info, pl_error *err);
 
 /* The Signorini-Coulomb residual of an fc3d pair (reaction, u), u = W r + q
  * given; scaling W_nn (normal) and the mean tangent diagonal (friction), i.e.
- * pl_ncp_scaling with h = 1. */
-int pl_ncp_residual_fc3d(int nc, const double *W, const double *mu, const double *reaction,
+ * ncp_scaling with h = 1. */
+int ncp_residual_fc3d(int nc, const double *W, const double *mu, const double *reaction,
                          const double *u, pl_ncp_residual *res, pl_error *err);
 
 #ifdef __cplusplus

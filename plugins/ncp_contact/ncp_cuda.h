@@ -70,20 +70,20 @@ typedef struct pl_ncp_cuda_params {
 /* ---- rows (ncp_cuda_rows.cu) ------------------------------------------- */
 /* delta_j = H_j [x; q_p] - offset_j (x: nfree x 3, q: all vertices); with
  * free_vertex != NULL, x is ignored and the free part reads q too. */
-int pl_ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
+int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
                       const double *q, const int *free_vertex, double *delta);
 /* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order). */
-int pl_ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
+int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
                         double alpha, double *X);
 /* y_j = H_j,free X. */
-int pl_ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *X,
+int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *X,
                        double *y);
 /* y = W x, W dense m x m row-major (a warp per row). */
-int pl_ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x, double *y);
+int ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x, double *y);
 /* out[i] = a[i] + b[i], i < n. */
-int pl_ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b, double *out);
+int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b, double *out);
 /* sc reset for a new step: error 0, iter 0. */
-int pl_ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc);
+int ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc);
 
 /* ---- the constraint update (ncp_cuda_step.cu) -------------------------- */
 typedef enum pl_ncp_cuda_phase {
@@ -104,7 +104,7 @@ typedef enum pl_ncp_cuda_phase {
 } pl_ncp_cuda_phase;
 
 /* Queues one phase (a single-block kernel). */
-int pl_ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
+int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                           const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                           const pl_ncp_cuda_params *P, int last);
 

@@ -1,5 +1,5 @@
 /* ncp_cuda_rows.cu - products with a step's rows on the GPU (ncp_cuda.h):
- * H q (contact_rows.c, pl_ncpc_rows_delta / _delta_all), H^T x per unknown
+ * H q (contact_rows.c, ncpc_rows_delta / _delta_all), H^T x per unknown
  * over the transposed entries (the CPU's scatter adds rows in increasing
  * order; here each unknown sums its rows in that same order, so no atomics
  * and the same sums), H X, and the dense W x of the explicit Delassus
@@ -101,7 +101,7 @@ __global__ void k_reset(pl_ncp_cuda_scalars *sc)
 
 } // namespace
 
-extern "C" int pl_ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                  const double *x, const double *q, const int *free_vertex,
                                  double *delta)
 {
@@ -110,7 +110,7 @@ extern "C" int pl_ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows 
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                    const double *x, double alpha, double *X)
 {
     if (R->nfree <= 0) return 0;
@@ -118,7 +118,7 @@ extern "C" int pl_ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_row
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+extern "C" int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                   const double *X, double *y)
 {
     if (R->m <= 0) return 0;
@@ -126,7 +126,7 @@ extern "C" int pl_ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x,
+extern "C" int ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x,
                                  double *y)
 {
     if (m <= 0) return 0;
@@ -134,7 +134,7 @@ extern "C" int pl_ncp_cuda_dense(struct CUstream_st *st, int m, const double *W,
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b,
+extern "C" int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b,
                                double *out)
 {
     if (n <= 0) return 0;
@@ -142,7 +142,7 @@ extern "C" int pl_ncp_cuda_add(struct CUstream_st *st, long n, const double *a, 
     return (int)cudaGetLastError();
 }
 
-extern "C" int pl_ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc)
+extern "C" int ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc)
 {
     k_reset<<<1, 1, 0, st>>>(sc);
     return (int)cudaGetLastError();

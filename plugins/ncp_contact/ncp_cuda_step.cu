@@ -108,7 +108,7 @@ __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, 
     return sqrt(block_reduce(ss, 0, sh));
 }
 
-/* lambda += damping alpha dlambda, then pl_ncp_project. */
+/* lambda += damping alpha dlambda, then ncp_project. */
 __device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                        const pl_ncp_cuda_params &P, double alpha)
 {
@@ -188,7 +188,7 @@ __global__ void __launch_bounds__(kThreads)
                 V.op_omega[j] = V.omega[j];
                 V.op_e[j] = V.e[j];
             }
-            /* Jacobi scaling (pl_ncp_step): S A S, rhs S, dlambda = S y */
+            /* Jacobi scaling (ncp_step): S A S, rhs S, dlambda = S y */
             const double d = h2 * V.op_omega[j] * V.op_omega[j] * R.wdiag[j] + V.op_e[j];
             const double sj = P.cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
             V.cr_s[j] = sj;
@@ -287,7 +287,7 @@ __global__ void __launch_bounds__(kThreads)
     case PL_NCP_PHASE_UPDATE: {
         double alpha = 1.0;
         if (P.line_search) {
-            /* pl_ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
+            /* ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
             for (int j = threadIdx.x; j < m; j += kThreads) V.ls1[j] = h2 * V.tmp2[j];
             __syncthreads();
             const double m0 = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, sh);
@@ -327,7 +327,7 @@ __global__ void __launch_bounds__(kThreads)
 
 } // namespace
 
-extern "C" int pl_ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
+extern "C" int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                                      const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                                      const pl_ncp_cuda_params *P, int last)
 {

@@ -7,7 +7,7 @@
  * split out of the Jacobian, Section 5.3) and e = dphi/dlambda (the
  * compliance), so that the linearisation phi + omega ddelta + e dlambda = 0
  * is the row of the Newton system.  The contracts are those of
- * pl_ncp_normal, pl_ncp_friction, pl_ncp_bounded and pl_ncp_bilateral
+ * ncp_eval_normal, ncp_eval_friction, ncp_eval_bounded and ncp_eval_bilateral
  * (ncp.h). */
 #ifndef PLIANT_NCP_FUNCTIONS_H
 #define PLIANT_NCP_FUNCTIONS_H
@@ -22,13 +22,13 @@
 #define PL_NCP_E_CAP 1e20
 
 /* full_force: rows with Omega at most this are solved as clamped rows
- * (pl_ncp_step on the CPU, phase A of ncp_cuda_step.cu on the GPU)
+ * (ncp_step on the CPU, phase A of ncp_cuda_step.cu on the GPU)
  * (e dlambda = rhs); dropping their Omega h^2 W dlambda term changes the
  * Newton step by a relative O(Omega), while dividing by a tiny Omega would
  * put an outlier of size e / Omega into CR's spectrum. */
 #define PL_NCP_OMEGA_CLAMP 1e-3
 
-/* Normal row (pl_ncp_normal). */
+/* Normal row (ncp_eval_normal). */
 PL_HD void ncp_normal(int fn, double delta, double lambda, double r, double eps, double *phi,
                       double *omega, double *e)
 {
@@ -103,7 +103,7 @@ PL_HD double ncp_friction_compliance(int fn, double a, double L, double ln, doub
 }
 
 /* Coulomb friction of one contact with nt (1 or 2) tangent rows
- * (pl_ncp_friction). */
+ * (ncp_eval_friction). */
 PL_HD void ncp_friction(int fn, int nt, const double *y, const double *lf, double ln, double mu,
                         double rho, double *phi, double *omega, double *e)
 {
@@ -128,7 +128,7 @@ PL_HD void ncp_friction(int fn, int nt, const double *y, const double *lf, doubl
     for (int i = 0; i < nt; ++i) phi[i] = y[i] + *e * lf[i];
 }
 
-/* Bounded row, lambda in [lo, hi] (pl_ncp_bounded). */
+/* Bounded row, lambda in [lo, hi] (ncp_eval_bounded). */
 PL_HD void ncp_bounded(double delta, double lambda, double lo, double hi, double r, double *phi,
                        double *omega, double *e)
 {
@@ -146,7 +146,7 @@ PL_HD void ncp_bounded(double delta, double lambda, double lo, double hi, double
     }
 }
 
-/* Bilateral row with compliance E_b (pl_ncp_bilateral). */
+/* Bilateral row with compliance E_b (ncp_eval_bilateral). */
 PL_HD void ncp_bilateral(double delta, double lambda, double compliance, double *phi,
                          double *omega, double *e)
 {

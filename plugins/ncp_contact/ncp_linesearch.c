@@ -13,14 +13,14 @@
 
 #include <math.h>
 
-int pl_ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *delta0,
+int ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *delta0,
                        const double *ddelta, const double *lambda, const double *dlambda,
                        int max_halvings, pl_ncp_line_info *info, pl_error *err)
 {
     int m = w->m, st;
     double *dt = w->tmp, *lt = w->tmp2;
     pl_ncp_residual res;
-    if ((st = pl_ncp_residual_eval(w, r, h, delta0, lambda, &res, err)) != PL_OK)
+    if ((st = ncp_residual_eval(w, r, h, delta0, lambda, &res, err)) != PL_OK)
         return st;
     info->merit0 = res.norm2;
     info->alpha = 1.0;
@@ -32,7 +32,7 @@ int pl_ncp_line_search(pl_ncp_work *w, const double *r, double h, const double *
             dt[j] = delta0[j] + alpha * ddelta[j];
             lt[j] = lambda[j] + alpha * dlambda[j];
         }
-        if ((st = pl_ncp_residual_eval(w, r, h, dt, lt, &res, err)) != PL_OK)
+        if ((st = ncp_residual_eval(w, r, h, dt, lt, &res, err)) != PL_OK)
             return st;
         info->trials = t + 1;
         if (t == 0)

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-int pl_ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y)
+int ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y)
 {
     int m = W->m;
     if (!W->dense)
@@ -21,7 +21,7 @@ int pl_ncp_operator_apply(const pl_ncp_operator *W, const double *x, double *y)
     return PL_OK;
 }
 
-int pl_ncp_scaling(const pl_ncp_work *w, const double *diag, double h, double *r, pl_error *err)
+int ncp_scaling(const pl_ncp_work *w, const double *diag, double h, double *r, pl_error *err)
 {
     if (!(h > 0.0))
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_scaling", "time step h = %g must be > 0", h);

@@ -12,7 +12,7 @@
 
 #include <math.h>
 
-int pl_ncp_project(const pl_ncp_work *w, double *lambda)
+int ncp_project(const pl_ncp_work *w, double *lambda)
 {
     const pl_ncp_rows *R = &w->rows;
     int changed = 0;

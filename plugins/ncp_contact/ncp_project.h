@@ -1,7 +1,7 @@
 /* ncp_project.h - the admissible set of the multipliers, per row and per
  * contact: the one implementation for the CPU (ncp_project.c) and the GPU
  * (ncp_cuda_step.cu); compiled as C and as CUDA (pliant/hostdevice.h).
- * See pl_ncp_project (ncp.h) for why iterates are projected. */
+ * See ncp_project (ncp.h) for why iterates are projected. */
 #ifndef PLIANT_NCP_PROJECT_H
 #define PLIANT_NCP_PROJECT_H
 

@@ -10,7 +10,7 @@
 
 static double fmax3(double a, double b, double c) { return fmax(a, fmax(b, c)); }
 
-int pl_ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const double *delta,
+int ncp_residual_eval(const pl_ncp_work *w, const double *r, double h, const double *delta,
                          const double *lambda, pl_ncp_residual *res, pl_error *err)
 {
     const pl_ncp_rows *R = &w->rows;

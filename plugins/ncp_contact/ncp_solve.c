@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void pl_ncp_solve_opts_default(pl_ncp_solve_opts *o)
+void ncp_solve_opts_default(pl_ncp_solve_opts *o)
 {
     o->fn = PL_NCP_FB;
     o->max_iter = 500;
@@ -63,7 +63,7 @@ static void diagonal(int m, const double *W, double *d)
         d[j] = W[(size_t)j * (size_t)m + (size_t)j];
 }
 
-int pl_ncp_residual_fc3d(int nc, const double *W, const double *mu, const double *reaction,
+int ncp_residual_fc3d(int nc, const double *W, const double *mu, const double *reaction,
                          const double *u, pl_ncp_residual *res, pl_error *err)
 {
     if (nc < 0 || (nc > 0 && (!W || !mu || !reaction || !u)))
@@ -80,13 +80,13 @@ int pl_ncp_residual_fc3d(int nc, const double *W, const double *mu, const double
         goto done;
     }
     diagonal(m, W, d);
-    if ((st = pl_ncp_work_create(&view, &w, err)) != PL_OK)
+    if ((st = ncp_work_create(&view, &w, err)) != PL_OK)
         goto done;
-    if ((st = pl_ncp_scaling(w, d, 1.0, d + m, err)) != PL_OK)
+    if ((st = ncp_scaling(w, d, 1.0, d + m, err)) != PL_OK)
         goto done;
-    st = pl_ncp_residual_eval(w, d + m, 1.0, u, reaction, res, err);
+    st = ncp_residual_eval(w, d + m, 1.0, u, reaction, res, err);
 done:
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
     free(d);
     fc3d_rows_free(&f);
     return st;
@@ -98,12 +98,12 @@ static void affine(int m, const pl_ncp_operator *W, const double *q, const doubl
 {
     for (int j = 0; j < m; ++j)
         tmp[j] = s ? s[j] * x[j] : x[j];
-    pl_ncp_operator_apply(W, tmp, u);
+    ncp_operator_apply(W, tmp, u);
     for (int j = 0; j < m; ++j)
         u[j] += q[j];
 }
 
-int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu,
+int ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu,
                       double *reaction, double *u, const pl_ncp_solve_opts *opts,
                       pl_ncp_solve_info *info, pl_error *err)
 {
@@ -111,7 +111,7 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
     if (opts)
         o = *opts;
     else
-        pl_ncp_solve_opts_default(&o);
+        ncp_solve_opts_default(&o);
     memset(info, 0, sizeof(*info));
     if (nc < 0 || (nc > 0 && (!W || !q || !mu || !reaction || !u)))
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_fc3d", "missing input");
@@ -135,12 +135,12 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
     int accepted = 0;
     diagonal(m, W, d);
     pl_ncp_operator op = {m, W, NULL, NULL, d};
-    if ((st = pl_ncp_work_create(&view, &w, err)) != PL_OK)
+    if ((st = ncp_work_create(&view, &w, err)) != PL_OK)
         goto done;
-    if ((st = pl_ncp_scaling(w, d, 1.0, r, err)) != PL_OK)
+    if ((st = ncp_scaling(w, d, 1.0, r, err)) != PL_OK)
         goto done;
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.fn = o.fn;
     par.h = 1.0;
     par.cr_max_iter = o.cr_max_iter;
@@ -157,7 +157,7 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
         pl_ncp_residual res;
         if (k == 0 || !accepted) {
             affine(m, &op, q, NULL, reaction, tmp, u);
-            if ((st = pl_ncp_residual_eval(w, r, 1.0, u, reaction, &res, err)) != PL_OK)
+            if ((st = ncp_residual_eval(w, r, 1.0, u, reaction, &res, err)) != PL_OK)
                 goto done;
             merit = res.total;
         }
@@ -171,7 +171,7 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
             break;
         affine(m, &op, q, om, reaction, tmp, delta);
         pl_ncp_step_info si;
-        if ((st = pl_ncp_step(w, &par, &op, r, delta, q, reaction, dl, om, &si, err)) != PL_OK)
+        if ((st = ncp_step(w, &par, &op, r, delta, q, reaction, dl, om, &si, err)) != PL_OK)
             goto done;
         info->cr_iters += si.cr_iters;
         /* Backtracking on the Signorini-Coulomb residual: the friction
@@ -183,7 +183,7 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
             for (int j = 0; j < m; ++j)
                 trial[j] = reaction[j] + alpha * dl[j];
             affine(m, &op, q, NULL, trial, tmp, u);
-            if ((st = pl_ncp_residual_eval(w, r, 1.0, u, trial, &res, err)) != PL_OK)
+            if ((st = ncp_residual_eval(w, r, 1.0, u, trial, &res, err)) != PL_OK)
                 goto done;
             if ((accepted = res.total <= (1.0 - 1e-4 * alpha) * merit))
                 break;
@@ -197,7 +197,7 @@ int pl_ncp_solve_fc3d(int nc, const double *W, const double *q, const double *mu
     }
     affine(m, &op, q, NULL, reaction, tmp, u);
 done:
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
     free(buf);
     fc3d_rows_free(&f);
     return st;

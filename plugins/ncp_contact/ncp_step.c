@@ -14,7 +14,7 @@
 
 #include "ncp_functions.h"
 
-void pl_ncp_params_default(pl_ncp_params *p)
+void ncp_params_default(pl_ncp_params *p)
 {
     p->fn = PL_NCP_FB;
     p->h = 1.0;
@@ -25,7 +25,7 @@ void pl_ncp_params_default(pl_ncp_params *p)
     p->cr_jacobi = 1;
 }
 
-void pl_ncp_work_destroy(pl_ncp_work *w)
+void ncp_work_destroy(pl_ncp_work *w)
 {
     if (!w)
         return;
@@ -105,7 +105,7 @@ static int build_contacts(pl_ncp_work *w, pl_error *err)
     return PL_OK;
 }
 
-int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err)
+int ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err)
 {
     *out = NULL;
     if (!rows || rows->m < 0 || (rows->m > 0 && !rows->kind))
@@ -132,12 +132,12 @@ int pl_ncp_work_create(const pl_ncp_rows *rows, pl_ncp_work **out, pl_error *err
     w->cr = malloc(sizeof(double) * 4 * m1);
     if (!w->contact_of || !w->omega || !w->scale || !w->clamped || !w->is_clamped || !w->op_omega ||
         !w->op_e || !w->cr_scale || !w->e || !w->phi || !w->rhs || !w->tmp || !w->tmp2 || !w->cr) {
-        pl_ncp_work_destroy(w);
+        ncp_work_destroy(w);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp", "out of memory");
     }
     int st = build_contacts(w, err);
     if (st != PL_OK) {
-        pl_ncp_work_destroy(w);
+        ncp_work_destroy(w);
         return st;
     }
     *out = w;
@@ -205,7 +205,7 @@ static int apply_system(void *user, const double *x, double *y)
     int m = o->W->m;
     for (int i = 0; i < m; ++i)
         o->ox[i] = o->omega[i] * x[i];
-    int st = pl_ncp_operator_apply(o->W, o->ox, o->wox);
+    int st = ncp_operator_apply(o->W, o->ox, o->wox);
     if (st != PL_OK)
         return st;
     for (int i = 0; i < m; ++i)
@@ -213,7 +213,7 @@ static int apply_system(void *user, const double *x, double *y)
     return PL_OK;
 }
 
-int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator *W,
+int ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator *W,
                 const double *r, const double *delta, const double *delta_free,
                 const double *lambda, double *dlambda, double *force_scale,
                 pl_ncp_step_info *info, pl_error *err)
@@ -245,7 +245,7 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
      * rhs = -phi + Omega p (DERIVATION.md). */
     for (int j = 0; j < m; ++j)
         w->tmp[j] = w->scale[j] * lambda[j];
-    if ((st = pl_ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
+    if ((st = ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
         return pl_error_set(err, st, NULL, 0, "ncp_step", "W product failed");
     double phin = 0.0;
     for (int j = 0; j < m; ++j) {
@@ -267,7 +267,7 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
             w->rhs[j] = 0.0;
     }
     if (nclamped > 0) {
-        if ((st = pl_ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
+        if ((st = ncp_operator_apply(W, w->tmp, w->tmp2)) != PL_OK)
             return pl_error_set(err, st, NULL, 0, "ncp_step", "W product failed");
         for (int j = 0; j < m; ++j)
             if (!w->is_clamped[j]) /* (full_force clamps rows with a small Omega > 0) */
@@ -303,7 +303,7 @@ int pl_ncp_step(pl_ncp_work *w, const pl_ncp_params *par, const pl_ncp_operator 
     int maxit = par->cr_max_iter > 0 ? par->cr_max_iter : 2 * m + 10;
     int its = 0;
     double relres = 0.0;
-    st = pl_ncp_cr(m, apply_system, &op, w->rhs, dlambda, maxit, par->cr_rtol, w->cr, &its, &relres, err);
+    st = ncp_cr(m, apply_system, &op, w->rhs, dlambda, maxit, par->cr_rtol, w->cr, &its, &relres, err);
     if (st != PL_OK)
         return st;
     for (int j = 0; j < m; ++j)

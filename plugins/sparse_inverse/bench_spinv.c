@@ -35,10 +35,10 @@ static double time_solve(pl_sparse_inverse *s, const double *b, double *x, int r
 {
     double *t = malloc((size_t)reps * sizeof *t);
     pl_error err;
-    pl_sparse_inverse_solve(s, b, x, 3, &err); /* warm up */
+    sparse_inverse_solve(s, b, x, 3, &err); /* warm up */
     for (int r = 0; r < reps; ++r) {
         double t0 = omp_get_wtime();
-        pl_sparse_inverse_solve(s, b, x, 3, &err);
+        sparse_inverse_solve(s, b, x, 3, &err);
         t[r] = 1e3 * (omp_get_wtime() - t0);
     }
     double m = median(t, reps);
@@ -83,17 +83,17 @@ static void time_products(const pl_spinv_profile *S, const pl_spinv_runs *ST, co
         for (int64_t r = ST->run_ptr[j]; r < ST->run_ptr[j + 1]; ++r)
             for (int u = 0; u < ST->run_len[r]; ++u) col[q++] = ST->run_col[r] + u;
     }
-    pl_spinv_balance(S->start, n, nch, bounds);
+    spinv_balance(S->start, n, nch, bounds);
     for (int r = 0; r <= reps; ++r) {
         double t0 = omp_get_wtime();
-        pl_spinv_profile_mult(S, x, y, 3, bounds, nch, nt);
+        spinv_profile_mult(S, x, y, 3, bounds, nch, nt);
         if (r) t[r - 1] = 1e3 * (omp_get_wtime() - t0);
     }
     *ms_s = median(t, reps);
-    pl_spinv_balance(ST->start, n, nch, bounds);
+    spinv_balance(ST->start, n, nch, bounds);
     for (int r = 0; r <= reps; ++r) {
         double t0 = omp_get_wtime();
-        pl_spinv_runs_mult(ST, x, y, 3, bounds, nch, nt);
+        spinv_runs_mult(ST, x, y, 3, bounds, nch, nt);
         if (r) t[r - 1] = 1e3 * (omp_get_wtime() - t0);
     }
     *ms_runs = median(t, reps);
@@ -111,15 +111,15 @@ static void time_products(const pl_spinv_profile *S, const pl_spinv_runs *ST, co
 static int run_bar(int nx, int ny, int nz, pl_spinv_ordering ord, int reps)
 {
     pl_csc A;
-    if (pl_spinv_grid_matrix(nx, ny, nz, 50.0, &A) != PL_OK) return 1;
+    if (spinv_grid_matrix(nx, ny, nz, 50.0, &A) != PL_OK) return 1;
     int n = A.ncols;
     pl_spinv_options so = {ord, PL_SPINV_SPARSE, 0}, dopt = {ord, PL_SPINV_DIRECT, 0};
-    pl_sparse_inverse *sp = pl_sparse_inverse_create(&so), *di = pl_sparse_inverse_create(&dopt);
+    pl_sparse_inverse *sp = sparse_inverse_create(&so), *di = sparse_inverse_create(&dopt);
     double *b = malloc((size_t)n * 3 * sizeof *b), *xs = malloc((size_t)n * 3 * sizeof *xs);
     double *xd = malloc((size_t)n * 3 * sizeof *xd);
     pl_error err;
-    if (!sp || !di || !b || !xs || !xd || pl_sparse_inverse_factor(sp, &A, &err) != PL_OK ||
-        pl_sparse_inverse_factor(di, &A, &err) != PL_OK) {
+    if (!sp || !di || !b || !xs || !xd || sparse_inverse_factor(sp, &A, &err) != PL_OK ||
+        sparse_inverse_factor(di, &A, &err) != PL_OK) {
         fprintf(stderr, "bench: setup failed: %s\n", err.msg);
         return 1;
     }
@@ -131,7 +131,7 @@ static int run_bar(int nx, int ny, int nz, pl_spinv_ordering ord, int reps)
     double ms_s, ms_runs, ms_csr;
     time_products(pl_sparse_inverse_S(sp), pl_sparse_inverse_ST(sp), b, xs, reps, &ms_s, &ms_runs,
                   &ms_csr);
-    const pl_spinv_stats *st = pl_sparse_inverse_stats(sp);
+    const pl_spinv_stats *st = sparse_inverse_stats(sp);
     const double mb = 1024.0 * 1024.0;
     printf("%2dx%2dx%2d %6d %7lld %8lld %9lld %6.1f %6.1f %6.1f %6.3f %6.3f %8.3f %8.3f %7.3f "
            "%7.3f %7.3f %6lld %.0e\n",
@@ -139,8 +139,8 @@ static int run_bar(int nx, int ny, int nz, pl_spinv_ordering ord, int reps)
            st->bytes_S / mb, st->bytes_ST / mb, (double)st->nnz_S * 12.0 / mb, st->factor_s,
            st->inverse_s, ms_sparse, ms_direct, ms_s, ms_runs, ms_csr, (long long)st->runs_ST,
            sqrt(num / den));
-    pl_sparse_inverse_destroy(sp);
-    pl_sparse_inverse_destroy(di);
+    sparse_inverse_destroy(sp);
+    sparse_inverse_destroy(di);
     pl_csc_free(&A);
     free(b);
     free(xs);
@@ -162,7 +162,7 @@ int main(int argc, char **argv)
     int reps = argc > 2 ? atoi(argv[2]) : 30;
     if (reps < 1) reps = 1;
     printf("sparse inverse, %s ordering, %d threads, medians of %d global steps (n x 3, float64)\n",
-           pl_spinv_ordering_name(ord), omp_get_max_threads(), reps);
+           spinv_ordering_name(ord), omp_get_max_threads(), reps);
     printf("grid          n  nnz(A)   nnz(L)    nnz(S)  S[MB] ST[MB] CSR[MB] fac[s] inv[s] "
            "sparse[ms] direct[ms] S[ms] ST:runs ST:csr  runs diff\n");
     if (run_bar(44, 11, 11, ord, reps) || run_bar(72, 17, 17, ord, reps)) return 1;

@@ -81,61 +81,61 @@ typedef struct pl_sparse_inverse pl_sparse_inverse;
 
 /* A new solver with the given options (NULL = metis, sparse, default threads);
  * NULL on allocation failure. */
-pl_sparse_inverse *pl_sparse_inverse_create(const pl_spinv_options *opt);
-void pl_sparse_inverse_destroy(pl_sparse_inverse *s);
+pl_sparse_inverse *sparse_inverse_create(const pl_spinv_options *opt);
+void sparse_inverse_destroy(pl_sparse_inverse *s);
 
 /* Factors A (square, both triangles or the lower one; the upper is ignored)
  * and, in sparse mode, computes S and S^T.  PL_EINPUT when A is malformed or
  * not positive definite.  May be called again with another A. */
-int pl_sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *err);
+int sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *err);
 
 /* x = A^-1 b for an n x k row-major block; x may equal b. */
-int pl_sparse_inverse_solve(pl_sparse_inverse *s, const double *b, double *x, int k,
+int sparse_inverse_solve(pl_sparse_inverse *s, const double *b, double *x, int k,
                             pl_error *err);
 
 /* Y = S P H^T (n x m CSC, rows in the permuted space, sorted) for H (m x n
  * CSR over the original indices), so that H A^-1 H^T = Y^T Y.  Y is
  * allocated here and freed by the caller with pl_csc_free. */
-int pl_sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
+int sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
                                             pl_error *err);
 
 /* diag[i] = [A^-1]_ii in the original indices (n values). */
-int pl_sparse_inverse_inverse_diagonal(pl_sparse_inverse *s, double *diag, pl_error *err);
+int sparse_inverse_inverse_diagonal(pl_sparse_inverse *s, double *diag, pl_error *err);
 
 /* Unknowns factored (0 before factor). */
-int pl_sparse_inverse_size(const pl_sparse_inverse *s);
-const pl_spinv_stats *pl_sparse_inverse_stats(const pl_sparse_inverse *s);
+int sparse_inverse_size(const pl_sparse_inverse *s);
+const pl_spinv_stats *sparse_inverse_stats(const pl_sparse_inverse *s);
 /* The explicit factors (NULL in direct mode or before factor). */
 const pl_spinv_profile *pl_sparse_inverse_S(const pl_sparse_inverse *s);
 const pl_spinv_runs *pl_sparse_inverse_ST(const pl_sparse_inverse *s);
 /* perm[k] = original index of permuted index k; parent[k] = etree parent of
  * k in the permuted space (-1 at a root).  NULL before factor. */
-const int *pl_sparse_inverse_perm(const pl_sparse_inverse *s);
-const int *pl_sparse_inverse_parent(const pl_sparse_inverse *s);
+const int *sparse_inverse_perm(const pl_sparse_inverse *s);
+const int *sparse_inverse_parent(const pl_sparse_inverse *s);
 
 /* Names of orderings and modes ("metis", "sparse"), for logs. */
-const char *pl_spinv_ordering_name(pl_spinv_ordering o);
-const char *pl_spinv_mode_name(pl_spinv_mode m);
+const char *spinv_ordering_name(pl_spinv_ordering o);
+const char *spinv_mode_name(pl_spinv_mode m);
 
 /* ---- building blocks (used above; exposed for tests and benchmarks) ---- */
 
 /* Checks that parent[] (parent > child, -1 at roots) is postordered: the
  * descendants of every i are the contiguous range first[i] .. i.  Fills
  * first (n) when it is; PL_EINTERNAL otherwise. */
-int pl_spinv_check_postorder(int n, const int *parent, int *first, pl_error *err);
+int spinv_check_postorder(int n, const int *parent, int *first, pl_error *err);
 
 /* y = S x and y = S^T x on n x k row-major blocks (x, y distinct), rows in
  * parallel over the nnz-balanced row ranges bounds[0..nchunks]. */
-void pl_spinv_profile_mult(const pl_spinv_profile *S, const double *x, double *y, int k,
+void spinv_profile_mult(const pl_spinv_profile *S, const double *x, double *y, int k,
                            const int *bounds, int nchunks, int threads);
-void pl_spinv_runs_mult(const pl_spinv_runs *ST, const double *x, double *y, int k,
+void spinv_runs_mult(const pl_spinv_runs *ST, const double *x, double *y, int k,
                         const int *bounds, int nchunks, int threads);
 /* Splits rows 0..n-1 into nchunks ranges of about equal nnz (start: n + 1
  * row offsets); bounds gets nchunks + 1 entries. */
-void pl_spinv_balance(const int64_t *start, int n, int nchunks, int *bounds);
+void spinv_balance(const int64_t *start, int n, int nchunks, int *bounds);
 
-void pl_spinv_profile_free(pl_spinv_profile *S);
-void pl_spinv_runs_free(pl_spinv_runs *ST);
+void spinv_profile_free(pl_spinv_profile *S);
+void spinv_runs_free(pl_spinv_runs *ST);
 
 #ifdef __cplusplus
 }

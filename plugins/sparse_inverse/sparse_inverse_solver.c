@@ -81,10 +81,10 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
 static void solver_destroy(pl_component *c)
 {
     sparse_inverse_solver *s = (sparse_inverse_solver *)c;
-    pl_sparse_inverse_destroy(s->solver);
+    sparse_inverse_destroy(s->solver);
     s->solver = NULL;
 #ifdef PLIANT_HAVE_CUDA
-    pl_spinv_cuda_destroy(s->gpu);
+    spinv_cuda_destroy(s->gpu);
     s->gpu = NULL;
 #endif
 }
@@ -98,7 +98,7 @@ static void report(pl_component *c, const pl_spinv_stats *st, struct pl_timers *
         pl_log_info("%s: %s ordering, n = %d, nnz(A) = %lld, nnz(L) = %lld, nnz(S) = %lld, "
                     "S %.1f MB + S^T %.1f MB (%lld runs), factor %.3f s, inverse %.3f s",
                     pl_component_path(c, path, sizeof path),
-                    pl_spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
+                    spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
                     (long long)st->nnz_A, (long long)st->nnz_L, (long long)st->nnz_S,
                     st->bytes_S / mb, st->bytes_ST / mb, (long long)st->runs_ST, st->factor_s,
                     st->inverse_s);
@@ -106,7 +106,7 @@ static void report(pl_component *c, const pl_spinv_stats *st, struct pl_timers *
         pl_log_info("%s: %s ordering, direct mode, n = %d, nnz(A) = %lld, nnz(L) = %lld "
                     "(nnz(S) would be %lld), factor %.3f s",
                     pl_component_path(c, path, sizeof path),
-                    pl_spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
+                    spinv_ordering_name((pl_spinv_ordering)s->ordering), st->n,
                     (long long)st->nnz_A, (long long)st->nnz_L, (long long)st->nnz_S,
                     st->factor_s);
     if (!timers) return;
@@ -124,15 +124,15 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
     sparse_inverse_solver *s = (sparse_inverse_solver *)c;
     pl_spinv_options opt = {(pl_spinv_ordering)s->ordering, (pl_spinv_mode)s->mode, s->threads};
     /* a new object picks up field changes (ordering, mode, threads) */
-    pl_sparse_inverse_destroy(s->solver);
-    s->solver = pl_sparse_inverse_create(&opt);
+    sparse_inverse_destroy(s->solver);
+    s->solver = sparse_inverse_create(&opt);
     if (!s->solver) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     pl_error e;
-    int status = pl_sparse_inverse_factor(s->solver, A, &e);
+    int status = sparse_inverse_factor(s->solver, A, &e);
     if (status != PL_OK) return pl_component_fail(c, err, status, "%s", e.msg);
-    report(c, pl_sparse_inverse_stats(s->solver), timers);
+    report(c, sparse_inverse_stats(s->solver), timers);
 #ifdef PLIANT_HAVE_CUDA
-    pl_spinv_cuda_destroy(s->gpu);
+    spinv_cuda_destroy(s->gpu);
     s->gpu = NULL;
     pl_component *dev = pl_util_device(c), *svc = pl_node_find_role_up(c->node, PL_ROLE_DEVICE);
     if (s->device == DEVICE_CUDA && svc && !dev)
@@ -143,11 +143,11 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
     const pl_device_ops *dops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
     s->stream = dops && dops->stream ? (struct CUstream_st *)dops->stream(dev) : NULL;
     if (s->device == DEVICE_CUDA || (s->device == DEVICE_AUTO && dev && s->mode == PL_SPINV_SPARSE)) {
-        s->gpu = pl_spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64, &e);
+        s->gpu = spinv_cuda_create(s->solver, s->precision == 1 ? PL_F32 : PL_F64, &e);
         if (!s->gpu) return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         if (timers)
             pl_stat_set(timers, "S device memory [MB]",
-                        pl_spinv_cuda_device_bytes(s->gpu) / (1024.0 * 1024.0));
+                        spinv_cuda_device_bytes(s->gpu) / (1024.0 * 1024.0));
     }
 #endif
     return PL_OK;
@@ -156,10 +156,10 @@ static int solver_factor(pl_component *c, const pl_csc *A, struct pl_timers *tim
 static int solver_solve(const pl_component *c, const pl_buffer *b, pl_buffer *x, pl_error *err)
 {
     const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
-    int n = pl_sparse_inverse_size(s->solver);
+    int n = sparse_inverse_size(s->solver);
     if (n == 0) return pl_component_fail(c, err, PL_EINPUT, "solve called before factor");
 #ifdef PLIANT_HAVE_CUDA
-    if (s->gpu) return pl_spinv_cuda_solve_buffers(s->gpu, s->solver, b, x, s->stream, err);
+    if (s->gpu) return spinv_cuda_solve_buffers(s->gpu, s->solver, b, x, s->stream, err);
 #endif
     double *bd = pl_buffer_f64(b), *xd = pl_buffer_f64(x);
     if (!bd || !xd)
@@ -169,26 +169,26 @@ static int solver_solve(const pl_component *c, const pl_buffer *b, pl_buffer *x,
         return pl_component_fail(c, err, PL_EINPUT,
                                  "solve: expected two %d x k blocks, got %zu x %zu and %zu x %zu",
                                  n, b->rows, b->cols, x->rows, x->cols);
-    return pl_sparse_inverse_solve(s->solver, bd, xd, (int)b->cols, err);
+    return sparse_inverse_solve(s->solver, bd, xd, (int)b->cols, err);
 }
 
 static int solver_apply_rows(const pl_component *c, const pl_csr *H, pl_csc *Y, pl_error *err)
 {
     const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "rows applied before factor");
-    return pl_sparse_inverse_apply_inverse_to_rows(s->solver, H, Y, err);
+    return sparse_inverse_apply_inverse_to_rows(s->solver, H, Y, err);
 }
 
 static int solver_inverse_diagonal(const pl_component *c, double *diag, pl_error *err)
 {
     const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->solver) return pl_component_fail(c, err, PL_EINPUT, "diagonal asked before factor");
-    return pl_sparse_inverse_inverse_diagonal(s->solver, diag, err);
+    return sparse_inverse_inverse_diagonal(s->solver, diag, err);
 }
 
 static int solver_size(const pl_component *c)
 {
-    return pl_sparse_inverse_size(((const sparse_inverse_solver *)c)->solver);
+    return sparse_inverse_size(((const sparse_inverse_solver *)c)->solver);
 }
 
 /* Host float64 blocks always; device blocks (float64 or float32) once S is
@@ -212,10 +212,10 @@ static int solver_delassus_device(const pl_component *c, const pl_csr *H, int m,
     const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->gpu) return pl_component_fail(c, err, PL_EINPUT, "delassus_device: S is not on a device");
     pl_spinv_cuda_rows R;
-    int st = pl_spinv_cuda_rows_build(H, m, pl_sparse_inverse_perm(s->solver),
-                                      pl_sparse_inverse_size(s->solver), &R, err);
-    if (st == PL_OK) st = pl_spinv_cuda_delassus(s->gpu, &R, W, diag, s->stream, err);
-    pl_spinv_cuda_rows_free(&R);
+    int st = spinv_cuda_rows_build(H, m, sparse_inverse_perm(s->solver),
+                                      sparse_inverse_size(s->solver), &R, err);
+    if (st == PL_OK) st = spinv_cuda_delassus(s->gpu, &R, W, diag, s->stream, err);
+    spinv_cuda_rows_free(&R);
     if (st == PL_OK) return PL_OK;
     char msg[sizeof err->msg];
     snprintf(msg, sizeof msg, "%s", err->msg);

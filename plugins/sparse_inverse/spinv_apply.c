@@ -73,21 +73,21 @@ static void runs_rows(const pl_spinv_runs *ST, const double *x, double *y, int k
     }
 }
 
-void pl_spinv_profile_mult(const pl_spinv_profile *S, const double *x, double *y, int k,
+void spinv_profile_mult(const pl_spinv_profile *S, const double *x, double *y, int k,
                            const int *bounds, int nchunks, int threads)
 {
 #pragma omp parallel num_threads(threads)
     profile_rows(S, x, y, k, bounds, nchunks);
 }
 
-void pl_spinv_runs_mult(const pl_spinv_runs *ST, const double *x, double *y, int k,
+void spinv_runs_mult(const pl_spinv_runs *ST, const double *x, double *y, int k,
                         const int *bounds, int nchunks, int threads)
 {
 #pragma omp parallel num_threads(threads)
     runs_rows(ST, x, y, k, bounds, nchunks);
 }
 
-int pl_spinv_reserve_work(pl_sparse_inverse *s, int k, pl_error *err)
+int spinv_reserve_work(pl_sparse_inverse *s, int k, pl_error *err)
 {
     size_t need = (size_t)s->n * (size_t)k;
     if (need <= s->work_cap) return PL_OK;
@@ -108,7 +108,7 @@ int pl_spinv_reserve_work(pl_sparse_inverse *s, int k, pl_error *err)
 
 static int solve_sparse(pl_sparse_inverse *s, const double *b, double *x, int k, pl_error *err)
 {
-    int status = pl_spinv_reserve_work(s, k, err);
+    int status = spinv_reserve_work(s, k, err);
     if (status != PL_OK) return status;
     int n = s->n, nt = s->nthreads;
     const int *perm = s->perm;
@@ -149,7 +149,7 @@ static int solve_direct(pl_sparse_inverse *s, const double *b, double *x, int k,
     return PL_OK;
 }
 
-int pl_sparse_inverse_solve(pl_sparse_inverse *s, const double *b, double *x, int k,
+int sparse_inverse_solve(pl_sparse_inverse *s, const double *b, double *x, int k,
                             pl_error *err)
 {
     if (!s || s->n == 0)
@@ -161,7 +161,7 @@ int pl_sparse_inverse_solve(pl_sparse_inverse *s, const double *b, double *x, in
                                           : solve_sparse(s, b, x, k, err);
 }
 
-int pl_sparse_inverse_inverse_diagonal(pl_sparse_inverse *s, double *diag, pl_error *err)
+int sparse_inverse_inverse_diagonal(pl_sparse_inverse *s, double *diag, pl_error *err)
 {
     if (!s || s->n == 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
@@ -186,7 +186,7 @@ int pl_sparse_inverse_inverse_diagonal(pl_sparse_inverse *s, double *diag, pl_er
         double *wt = w + 2 * (size_t)n * (size_t)omp_get_thread_num(), *col = wt + n;
 #pragma omp for schedule(dynamic, 16)
         for (int j = 0; j < n; ++j) {
-            int len = pl_spinv_path_column(s->L, s->parent, j, wt, col);
+            int len = spinv_path_column(s->L, s->parent, j, wt, col);
             double sum = 0.0;
             for (int q = 0; q < len; ++q) sum += col[q] * col[q];
             diag[perm[j]] = sum;

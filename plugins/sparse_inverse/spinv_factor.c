@@ -9,17 +9,17 @@
 static const char *const ordering_names[] = {"metis", "nesdis", "amd", "natural"};
 static const char *const mode_names[] = {"sparse", "direct"};
 
-const char *pl_spinv_ordering_name(pl_spinv_ordering o)
+const char *spinv_ordering_name(pl_spinv_ordering o)
 {
     return ((unsigned)o < 4) ? ordering_names[o] : "?";
 }
 
-const char *pl_spinv_mode_name(pl_spinv_mode m)
+const char *spinv_mode_name(pl_spinv_mode m)
 {
     return ((unsigned)m < 2) ? mode_names[m] : "?";
 }
 
-pl_sparse_inverse *pl_sparse_inverse_create(const pl_spinv_options *opt)
+pl_sparse_inverse *sparse_inverse_create(const pl_spinv_options *opt)
 {
     pl_sparse_inverse *s = calloc(1, sizeof *s);
     if (!s) return NULL;
@@ -38,7 +38,7 @@ pl_sparse_inverse *pl_sparse_inverse_create(const pl_spinv_options *opt)
     return s;
 }
 
-void pl_spinv_clear(pl_sparse_inverse *s)
+void spinv_clear(pl_sparse_inverse *s)
 {
     if (s->L) cholmod_free_factor(&s->L, &s->cc);
     cholmod_free_dense(&s->B, &s->cc);
@@ -56,16 +56,16 @@ void pl_spinv_clear(pl_sparse_inverse *s)
     s->perm = s->pinv = s->parent = s->first = s->S_bounds = s->ST_bounds = NULL;
     s->work_a = s->work_b = NULL;
     s->work_cap = 0;
-    pl_spinv_profile_free(&s->S);
-    pl_spinv_runs_free(&s->ST);
+    spinv_profile_free(&s->S);
+    spinv_runs_free(&s->ST);
     s->n = 0;
     memset(&s->stats, 0, sizeof s->stats);
 }
 
-void pl_sparse_inverse_destroy(pl_sparse_inverse *s)
+void sparse_inverse_destroy(pl_sparse_inverse *s)
 {
     if (!s) return;
-    pl_spinv_clear(s);
+    spinv_clear(s);
     if (s->cc_started) cholmod_finish(&s->cc);
     free(s);
 }
@@ -136,7 +136,7 @@ static int factor_cholmod(pl_sparse_inverse *s, const pl_csc *A, int sorted, pl_
     if (!s->L)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
                             "sparse inverse: CHOLMOD analysis (%s ordering) failed, status %d",
-                            pl_spinv_ordering_name(s->opt.ordering), cc->status);
+                            spinv_ordering_name(s->opt.ordering), cc->status);
     if (!cholmod_factorize(&Aw, s->L, cc) && cc->status != CHOLMOD_NOT_POSDEF)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
                             "sparse inverse: CHOLMOD factorisation failed, status %d", cc->status);
@@ -181,7 +181,7 @@ static int read_factor(pl_sparse_inverse *s, pl_error *err)
     return PL_OK;
 }
 
-int pl_spinv_check_postorder(int n, const int *parent, int *first, pl_error *err)
+int spinv_check_postorder(int n, const int *parent, int *first, pl_error *err)
 {
     int *size = calloc((size_t)n, sizeof *size);
     if (!size) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
@@ -235,10 +235,10 @@ static void count_inverse(pl_sparse_inverse *s)
     s->stats.runs_ST = runs;
 }
 
-int pl_sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *err)
+int sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *err)
 {
     if (!s) return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse: no solver");
-    pl_spinv_clear(s);
+    spinv_clear(s);
     int64_t nnz_full = 0;
     int sorted = 1;
     int status = check_input(A, &nnz_full, &sorted, err);
@@ -249,7 +249,7 @@ int pl_sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *er
         s->n = A->ncols;
         status = read_factor(s, err);
     }
-    if (status == PL_OK) status = pl_spinv_check_postorder(s->n, s->parent, s->first, err);
+    if (status == PL_OK) status = spinv_check_postorder(s->n, s->parent, s->first, err);
     double t1 = omp_get_wtime();
     if (status == PL_OK) {
         s->stats.n = s->n;
@@ -258,17 +258,17 @@ int pl_sparse_inverse_factor(pl_sparse_inverse *s, const pl_csc *A, pl_error *er
         s->stats.ordering_used = s->L->ordering;
         count_inverse(s);
         if (s->opt.mode == PL_SPINV_SPARSE) {
-            status = pl_spinv_build_inverse(s, err);
+            status = spinv_build_inverse(s, err);
             s->stats.inverse_s = omp_get_wtime() - t1;
         }
     }
-    if (status != PL_OK) pl_spinv_clear(s);
+    if (status != PL_OK) spinv_clear(s);
     return status;
 }
 
-int pl_sparse_inverse_size(const pl_sparse_inverse *s) { return s ? s->n : 0; }
+int sparse_inverse_size(const pl_sparse_inverse *s) { return s ? s->n : 0; }
 
-const pl_spinv_stats *pl_sparse_inverse_stats(const pl_sparse_inverse *s)
+const pl_spinv_stats *sparse_inverse_stats(const pl_sparse_inverse *s)
 {
     return s ? &s->stats : NULL;
 }
@@ -283,5 +283,5 @@ const pl_spinv_runs *pl_sparse_inverse_ST(const pl_sparse_inverse *s)
     return (s && s->ST.val) ? &s->ST : NULL;
 }
 
-const int *pl_sparse_inverse_perm(const pl_sparse_inverse *s) { return s ? s->perm : NULL; }
-const int *pl_sparse_inverse_parent(const pl_sparse_inverse *s) { return s ? s->parent : NULL; }
+const int *sparse_inverse_perm(const pl_sparse_inverse *s) { return s ? s->perm : NULL; }
+const int *sparse_inverse_parent(const pl_sparse_inverse *s) { return s ? s->parent : NULL; }

@@ -28,12 +28,12 @@ struct pl_sparse_inverse {
 };
 
 /* Releases everything factor built (keeps options and CHOLMOD's common). */
-void pl_spinv_clear(pl_sparse_inverse *s);
+void spinv_clear(pl_sparse_inverse *s);
 
 /* Column j of L^-1 on the ancestor path of j: out[t] = S(path_t, j), the
  * path ascending from j.  w (n doubles) must be zero and is left zero.
  * Returns the path length. */
-int pl_spinv_path_column(const cholmod_factor *L, const int *parent, int j, double *w,
+int spinv_path_column(const cholmod_factor *L, const int *parent, int j, double *w,
                          double *out);
 
 /* The elimination tree cut into top nodes (descending: parents first) and
@@ -46,14 +46,14 @@ typedef struct pl_spinv_split {
 /* Splits so that each subtree carries at most 1/target of the work
  * (work[k] per node), with at most 4 target subtrees unless the forest has
  * more trees.  PL_EINTERNAL on allocation failure. */
-int pl_spinv_subtrees(int n, const int *parent, const double *work, int target,
+int spinv_subtrees(int n, const int *parent, const double *work, int target,
                       pl_spinv_split *split);
-void pl_spinv_split_free(pl_spinv_split *split);
+void spinv_split_free(pl_spinv_split *split);
 
 /* Computes S and S^T (sparse mode) from s->L, s->parent, s->first. */
-int pl_spinv_build_inverse(pl_sparse_inverse *s, pl_error *err);
+int spinv_build_inverse(pl_sparse_inverse *s, pl_error *err);
 
 /* Ensures s->work_a/b hold n * k doubles. */
-int pl_spinv_reserve_work(pl_sparse_inverse *s, int k, pl_error *err);
+int spinv_reserve_work(pl_sparse_inverse *s, int k, pl_error *err);
 
 #endif

@@ -1,6 +1,6 @@
 /* spinv_inverse.c - S = L^-1 and its two layouts.  Column j of S is
  * nonzero only on the etree path from j to its root (stored as row j of
- * S^T, then copied into the profile rows of S).  pl_spinv_path_column
+ * S^T, then copied into the profile rows of S).  spinv_path_column
  * solves L s = e_j on that path (used where S is not stored); the build
  * obtains column j from its ancestors' columns instead, which costs 3-4x
  * fewer flops on tet meshes and runs as contiguous axpys.  Every value is
@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void pl_spinv_profile_free(pl_spinv_profile *S)
+void spinv_profile_free(pl_spinv_profile *S)
 {
     free(S->first);
     free(S->start);
@@ -19,7 +19,7 @@ void pl_spinv_profile_free(pl_spinv_profile *S)
     memset(S, 0, sizeof *S);
 }
 
-void pl_spinv_runs_free(pl_spinv_runs *ST)
+void spinv_runs_free(pl_spinv_runs *ST)
 {
     free(ST->start);
     free(ST->run_ptr);
@@ -29,7 +29,7 @@ void pl_spinv_runs_free(pl_spinv_runs *ST)
     memset(ST, 0, sizeof *ST);
 }
 
-int pl_spinv_path_column(const cholmod_factor *L, const int *parent, int j, double *w,
+int spinv_path_column(const cholmod_factor *L, const int *parent, int j, double *w,
                          double *out)
 {
     const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
@@ -48,7 +48,7 @@ int pl_spinv_path_column(const cholmod_factor *L, const int *parent, int j, doub
     return t;
 }
 
-void pl_spinv_balance(const int64_t *start, int n, int nchunks, int *bounds)
+void spinv_balance(const int64_t *start, int n, int nchunks, int *bounds)
 {
     int64_t total = start[n];
     bounds[0] = 0;
@@ -185,7 +185,7 @@ static int build_values(pl_sparse_inverse *s, pl_error *err)
     pl_spinv_split split = {0};
     if (!work) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
     for (int j = 0; j < n; ++j) work[j] = column_work(L, ST, j);
-    int status = pl_spinv_subtrees(n, parent, work, 8 * s->nthreads, &split);
+    int status = spinv_subtrees(n, parent, work, 8 * s->nthreads, &split);
     free(work);
     if (status != PL_OK)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
@@ -195,11 +195,11 @@ static int build_values(pl_sparse_inverse *s, pl_error *err)
         int r = split.roots[q];
         for (int j = r; j >= S->first[r]; --j) ancestor_column(L, parent, ST, S, j);
     }
-    pl_spinv_split_free(&split);
+    spinv_split_free(&split);
     return PL_OK;
 }
 
-int pl_spinv_build_inverse(pl_sparse_inverse *s, pl_error *err)
+int spinv_build_inverse(pl_sparse_inverse *s, pl_error *err)
 {
     int status = build_structure(s, err);
     if (status == PL_OK) status = build_values(s, err);
@@ -212,8 +212,8 @@ int pl_spinv_build_inverse(pl_sparse_inverse *s, pl_error *err)
     s->ST_bounds = malloc(((size_t)s->nchunks + 1) * sizeof *s->ST_bounds);
     if (!s->S_bounds || !s->ST_bounds)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
-    pl_spinv_balance(s->S.start, n, s->nchunks, s->S_bounds);
-    pl_spinv_balance(s->ST.start, n, s->nchunks, s->ST_bounds);
+    spinv_balance(s->S.start, n, s->nchunks, s->S_bounds);
+    spinv_balance(s->ST.start, n, s->nchunks, s->ST_bounds);
     size_t nnz = (size_t)s->S.start[n], runs = (size_t)s->ST.run_ptr[n];
     s->stats.bytes_S = (double)nnz * sizeof(double) + (double)n * sizeof(int) +
                        ((double)n + 1) * sizeof(int64_t);

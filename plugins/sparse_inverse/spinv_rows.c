@@ -118,7 +118,7 @@ static int count_columns(const pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
     return PL_OK;
 }
 
-int pl_sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
+int sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y,
                                             pl_error *err)
 {
     if (!Y) return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse: no output");

@@ -51,7 +51,7 @@ static void split_heavy(pl_spinv_split *split, const double *W, const int *head,
     }
 }
 
-int pl_spinv_subtrees(int n, const int *parent, const double *work, int target,
+int spinv_subtrees(int n, const int *parent, const double *work, int target,
                       pl_spinv_split *split)
 {
     double *W = malloc((size_t)n * sizeof *W);
@@ -62,7 +62,7 @@ int pl_spinv_subtrees(int n, const int *parent, const double *work, int target,
     split->nroots = split->ntop = 0;
     int status = PL_OK;
     if (!W || !head || !next || !wr || !split->roots || !split->top) {
-        pl_spinv_split_free(split);
+        spinv_split_free(split);
         status = PL_EINTERNAL;
         goto done;
     }
@@ -101,7 +101,7 @@ done:
     return status;
 }
 
-void pl_spinv_split_free(pl_spinv_split *split)
+void spinv_split_free(pl_spinv_split *split)
 {
     free(split->roots);
     free(split->top);

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include "pliant/error.h"
 
-int *pl_spinv_grid_tets(int nx, int ny, int nz, int *ntets)
+int *spinv_grid_tets(int nx, int ny, int nz, int *ntets)
 {
     /* the 6 tets of a cube: corner 0 to corner 7 through the corners that
      * add the axes in each of the 6 orders (corner bits: x=1, y=2, z=4) */
@@ -31,11 +31,11 @@ int *pl_spinv_grid_tets(int nx, int ny, int nz, int *ntets)
     return t;
 }
 
-int pl_spinv_grid_matrix(int nx, int ny, int nz, double h2w, pl_csc *A)
+int spinv_grid_matrix(int nx, int ny, int nz, double h2w, pl_csc *A)
 {
     if (nx < 2 || ny < 2 || nz < 2) return PL_EINPUT;
     int nt = 0, n = nx * ny * nz;
-    int *tets = pl_spinv_grid_tets(nx, ny, nz, &nt);
+    int *tets = spinv_grid_tets(nx, ny, nz, &nt);
     if (!tets) return PL_EINTERNAL;
     pl_triplets T;
     if (pl_triplets_init(&T, n, n, 16 * nt + n) != PL_OK) {
@@ -70,7 +70,7 @@ static uint32_t xorshift(uint32_t *s)
     return *s = x;
 }
 
-int pl_spinv_random_spd(int n, int per_col, unsigned seed, pl_csc *A)
+int spinv_random_spd(int n, int per_col, unsigned seed, pl_csc *A)
 {
     if (n < 1 || per_col < 0) return PL_EINPUT;
     uint32_t st = seed ? seed : 1u;

@@ -26,25 +26,25 @@ START_TEST(straight_cable_length)
 {
     double x[] = {1, 0, 0, 2, 0, 0, 4, 0, 0};
     pl_cable_path c;
-    pl_cable_path_init(&c);
-    ck_assert_int_eq(pl_cable_path_alloc(&c, 3), PL_OK);
+    cable_path_init(&c);
+    ck_assert_int_eq(cable_path_alloc(&c, 3), PL_OK);
     for (int i = 0; i < 3; ++i) {
         c.vert[4 * i] = i;
         c.weight[4 * i] = 1.0;
     }
     c.has_pull = 1; /* pull point at the origin */
-    ck_assert_double_eq_tol(pl_cable_length(&c, x), 4.0, 1e-15);
+    ck_assert_double_eq_tol(cable_path_length(&c, x), 4.0, 1e-15);
     c.has_pull = 0; /* starts at P_0 */
-    ck_assert_double_eq_tol(pl_cable_length(&c, x), 3.0, 1e-15);
-    pl_cable_path_free(&c);
+    ck_assert_double_eq_tol(cable_path_length(&c, x), 3.0, 1e-15);
+    cable_path_free(&c);
 }
 END_TEST
 
 /* A random cable of m points, each mapped on 4 of n vertices. */
 static void random_cable(pl_cable_path *c, int m, int n, double *x, unsigned *seed)
 {
-    pl_cable_path_init(c);
-    ck_assert_int_eq(pl_cable_path_alloc(c, m), PL_OK);
+    cable_path_init(c);
+    ck_assert_int_eq(cable_path_alloc(c, m), PL_OK);
     for (int i = 0; i < 3 * n; ++i) x[i] = rnd(seed);
     for (int i = 0; i < m; ++i) {
         double sum = 0;
@@ -69,9 +69,9 @@ START_TEST(gradient_matches_finite_differences)
     int vert[4 * M];
     pl_cable_path c;
     random_cable(&c, M, N, x, &seed);
-    double L = pl_cable_gradient(&c, x, g);
-    ck_assert_double_eq_tol(L, pl_cable_length(&c, x), 1e-15);
-    int ne = pl_cable_row(&c, g, vert, coef);
+    double L = cable_gradient(&c, x, g);
+    ck_assert_double_eq_tol(L, cable_path_length(&c, x), 1e-15);
+    int ne = cable_row(&c, g, vert, coef);
     ck_assert_int_gt(ne, 0);
     ck_assert_int_le(ne, N);
     for (int k = 1; k < ne; ++k) ck_assert_int_lt(vert[k - 1], vert[k]); /* merged, sorted */
@@ -81,16 +81,16 @@ START_TEST(gradient_matches_finite_differences)
         for (int d = 0; d < 3; ++d) {
             double save = x[3 * v + d];
             x[3 * v + d] = save + h;
-            double Lp = pl_cable_length(&c, x);
+            double Lp = cable_path_length(&c, x);
             x[3 * v + d] = save - h;
-            double Lm = pl_cable_length(&c, x);
+            double Lm = cable_path_length(&c, x);
             x[3 * v + d] = save;
             double fd = -(Lp - Lm) / (2 * h), row = 0.0;
             for (int k = 0; k < ne; ++k)
                 if (vert[k] == v) row = coef[3 * k + d];
             ck_assert_double_eq_tol(row, fd, 1e-7);
         }
-    pl_cable_path_free(&c);
+    cable_path_free(&c);
 }
 END_TEST
 
@@ -102,16 +102,16 @@ START_TEST(net_force_points_to_pull_point)
     int vert[4 * M];
     pl_cable_path c;
     random_cable(&c, M, N, x, &seed);
-    pl_cable_gradient(&c, x, g);
-    int ne = pl_cable_row(&c, g, vert, coef);
+    cable_gradient(&c, x, g);
+    int ne = cable_row(&c, g, vert, coef);
     double net[3] = {0, 0, 0}, p0[3], u[3], l = 0;
     for (int k = 0; k < ne; ++k)
         for (int d = 0; d < 3; ++d) net[d] += coef[3 * k + d];
-    pl_cable_point(&c, x, 0, p0);
+    cable_point(&c, x, 0, p0);
     for (int d = 0; d < 3; ++d) l += (c.pull[d] - p0[d]) * (c.pull[d] - p0[d]);
     for (int d = 0; d < 3; ++d) u[d] = (c.pull[d] - p0[d]) / sqrt(l);
     for (int d = 0; d < 3; ++d) ck_assert_double_eq_tol(net[d], u[d], 1e-13);
-    pl_cable_path_free(&c);
+    cable_path_free(&c);
 }
 END_TEST
 
@@ -124,7 +124,7 @@ START_TEST(locate_in_tetrahedra)
     for (int trial = 0; trial < 200; ++trial) {
         double p[3] = {rnd(&seed), rnd(&seed), rnd(&seed)}, w[4], out, q[3] = {0, 0, 0};
         int v[4];
-        int t = pl_cable_locate(x, tets, 5, p, v, w, &out);
+        int t = cable_locate(x, tets, 5, p, v, w, &out);
         ck_assert_int_ge(t, 0);
         ck_assert_double_eq(out, 0.0);
         double sum = 0;
@@ -139,12 +139,12 @@ START_TEST(locate_in_tetrahedra)
     /* outside: still reproduced (extrapolated), reported as outside */
     double p[3] = {1.5, 0.5, 0.5}, w[4], out, q[3] = {0, 0, 0};
     int v[4];
-    ck_assert_int_ge(pl_cable_locate(x, tets, 5, p, v, w, &out), 0);
+    ck_assert_int_ge(cable_locate(x, tets, 5, p, v, w, &out), 0);
     ck_assert_double_gt(out, 0.1);
     for (int s = 0; s < 4; ++s)
         for (int d = 0; d < 3; ++d) q[d] += w[s] * x[3 * v[s] + d];
     for (int d = 0; d < 3; ++d) ck_assert_double_eq_tol(q[d], p[d], 1e-13);
-    ck_assert_int_eq(pl_cable_nearest(x, 8, p), 1); /* (1,0,0) ties broken by the lowest index */
+    ck_assert_int_eq(cable_nearest(x, 8, p), 1); /* (1,0,0) ties broken by the lowest index */
 }
 END_TEST
 
@@ -154,17 +154,17 @@ START_TEST(zero_length_segment_is_finite)
     double g[9], coef[36];
     int vert[12];
     pl_cable_path c;
-    pl_cable_path_init(&c);
-    ck_assert_int_eq(pl_cable_path_alloc(&c, 3), PL_OK);
+    cable_path_init(&c);
+    ck_assert_int_eq(cable_path_alloc(&c, 3), PL_OK);
     for (int i = 0; i < 3; ++i) {
         c.vert[4 * i] = i;
         c.weight[4 * i] = 1.0;
     }
     c.has_pull = 1; /* pull point at the origin = P_0: first segment has length 0 */
-    ck_assert_double_eq_tol(pl_cable_gradient(&c, x, g), 1.0, 1e-15);
-    int ne = pl_cable_row(&c, g, vert, coef);
+    ck_assert_double_eq_tol(cable_gradient(&c, x, g), 1.0, 1e-15);
+    int ne = cable_row(&c, g, vert, coef);
     for (int k = 0; k < 3 * ne; ++k) ck_assert(isfinite(coef[k]));
-    pl_cable_path_free(&c);
+    cable_path_free(&c);
 }
 END_TEST
 

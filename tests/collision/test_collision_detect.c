@@ -15,7 +15,7 @@
  *    outward normal and ignore deep ones;
  *  (the sides kept at thin sheets' borders, from step to step and from the
  *  predicted end of a step: test_collision_sides.c)
- *  - the rows of a contact between two sides (pl_collision_emit_pair):
+ *  - the rows of a contact between two sides (collision_emit_pair):
  *    +w n on A, -w n on B, merged vertices, d and d_f from fixed parts. */
 #include <check.h>
 #include <math.h>
@@ -64,7 +64,7 @@ static void make_sheet(sheet *s, int n, double z0, double bump, double motion, u
             q = &s->tris[3 * t++];
             q[0] = a, q[1] = d, q[2] = c;
         }
-    ck_assert_int_eq(pl_triangle_edges(s->tris, s->nt, &s->edges, &s->ne), PL_OK);
+    ck_assert_int_eq(triangle_edges(s->tris, s->nt, &s->edges, &s->ne), PL_OK);
 }
 
 static void free_sheet(sheet *s)
@@ -77,7 +77,7 @@ static void free_sheet(sheet *s)
 
 static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double alarm)
 {
-    pl_coll_mesh_init(m);
+    coll_mesh_init(m);
     m->nverts = s->nv;
     m->ntris = s->nt;
     m->nedges = s->ne;
@@ -87,7 +87,7 @@ static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double
     m->edges = s->edges;
     m->sides = sides;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(m, alarm, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(m, alarm, &err), PL_OK);
 }
 
 static int cmp_prox(const void *a, const void *b)
@@ -123,25 +123,25 @@ START_TEST(test_bvh_detection_equals_brute_force)
         pl_coll_mesh ma, mb;
         to_mesh(&a, &ma, trial % 2 ? PL_SIDES_TWO : PL_SIDES_AUTO, alarm);
         to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
-        pl_detect_params prm = pl_detect_defaults(alarm);
+        pl_detect_params prm = detect_defaults(alarm);
         pl_proximities p = {0}, q = {0};
-        ck_assert_int_eq(pl_detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
-        ck_assert_int_eq(pl_detect_pair_brute(&ma, 0, &mb, 1, &prm, &q), PL_OK);
+        ck_assert_int_eq(detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair_brute(&ma, 0, &mb, 1, &prm, &q), PL_OK);
         ck_assert_int_gt(p.n, 10);
         expect_same(&p, &q);
         /* self-collision of one sheet */
         p.n = q.n = 0;
-        ck_assert_int_eq(pl_detect_pair(&ma, 0, &ma, 0, &prm, &p), PL_OK);
-        ck_assert_int_eq(pl_detect_pair_brute(&ma, 0, &ma, 0, &prm, &q), PL_OK);
+        ck_assert_int_eq(detect_pair(&ma, 0, &ma, 0, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair_brute(&ma, 0, &ma, 0, &prm, &q), PL_OK);
         expect_same(&p, &q);
         for (int k = 0; k < p.n; ++k) /* nothing adjacent */
             for (int i = 0; i < p.items[k].na; ++i)
                 for (int j = 0; j < p.items[k].nb; ++j)
                     ck_assert_int_ne(p.items[k].a[i], p.items[k].b[j]);
-        pl_proximities_free(&p);
-        pl_proximities_free(&q);
-        pl_coll_mesh_free(&ma);
-        pl_coll_mesh_free(&mb);
+        proximities_free(&p);
+        proximities_free(&q);
+        coll_mesh_free(&ma);
+        coll_mesh_free(&mb);
         free_sheet(&a);
         free_sheet(&b);
     }
@@ -220,9 +220,9 @@ START_TEST(test_static_detection_is_complete)
     pl_coll_mesh ma, mb;
     to_mesh(&a, &ma, PL_SIDES_TWO, alarm);
     to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
-    pl_detect_params prm = pl_detect_defaults(alarm);
+    pl_detect_params prm = detect_defaults(alarm);
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
     /* vertex-face, both directions */
     const sheet *S[2] = {&a, &b};
     int nvf = 0, nee = 0;
@@ -231,7 +231,7 @@ START_TEST(test_static_detection_is_complete)
         for (int v = 0; v < P->nv; ++v) {
             double best = INFINITY, w[3], wmax = 0;
             for (int t = 0; t < T->nt; ++t) {
-                double d = sqrt(pl_closest_point_triangle(&P->x0[3 * v], &T->x0[3 * T->tris[3 * t]],
+                double d = sqrt(closest_point_triangle(&P->x0[3 * v], &T->x0[3 * T->tris[3 * t]],
                                                           &T->x0[3 * T->tris[3 * t + 1]],
                                                           &T->x0[3 * T->tris[3 * t + 2]], w));
                 if (d < best) best = d, wmax = fmax(w[0], fmax(w[1], w[2]));
@@ -259,7 +259,7 @@ START_TEST(test_static_detection_is_complete)
             double s, t;
             const double *p0 = &a.x0[3 * a.edges[2 * e]], *p1 = &a.x0[3 * a.edges[2 * e + 1]];
             const double *q0 = &b.x0[3 * b.edges[2 * f]], *q1 = &b.x0[3 * b.edges[2 * f + 1]];
-            double d = sqrt(pl_closest_segments(p0, p1, q0, q1, &s, &t));
+            double d = sqrt(closest_segments(p0, p1, q0, q1, &s, &t));
             double ea[3], eb[3], c[3];
             for (int k = 0; k < 3; ++k) ea[k] = p1[k] - p0[k], eb[k] = q1[k] - q0[k];
             c[0] = ea[1] * eb[2] - ea[2] * eb[1];
@@ -287,9 +287,9 @@ START_TEST(test_static_detection_is_complete)
         }
     ck_assert_int_gt(nvf, 20);
     ck_assert_int_gt(nee, 5);
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&ma);
-    pl_coll_mesh_free(&mb);
+    proximities_free(&p);
+    coll_mesh_free(&ma);
+    coll_mesh_free(&mb);
     free_sheet(&a);
     free_sheet(&b);
 }
@@ -304,17 +304,17 @@ START_TEST(test_thin_triangle_keeps_each_side)
     double px0[12] = {0, 0, 0.005, 0, 0, -0.007, 0.1, 0, 0.05, 0, 0, 0.5};
     double px1[12] = {0, 0, 0.005, 0, 0, -0.007, 0.1, 0, -0.05, 0, 0, 0.5};
     pl_coll_mesh T, P;
-    pl_coll_mesh_init(&T);
-    pl_coll_mesh_init(&P);
+    coll_mesh_init(&T);
+    coll_mesh_init(&P);
     T.nverts = 3, T.ntris = 1, T.nedges = 3, T.x0 = T.x1 = tri_x, T.tris = tri, T.edges = edges;
     P.nverts = 4, P.x0 = px0, P.x1 = px1;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&T, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
     ck_assert_int_eq(T.two_sided, 1); /* open: auto is two-sided */
-    pl_detect_params prm = pl_detect_defaults(0.01);
+    pl_detect_params prm = detect_defaults(0.01);
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&P, 0, &T, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&P, 0, &T, 1, &prm, &p), PL_OK);
     ck_assert_int_eq(p.n, 3);
     const double want_nz[3] = {1, -1, 1}, want_gap[3] = {0.005, 0.007, 0.05};
     for (int k = 0; k < 3; ++k) {
@@ -322,9 +322,9 @@ START_TEST(test_thin_triangle_keeps_each_side)
         ck_assert_double_eq_tol(p.items[k].normal[2], want_nz[k], 1e-15);
         ck_assert_double_eq_tol(p.items[k].gap, want_gap[k], 1e-15);
     }
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&T);
-    pl_coll_mesh_free(&P);
+    proximities_free(&p);
+    coll_mesh_free(&T);
+    coll_mesh_free(&P);
 }
 END_TEST
 
@@ -344,14 +344,14 @@ static void cube_make(cube *c)
     for (int b = 0; b < 8; ++b)
         for (int k = 0; k < 3; ++k) c->x[3 * b + k] = (b >> k) & 1;
     memcpy(c->tris, T, sizeof T);
-    ck_assert_int_eq(pl_triangle_edges(c->tris, 12, &c->edges, &c->ne), PL_OK);
+    ck_assert_int_eq(triangle_edges(c->tris, 12, &c->edges, &c->ne), PL_OK);
     ck_assert_int_eq(c->ne, 18);
 }
 
 /* T initialised over c (sides auto: closed, so one-sided), not prepared. */
 static void cube_mesh(const cube *c, pl_coll_mesh *T)
 {
-    pl_coll_mesh_init(T);
+    coll_mesh_init(T);
     T->nverts = 8, T->ntris = 12, T->nedges = c->ne, T->x0 = T->x1 = c->x, T->tris = c->tris;
     T->edges = c->edges;
 }
@@ -364,24 +364,24 @@ START_TEST(test_closed_surface_pushes_out)
     double px[9] = {0.5, 0.5, 1.004, 0.4, 0.55, 0.996, 0.5, 0.5, 0.5};
     pl_coll_mesh T, P;
     cube_mesh(&c, &T);
-    pl_coll_mesh_init(&P);
+    coll_mesh_init(&P);
     P.nverts = 3, P.x0 = P.x1 = px;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&T, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
     ck_assert_int_eq(T.two_sided, 0);
     ck_assert_double_eq(T.orientation, -1.0);
-    pl_detect_params prm = pl_detect_defaults(0.01);
+    pl_detect_params prm = detect_defaults(0.01);
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&P, 0, &T, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&P, 0, &T, 1, &prm, &p), PL_OK);
     ck_assert_int_eq(p.n, 2); /* the centre point is deep: none */
     for (int k = 0; k < 2; ++k) {
         ck_assert_double_eq_tol(p.items[k].normal[2], 1.0, 1e-15);
         ck_assert_double_eq_tol(p.items[k].gap, k == 0 ? 0.004 : -0.004, 1e-12);
     }
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&T);
-    pl_coll_mesh_free(&P);
+    proximities_free(&p);
+    coll_mesh_free(&T);
+    coll_mesh_free(&P);
     free(c.edges);
 }
 END_TEST
@@ -403,7 +403,7 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
                      1.004, 0.9997, 1.003, 1.05, 0.95, 1.003, 1.004, 0.95, 1.05};
     int stris[6] = {0, 1, 2, 3, 4, 5};
     int *sedges, nse;
-    ck_assert_int_eq(pl_triangle_edges(stris, 2, &sedges, &nse), PL_OK);
+    ck_assert_int_eq(triangle_edges(stris, 2, &sedges, &nse), PL_OK);
     const double *o = &c.x[21], *v = &sx[9];
     double d = sqrt(pow(v[0] - o[0], 2) + pow(v[1] - o[1], 2) + pow(v[2] - o[2], 2));
     for (int pass = 0; pass < 2; ++pass) {
@@ -411,15 +411,15 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
             for (int i = 0; i < 3; ++i) sx[3 * i + 1] = 1.5;
         pl_coll_mesh T, P;
         cube_mesh(&c, &T);
-        pl_coll_mesh_init(&P);
+        coll_mesh_init(&P);
         P.nverts = 6, P.ntris = 2, P.nedges = nse, P.x0 = P.x1 = sx, P.tris = stris;
         P.edges = sedges, P.sides = PL_SIDES_TWO;
         pl_error err;
-        ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.01, &err), PL_OK);
-        ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-        pl_detect_params prm = pl_detect_defaults(0.01);
+        ck_assert_int_eq(coll_mesh_prepare(&T, 0.01, &err), PL_OK);
+        ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+        pl_detect_params prm = detect_defaults(0.01);
         pl_proximities p = {0};
-        ck_assert_int_eq(pl_detect_pair(&T, 0, &P, 1, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair(&T, 0, &P, 1, &prm, &p), PL_OK);
         /* the contacts of vertex 3: its own (second direction: closest
          * to the corner's edge 0.3 mm below it, 5 mm away) or the
          * corner's with vertex 3 as the closest point */
@@ -444,9 +444,9 @@ START_TEST(test_point_beside_a_corner_keeps_its_contact)
         ck_assert_int_eq(own, pass == 0);
         ck_assert_int_eq(of_corner, pass == 1);
         ck_assert_int_eq(corner, 1); /* its nearest alone */
-        pl_proximities_free(&p);
-        pl_coll_mesh_free(&T);
-        pl_coll_mesh_free(&P);
+        proximities_free(&p);
+        coll_mesh_free(&T);
+        coll_mesh_free(&P);
     }
     free(c.edges);
     free(sedges);
@@ -474,19 +474,19 @@ START_TEST(test_edge_beside_a_cube_keeps_its_side)
     sx[6] = P[0] + 0.004, sx[7] = P[1] - 0.008, sx[8] = P[2] + 0.01;
     int stris[3] = {0, 1, 2};
     int *sedges, nse;
-    ck_assert_int_eq(pl_triangle_edges(stris, 1, &sedges, &nse), PL_OK);
+    ck_assert_int_eq(triangle_edges(stris, 1, &sedges, &nse), PL_OK);
     pl_coll_mesh T, C;
     cube_mesh(&c, &T);
-    pl_coll_mesh_init(&C);
+    coll_mesh_init(&C);
     C.nverts = 3, C.ntris = 1, C.nedges = nse, C.x0 = C.x1 = sx, C.tris = stris;
     C.edges = sedges, C.sides = PL_SIDES_TWO;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&T, 0.02, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&C, 0.02, &err), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.02);
+    ck_assert_int_eq(coll_mesh_prepare(&T, 0.02, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&C, 0.02, &err), PL_OK);
+    pl_detect_params prm = detect_defaults(0.02);
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&T, 0, &C, 1, &prm, &p), PL_OK);
-    double s, t, d = sqrt(pl_closest_segments(&c.x[9], &c.x[21], &sx[0], &sx[3], &s, &t));
+    ck_assert_int_eq(detect_pair(&T, 0, &C, 1, &prm, &p), PL_OK);
+    double s, t, d = sqrt(closest_segments(&c.x[9], &c.x[21], &sx[0], &sx[3], &s, &t));
     ck_assert(d > 0.015 && d < 0.016);
     int found = 0;
     for (int k = 0; k < p.n; ++k) {
@@ -498,9 +498,9 @@ START_TEST(test_edge_beside_a_cube_keeps_its_side)
         ck_assert(x->normal[0] < 0.0 && x->normal[1] > 0.0); /* from the cloth up to the cube */
     }
     ck_assert_int_eq(found, 1);
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&T);
-    pl_coll_mesh_free(&C);
+    proximities_free(&p);
+    coll_mesh_free(&T);
+    coll_mesh_free(&C);
     free(c.edges);
     free(sedges);
 }
@@ -515,7 +515,7 @@ START_TEST(test_pair_rows)
     b.n = 3;
     for (int k = 0; k < 3; ++k) b.vertex[k] = k, b.weight[k] = (k + 1) / 6.0;
     double n[3] = {0, 0, 1}, t1[3], t2[3];
-    ck_assert_int_eq(pl_collision_emit_pair(&rows, NULL, &a, &b, n, 0.4, 0.002, t1, t2), 0);
+    ck_assert_int_eq(collision_emit_pair(&rows, NULL, &a, &b, n, 0.4, 0.002, t1, t2), 0);
     ck_assert_int_eq(rows.n, 3);
     ck_assert_int_eq(rows.start[1] - rows.start[0], 4);
     ck_assert_int_eq(rows.kind[0], PL_ROW_NORMAL);
@@ -532,7 +532,7 @@ START_TEST(test_pair_rows)
     pl_contact_side c = {0};
     c.fixed[2] = 0.5;
     c.fixed_v[0] = 2.0;
-    ck_assert_int_eq(pl_collision_emit_pair(&rows, NULL, &a, &c, n, 0.4, 0.002, t1, t2), 0);
+    ck_assert_int_eq(collision_emit_pair(&rows, NULL, &a, &c, n, 0.4, 0.002, t1, t2), 0);
     ck_assert_double_eq_tol(rows.d[0], 0.502, 1e-15);
     ck_assert_double_eq_tol(rows.d[1], 2.0 * t1[0], 1e-15);
     ck_assert_double_eq_tol(rows.d[2], 2.0 * t2[0], 1e-15);
@@ -540,12 +540,12 @@ START_TEST(test_pair_rows)
     pl_rows_clear(&rows);
     pl_contact_side d = {0};
     d.n = 2, d.vertex[0] = 3, d.weight[0] = 0.25, d.vertex[1] = 5, d.weight[1] = 0.75;
-    ck_assert_int_eq(pl_collision_emit_pair(&rows, NULL, &a, &d, n, 0, 0, t1, t2), 0);
+    ck_assert_int_eq(collision_emit_pair(&rows, NULL, &a, &d, n, 0, 0, t1, t2), 0);
     ck_assert_int_eq(rows.start[1] - rows.start[0], 2);
     ck_assert_double_eq_tol(rows.coef[3 * rows.start[0] + 2], 0.75, 1e-15);
     ck_assert_double_eq_tol(rows.coef[3 * (rows.start[0] + 1) + 2], -0.75, 1e-15);
     pl_rows_clear(&rows);
-    ck_assert_int_eq(pl_collision_emit_pair(&rows, NULL, &a, &a, n, 0, 0, t1, t2), -2);
+    ck_assert_int_eq(collision_emit_pair(&rows, NULL, &a, &a, n, 0, 0, t1, t2), -2);
     ck_assert_int_eq(rows.n, 0);
     pl_rows_free(&rows);
 }

@@ -39,10 +39,10 @@ START_TEST(test_rotation_about_axis)
     const double axis[3] = {0, 0, 2}, c[3] = {1, 1, 0};
     pl_motion m = spin(axis, M_PI / 2, c);
     pl_error err;
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_OK);
     ck_assert_double_eq_tol(m.axis[2], 1.0, 1e-15); /* normalised */
     double R[9], tr[3], y[3];
-    pl_motion_pose(&m, 1.0, R, tr); /* a quarter turn */
+    motion_pose(&m, 1.0, R, tr); /* a quarter turn */
     const double on_axis[3] = {1, 1, 7}, x[3] = {2, 1, 3};
     apply(R, tr, on_axis, y);
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(y[i], on_axis[i], 1e-14);
@@ -50,7 +50,7 @@ START_TEST(test_rotation_about_axis)
     ck_assert_double_eq_tol(y[0], 1.0, 1e-14);
     ck_assert_double_eq_tol(y[1], 2.0, 1e-14);
     ck_assert_double_eq_tol(y[2], 3.0, 1e-14);
-    pl_motion_pose(&m, 4.0, R, tr); /* a full turn: back home */
+    motion_pose(&m, 4.0, R, tr); /* a full turn: back home */
     apply(R, tr, x, y);
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(y[i], x[i], 1e-13);
 }
@@ -66,35 +66,35 @@ START_TEST(test_keyframes_interpolate)
     m.ntimes = 3;
     m.velocity[2] = 0.5; /* combined with a constant velocity along z */
     pl_error err;
-    ck_assert_int_eq(pl_motion_prepare(&m, 9, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 9, &err), PL_OK);
     double R[9], tr[3], v[3];
     const double o[3] = {0, 0, 0};
-    pl_motion_pose(&m, 0.5, R, tr); /* before the first key: held */
+    motion_pose(&m, 0.5, R, tr); /* before the first key: held */
     ck_assert_double_eq_tol(tr[0], 0.0, 1e-15);
     ck_assert_double_eq_tol(tr[2], 0.25, 1e-15);
-    pl_motion_pose(&m, 1.5, R, tr);
+    motion_pose(&m, 1.5, R, tr);
     ck_assert_double_eq_tol(tr[0], 0.5, 1e-15);
-    pl_motion_pose(&m, 3.0, R, tr);
+    motion_pose(&m, 3.0, R, tr);
     ck_assert_double_eq_tol(tr[0], 1.0, 1e-15);
     ck_assert_double_eq_tol(tr[1], 1.0, 1e-15);
     ck_assert_double_eq_tol(tr[2], 1.5, 1e-15);
-    pl_motion_pose(&m, 9.0, R, tr); /* after the last key: held */
+    motion_pose(&m, 9.0, R, tr); /* after the last key: held */
     ck_assert_double_eq_tol(tr[0], 1.0, 1e-15);
     ck_assert_double_eq_tol(tr[1], 2.0, 1e-15);
     ck_assert_double_eq(R[0], 1.0); /* no rotation */
     /* velocities: left derivative, i.e. over the step that ends at t */
-    pl_motion_velocity(&m, 0.5, o, v);
+    motion_velocity(&m, 0.5, o, v);
     ck_assert_double_eq(v[0], 0.0);
     ck_assert_double_eq(v[2], 0.5);
-    pl_motion_velocity(&m, 2.0, o, v); /* at a key: the segment ending there */
+    motion_velocity(&m, 2.0, o, v); /* at a key: the segment ending there */
     ck_assert_double_eq_tol(v[0], 1.0, 1e-15);
     ck_assert_double_eq_tol(v[1], 0.0, 1e-15);
-    pl_motion_velocity(&m, 2.0 + 1e-9, o, v);
+    motion_velocity(&m, 2.0 + 1e-9, o, v);
     ck_assert_double_eq_tol(v[0], 0.0, 1e-15);
     ck_assert_double_eq_tol(v[1], 1.0, 1e-15);
-    pl_motion_velocity(&m, 5.0, o, v);
+    motion_velocity(&m, 5.0, o, v);
     ck_assert_double_eq(v[1], 0.0);
-    ck_assert(!pl_motion_is_static(&m));
+    ck_assert(!motion_is_static(&m));
 }
 END_TEST
 
@@ -109,17 +109,17 @@ START_TEST(test_velocity_is_derivative_of_pose)
     m.center[0] = 0.3, m.center[1] = -0.4, m.center[2] = 1.0;
     m.times = T, m.translations = P, m.ntimes = 2;
     pl_error err;
-    ck_assert_int_eq(pl_motion_prepare(&m, 6, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 6, &err), PL_OK);
     const double x0[3] = {1.0, 0.5, -0.25}, e = 1e-6;
     for (double t = 0.1; t < 2.9; t += 0.35) {
         double R[9], tr[3], xa[3], xb[3], xt[3], v[3];
-        pl_motion_pose(&m, t - e, R, tr);
+        motion_pose(&m, t - e, R, tr);
         apply(R, tr, x0, xa);
-        pl_motion_pose(&m, t + e, R, tr);
+        motion_pose(&m, t + e, R, tr);
         apply(R, tr, x0, xb);
-        pl_motion_pose(&m, t, R, tr);
+        motion_pose(&m, t, R, tr);
         apply(R, tr, x0, xt);
-        pl_motion_velocity(&m, t, xt, v);
+        motion_velocity(&m, t, xt, v);
         for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(v[i], (xb[i] - xa[i]) / (2 * e), 1e-7);
         /* a rigid motion keeps distances to the (moving) axis point */
         double c0[3], ct[3];
@@ -141,19 +141,19 @@ START_TEST(test_spinning_cylinder_surface_velocity)
     const double c[3] = {0, 0.1, 0}, ax[3] = {1, 0, 0};
     pl_shape s0, s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_cylinder(&s0, c, ax, 0.1, 1.0, &err), PL_OK);
+    ck_assert_int_eq(shape_cylinder(&s0, c, ax, 0.1, 1.0, &err), PL_OK);
     pl_motion m = spin(ax, 20.0, c);
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_OK);
     double R[9], tr[3];
-    pl_motion_pose(&m, 0.37, R, tr);
-    pl_shape_transform(&s0, R, tr, &s);
+    motion_pose(&m, 0.37, R, tr);
+    shape_transform(&s0, R, tr, &s);
     /* spinning about its own axis leaves the shape where it was */
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(s.center[i], c[i], 1e-15);
     const double probes[4][3] = {{0.2, 0.25, 0}, {-0.3, 0.1, 0.3}, {0, -0.05, 0}, {0.1, 0.2, -0.2}};
     for (int k = 0; k < 4; ++k) {
         double p[3], n[3], v[3];
-        pl_shape_query(&s, probes[k], p, n);
-        pl_motion_velocity(&m, 0.37, p, v);
+        shape_query(&s, probes[k], p, n);
+        motion_velocity(&m, 0.37, p, v);
         double r[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
         double wxr[3] = {0, -20.0 * r[2], 20.0 * r[1]}; /* w = 20 e_x */
         for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(v[i], wxr[i], 1e-13);
@@ -169,26 +169,26 @@ START_TEST(test_posed_shapes)
     const double T[2] = {1, 2}, P[6] = {0, 0, 0, 0, 0, 2}, o[3] = {0, 0, 0};
     pl_shape s0, s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_sphere(&s0, o, 1.0, &err), PL_OK);
+    ck_assert_int_eq(shape_sphere(&s0, o, 1.0, &err), PL_OK);
     pl_motion m;
     memset(&m, 0, sizeof m);
     m.times = T, m.translations = P, m.ntimes = 2;
-    ck_assert_int_eq(pl_motion_prepare(&m, 6, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 6, &err), PL_OK);
     double R[9], tr[3];
-    pl_motion_pose(&m, 1.5, R, tr);
-    pl_shape_transform(&s0, R, tr, &s);
+    motion_pose(&m, 1.5, R, tr);
+    shape_transform(&s0, R, tr, &s);
     const double x[3] = {0, 0, 3};
-    ck_assert_double_eq_tol(pl_shape_query(&s, x, NULL, NULL), 1.0, 1e-15);
+    ck_assert_double_eq_tol(shape_query(&s, x, NULL, NULL), 1.0, 1e-15);
     /* a floor y = 0 tilting about the z axis through the origin at 0.5 rad/s */
     const double n0[3] = {0, 1, 0}, az[3] = {0, 0, 1};
-    ck_assert_int_eq(pl_shape_plane(&s0, o, n0, &err), PL_OK);
+    ck_assert_int_eq(shape_plane(&s0, o, n0, &err), PL_OK);
     pl_motion w = spin(az, 0.5, o);
-    ck_assert_int_eq(pl_motion_prepare(&w, 0, &err), PL_OK);
-    pl_motion_pose(&w, 1.0, R, tr);
-    pl_shape_transform(&s0, R, tr, &s);
+    ck_assert_int_eq(motion_prepare(&w, 0, &err), PL_OK);
+    motion_pose(&w, 1.0, R, tr);
+    shape_transform(&s0, R, tr, &s);
     double n[3], p[3];
     const double y[3] = {0, 1, 0};
-    ck_assert_double_eq_tol(pl_shape_query(&s, y, p, n), cos(0.5), 1e-15);
+    ck_assert_double_eq_tol(shape_query(&s, y, p, n), cos(0.5), 1e-15);
     ck_assert_double_eq_tol(n[0], -sin(0.5), 1e-15);
     ck_assert_double_eq_tol(n[1], cos(0.5), 1e-15);
 }
@@ -201,21 +201,21 @@ START_TEST(test_broken_motions_refused)
     const double T[3] = {0, 1, 1}, P[9] = {0};
     memset(&m, 0, sizeof m);
     m.times = T, m.translations = P, m.ntimes = 3;
-    ck_assert_int_eq(pl_motion_prepare(&m, 9, &err), PL_EINPUT);
+    ck_assert_int_eq(motion_prepare(&m, 9, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "strictly increasing"));
     m.ntimes = 2; /* 0, 1: increasing, but 9 values for 2 times */
-    ck_assert_int_eq(pl_motion_prepare(&m, 9, &err), PL_EINPUT);
+    ck_assert_int_eq(motion_prepare(&m, 9, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "translations"));
-    ck_assert_int_eq(pl_motion_prepare(&m, 6, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 6, &err), PL_OK);
     memset(&m, 0, sizeof m);
     m.angular_velocity = 1.0; /* spin about no axis */
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_EINPUT);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "rotationAxis"));
     m.angular_velocity = 0.0;
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_OK);
-    ck_assert(pl_motion_is_static(&m));
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_OK);
+    ck_assert(motion_is_static(&m));
     m.velocity[1] = INFINITY;
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_EINPUT);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_EINPUT);
 }
 END_TEST
 

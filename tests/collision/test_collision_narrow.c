@@ -62,7 +62,7 @@ START_TEST(test_closest_point_triangle_matches_dense_sampling)
         if (trial % 10 == 0) /* skinny: c almost on a b */
             for (int k = 0; k < 3; ++k) c[k] = 0.5 * (a[k] + b[k]) + 1e-3 * c[k];
         rand_point(&s, p, 2.0);
-        double d = sqrt(pl_closest_point_triangle(p, a, b, c, w));
+        double d = sqrt(closest_point_triangle(p, a, b, c, w));
         ck_assert(w[0] >= 0 && w[1] >= 0 && w[2] >= 0);
         ck_assert_double_eq_tol(w[0] + w[1] + w[2], 1.0, 1e-12);
         double q[3];
@@ -83,22 +83,22 @@ START_TEST(test_closest_point_triangle_regions)
     double w[3];
     /* above the face: the height, weights of the foot point */
     double p1[3] = {0.25, 0.25, 0.7};
-    ck_assert_double_eq_tol(pl_closest_point_triangle(p1, a, b, c, w), 0.49, 1e-15);
+    ck_assert_double_eq_tol(closest_point_triangle(p1, a, b, c, w), 0.49, 1e-15);
     ck_assert_double_eq_tol(w[1], 0.25, 1e-15);
     ck_assert_double_eq_tol(w[2], 0.25, 1e-15);
     /* beyond vertex b */
     double p2[3] = {2, -1, 0};
-    ck_assert_double_eq_tol(pl_closest_point_triangle(p2, a, b, c, w), 2.0, 1e-15);
+    ck_assert_double_eq_tol(closest_point_triangle(p2, a, b, c, w), 2.0, 1e-15);
     ck_assert_double_eq(w[1], 1.0);
     /* beside the hypotenuse b c: distance to the line x + y = 1 */
     double p3[3] = {1, 1, 0};
-    ck_assert_double_eq_tol(pl_closest_point_triangle(p3, a, b, c, w), 0.5, 1e-15);
+    ck_assert_double_eq_tol(closest_point_triangle(p3, a, b, c, w), 0.5, 1e-15);
     ck_assert_double_eq_tol(w[1], 0.5, 1e-15);
     ck_assert_double_eq_tol(w[2], 0.5, 1e-15);
     /* a degenerate triangle (all on the x axis) is its longest edge */
     const double d0[3] = {0, 0, 0}, d1[3] = {1, 0, 0}, d2[3] = {2, 0, 0};
     double p4[3] = {1.5, 2, 0};
-    ck_assert_double_eq_tol(pl_closest_point_triangle(p4, d0, d1, d2, w), 4.0, 1e-15);
+    ck_assert_double_eq_tol(closest_point_triangle(p4, d0, d1, d2, w), 4.0, 1e-15);
 }
 END_TEST
 
@@ -114,7 +114,7 @@ START_TEST(test_closest_segments_match_dense_sampling)
         rand_point(&s, q1, 1.0);
         if (trial % 8 == 0) /* parallel */
             for (int k = 0; k < 3; ++k) q1[k] = q0[k] + 0.7 * (p1[k] - p0[k]);
-        double d = sqrt(pl_closest_segments(p0, p1, q0, q1, &st, &tt));
+        double d = sqrt(closest_segments(p0, p1, q0, q1, &st, &tt));
         ck_assert(st >= 0 && st <= 1 && tt >= 0 && tt <= 1);
         double pa[3], pb[3];
         for (int k = 0; k < 3; ++k) {
@@ -140,12 +140,12 @@ START_TEST(test_closest_segments_match_dense_sampling)
     /* crossing segments: distance 0 at the crossing */
     double a0[3] = {-1, 0, 0}, a1[3] = {1, 0, 0}, b0[3] = {0.25, -1, 0}, b1[3] = {0.25, 1, 0};
     double st, tt;
-    ck_assert_double_eq_tol(pl_closest_segments(a0, a1, b0, b1, &st, &tt), 0.0, 1e-30);
+    ck_assert_double_eq_tol(closest_segments(a0, a1, b0, b1, &st, &tt), 0.0, 1e-30);
     ck_assert_double_eq_tol(st, 0.625, 1e-15);
     ck_assert_double_eq_tol(tt, 0.5, 1e-15);
     /* skew lines 0.3 apart */
     double c0[3] = {0.25, -1, 0.3}, c1[3] = {0.25, 1, 0.3};
-    ck_assert_double_eq_tol(pl_closest_segments(a0, a1, c0, c1, &st, &tt), 0.09, 1e-15);
+    ck_assert_double_eq_tol(closest_segments(a0, a1, c0, c1, &st, &tt), 0.09, 1e-15);
 }
 END_TEST
 
@@ -178,15 +178,15 @@ static void check_queries(const pl_bvh *bvh, const pl_aabb *boxes, int n, unsign
         random_boxes(s, &q, 1, 1.0);
         for (int k = 0; k < 3; ++k) q.hi[k] += 0.2 * urand(s);
         got.n = 0;
-        ck_assert_int_eq(pl_bvh_query(bvh, boxes, &q, &got), PL_OK);
+        ck_assert_int_eq(bvh_query(bvh, boxes, &q, &got), PL_OK);
         int nref = 0;
         for (int i = 0; i < n; ++i)
-            if (pl_aabb_overlap(&boxes[i], &q)) ref[nref++] = i;
+            if (aabb_overlap(&boxes[i], &q)) ref[nref++] = i;
         ck_assert_int_eq(got.n, nref);
         if (got.n > 0) qsort(got.v, (size_t)got.n, sizeof(int), cmp_int);
         for (int i = 0; i < nref; ++i) ck_assert_int_eq(got.v[i], ref[i]);
     }
-    pl_ivec_free(&got);
+    ivec_free(&got);
     free(ref);
 }
 
@@ -198,8 +198,8 @@ START_TEST(test_bvh_queries_equal_brute_force_lists)
         ck_assert_ptr_nonnull(boxes);
         random_boxes(&s, boxes, n, 1.0);
         pl_bvh bvh;
-        pl_bvh_init(&bvh);
-        ck_assert_int_eq(pl_bvh_build(&bvh, boxes, n), PL_OK);
+        bvh_init(&bvh);
+        ck_assert_int_eq(bvh_build(&bvh, boxes, n), PL_OK);
         ck_assert_int_le(bvh.nnodes, n > 0 ? 2 * n : 1);
         check_queries(&bvh, boxes, n, &s);
         /* move every box, refit, query again */
@@ -209,9 +209,9 @@ START_TEST(test_bvh_queries_equal_brute_force_lists)
                 boxes[i].lo[k] += d;
                 boxes[i].hi[k] += d;
             }
-        pl_bvh_refit(&bvh, boxes);
+        bvh_refit(&bvh, boxes);
         check_queries(&bvh, boxes, n, &s);
-        pl_bvh_free(&bvh);
+        bvh_free(&bvh);
         free(boxes);
     }
 }
@@ -267,7 +267,7 @@ START_TEST(test_barycentric_map_reproduces_points)
             pts[3 * i + k] = i % 4 ? urand(&s) : -0.3 + 1.6 * urand(&s);
     int outside = -1;
     pl_error err;
-    ck_assert_int_eq(pl_barycentric_map(verts, nv, tets, nt, pts, NP, tet_of, bary, &outside, &err),
+    ck_assert_int_eq(barycentric_map(verts, nv, tets, nt, pts, NP, tet_of, bary, &outside, &err),
                      PL_OK);
     int nout = 0;
     for (int i = 0; i < NP; ++i) {
@@ -294,7 +294,7 @@ START_TEST(test_barycentric_map_reproduces_points)
             static const int F[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
             const int *t = &tets[4 * tet_of[i]];
             for (int f = 0; f < 4; ++f)
-                dt = fmin(dt, pl_closest_point_triangle(p, &verts[3 * t[F[f][0]]],
+                dt = fmin(dt, closest_point_triangle(p, &verts[3 * t[F[f][0]]],
                                                         &verts[3 * t[F[f][1]]],
                                                         &verts[3 * t[F[f][2]]], w));
             ck_assert_double_eq_tol(sqrt(dt), sqrt(dc), 1e-12);
@@ -304,7 +304,7 @@ START_TEST(test_barycentric_map_reproduces_points)
     /* a flat tetrahedron is refused */
     int flat[4] = {0, 1, 2, 3};
     double fv[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
-    ck_assert_int_eq(pl_barycentric_map(fv, 4, flat, 1, pts, 1, tet_of, bary, NULL, &err),
+    ck_assert_int_eq(barycentric_map(fv, 4, flat, 1, pts, 1, tet_of, bary, NULL, &err),
                      PL_EINPUT);
     free(verts);
     free(tets);

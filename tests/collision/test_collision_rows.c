@@ -115,17 +115,17 @@ static int check_obstacle(pl_sim *sim, const char *path, const pl_shape *s0, con
     double t1 = pl_sim_data(sim)->time + H, R[9], tr[3];
     pl_shape s = *s0;
     if (m) {
-        pl_motion_pose(m, t1, R, tr);
-        pl_shape_transform(s0, R, tr, &s);
+        motion_pose(m, t1, R, tr);
+        shape_transform(s0, R, tr, &s);
     }
     int k = 0;
     for (int v = 0; v < n; ++v) {
         const double *x = &q[3 * v];
         double p[3], nn[3], vs[3] = {0, 0, 0};
-        double phi = pl_shape_query(&s, x, p, nn);
+        double phi = shape_query(&s, x, p, nn);
         if ((!all_points && interior(x)) || !(phi < alarm)) continue;
         ck_assert_int_lt(3 * k + 2, rows.n);
-        if (m) pl_motion_velocity(m, t1, p, vs);
+        if (m) motion_velocity(m, t1, p, vs);
         check_triple(&rows, 3 * k, v, nn, dot3(nn, p) + cd, vs, mu);
         /* delta = H q - d: the signed gap beyond contactDistance */
         ck_assert_double_eq_tol(pl_rows_dot(&rows, 3 * k, q) - rows.d[3 * k], phi - cd, 1e-13);
@@ -145,7 +145,7 @@ static void tilted_plane(pl_shape *s)
 {
     double deg = 10.0 * M_PI / 180.0, n[3] = {-sin(deg), cos(deg), 0}, o[3] = {0, 0, 0};
     pl_error err;
-    ck_assert_int_eq(pl_shape_plane(s, o, n, &err), PL_OK);
+    ck_assert_int_eq(shape_plane(s, o, n, &err), PL_OK);
 }
 
 START_TEST(test_tilted_plane_rows)
@@ -177,11 +177,11 @@ START_TEST(test_moving_plane_posed_at_end_of_step)
     pl_shape s0;
     pl_error err;
     const double o[3] = {0, 0, 0}, ny[3] = {0, 1, 0};
-    ck_assert_int_eq(pl_shape_plane(&s0, o, ny, &err), PL_OK);
+    ck_assert_int_eq(shape_plane(&s0, o, ny, &err), PL_OK);
     pl_motion m;
     memset(&m, 0, sizeof m);
     m.velocity[0] = 0.5, m.velocity[1] = 0.1;
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_OK);
     /* the bottom layer (y = 0.01, 15 vertices) is 1.1 cm inside the risen floor */
     ck_assert_int_eq(check_obstacle(sim, "floor", &s0, &m, 0.03, 0.002, 0.4, 0), 15);
     int n;
@@ -218,25 +218,25 @@ START_TEST(test_every_shape_rows)
     pl_shape s;
     pl_error err;
     const double cs[3] = {0.1, -0.05, 0.05};
-    ck_assert_int_eq(pl_shape_sphere(&s, cs, 0.07, &err), PL_OK);
+    ck_assert_int_eq(shape_sphere(&s, cs, 0.07, &err), PL_OK);
     ck_assert_int_gt(check_obstacle(sim, "ball", &s, NULL, 0.02, 0.001, 0.2, 0), 0);
     const double cb[3] = {0.05, -0.02, 0.05}, hb[3] = {0.06, 0.03, 0.2}, deg[3] = {0, 0, 5};
     double R[9];
     pl_util_rotation_deg(deg, R);
-    ck_assert_int_eq(pl_shape_box(&s, cb, hb, R, &err), PL_OK);
+    ck_assert_int_eq(shape_box(&s, cb, hb, R, &err), PL_OK);
     ck_assert_int_gt(check_obstacle(sim, "block", &s, NULL, 0.01, 0.0, 0.1, 0), 0);
     const double a[3] = {-0.1, 0, 0.05}, b[3] = {0.3, 0, 0.05};
-    ck_assert_int_eq(pl_shape_capsule(&s, a, b, 0.008, &err), PL_OK);
+    ck_assert_int_eq(shape_capsule(&s, a, b, 0.008, &err), PL_OK);
     /* the 5 bottom vertices along z = 0.05 are 2 mm above the rod */
     ck_assert_int_eq(check_obstacle(sim, "rod", &s, NULL, 0.01, 0.0005, 0.0, 0), 5);
     const double cc[3] = {0.1, -0.02, 0}, az[3] = {0, 0, 1};
-    ck_assert_int_eq(pl_shape_cylinder(&s, cc, az, 0.025, 0.3, &err), PL_OK);
+    ck_assert_int_eq(shape_cylinder(&s, cc, az, 0.025, 0.3, &err), PL_OK);
     pl_motion m;
     memset(&m, 0, sizeof m);
     memcpy(m.axis, az, sizeof m.axis);
     m.angular_velocity = 10;
     memcpy(m.center, cc, sizeof m.center); /* default rotationCenter: the centre */
-    ck_assert_int_eq(pl_motion_prepare(&m, 0, &err), PL_OK);
+    ck_assert_int_eq(motion_prepare(&m, 0, &err), PL_OK);
     /* the bottom row x = 0.1 touches the roller's top; friction d = t . (w x r) */
     ck_assert_int_gt(check_obstacle(sim, "roller", &s, &m, 0.01, 0.0, 0.6, 0), 0);
     pl_sim_free(sim);

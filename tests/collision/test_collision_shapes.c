@@ -33,11 +33,11 @@ static double dist3(const double a[3], const double b[3])
 static void check_invariants(const pl_shape *s, const double x[3])
 {
     double p[3], n[3], p2[3], n2[3];
-    double phi = pl_shape_query(s, x, p, n);
+    double phi = shape_query(s, x, p, n);
     ck_assert(isfinite(phi));
     ck_assert_double_eq_tol(sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1.0, 1e-12);
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(p[i] + phi * n[i], x[i], 1e-12);
-    ck_assert_double_eq_tol(pl_shape_query(s, p, p2, n2), 0.0, 1e-12);
+    ck_assert_double_eq_tol(shape_query(s, p, p2, n2), 0.0, 1e-12);
 }
 
 /* ---- brute-force references ---------------------------------------------- */
@@ -106,13 +106,13 @@ START_TEST(test_box_against_brute_force)
     const double e[3] = {0.3, 0.2, 0.1}, c[3] = {0, 0, 0};
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_box(&s, c, e, NULL, &err), PL_OK);
+    ck_assert_int_eq(shape_box(&s, c, e, NULL, &err), PL_OK);
     unsigned seed = 7;
     const int k = 120;
     double h = 2.0 * 0.3 / k; /* coarsest grid spacing: bounds the sampling error */
     for (int t = 0; t < 150; ++t) {
         double x[3] = {urand(&seed, -0.6, 0.6), urand(&seed, -0.4, 0.4), urand(&seed, -0.3, 0.3)};
-        double phi = pl_shape_query(&s, x, NULL, NULL);
+        double phi = shape_query(&s, x, NULL, NULL);
         double ref = box_brute(e, x, k);
         ck_assert_msg(fabs(phi - ref) <= h, "box at (%g %g %g): %g vs brute force %g", x[0], x[1],
                       x[2], phi, ref);
@@ -127,16 +127,16 @@ START_TEST(test_box_faces_edges_corners)
     const double e[3] = {1, 2, 3}, c[3] = {10, 20, 30};
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_box(&s, c, e, NULL, &err), PL_OK);
+    ck_assert_int_eq(shape_box(&s, c, e, NULL, &err), PL_OK);
     double p[3], n[3];
     /* face region: straight out of +y */
     double xf[3] = {10.5, 20 + 2 + 0.25, 30.5};
-    ck_assert_double_eq_tol(pl_shape_query(&s, xf, p, n), 0.25, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, xf, p, n), 0.25, 1e-14);
     ck_assert_double_eq_tol(n[1], 1.0, 1e-15);
     ck_assert_double_eq_tol(p[1], 22.0, 1e-14);
     /* edge region (+x, -z edge): distance to the edge line */
     double xe[3] = {10 + 1 + 0.3, 20.7, 30 - 3 - 0.4};
-    ck_assert_double_eq_tol(pl_shape_query(&s, xe, p, n), 0.5, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, xe, p, n), 0.5, 1e-14);
     ck_assert_double_eq_tol(n[0], 0.6, 1e-14);
     ck_assert_double_eq_tol(n[2], -0.8, 1e-14);
     ck_assert_double_eq_tol(p[0], 11.0, 1e-14);
@@ -144,22 +144,22 @@ START_TEST(test_box_faces_edges_corners)
     ck_assert_double_eq_tol(p[2], 27.0, 1e-14);
     /* corner region (-x, -y, +z): distance to the corner */
     double xc[3] = {9 - 1, 18 - 2, 33 + 2};
-    ck_assert_double_eq_tol(pl_shape_query(&s, xc, p, n), 3.0, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, xc, p, n), 3.0, 1e-14);
     ck_assert_double_eq_tol(p[0], 9.0, 1e-14);
     ck_assert_double_eq_tol(p[1], 18.0, 1e-14);
     ck_assert_double_eq_tol(p[2], 33.0, 1e-14);
     ck_assert_double_eq_tol(n[2], 2.0 / 3.0, 1e-14);
     /* inside: the nearest face (x is 0.2 from +x, farther from the others) */
     double xi[3] = {10.8, 20.5, 30.0};
-    ck_assert_double_eq_tol(pl_shape_query(&s, xi, p, n), -0.2, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, xi, p, n), -0.2, 1e-14);
     ck_assert_double_eq_tol(n[0], 1.0, 1e-15);
     ck_assert_double_eq_tol(p[0], 11.0, 1e-14);
     /* the centre: the smallest half extent decides (x, -0 -> +x) */
-    ck_assert_double_eq_tol(pl_shape_query(&s, c, p, n), -1.0, 1e-15);
+    ck_assert_double_eq_tol(shape_query(&s, c, p, n), -1.0, 1e-15);
     ck_assert_double_eq_tol(n[0], 1.0, 1e-15);
     /* on an edge exactly: distance 0, a valid outward normal */
     double xon[3] = {11, 22, 30};
-    ck_assert_double_eq_tol(pl_shape_query(&s, xon, p, n), 0.0, 1e-15);
+    ck_assert_double_eq_tol(shape_query(&s, xon, p, n), 0.0, 1e-15);
     ck_assert(n[0] > 0 || n[1] > 0);
 }
 END_TEST
@@ -171,22 +171,22 @@ START_TEST(test_rotated_box_matches_local_query)
     const double e[3] = {1, 0.5, 0.25}, c[3] = {1, 2, 3};
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_box(&s, c, e, R, &err), PL_OK);
+    ck_assert_int_eq(shape_box(&s, c, e, R, &err), PL_OK);
     double x[3] = {1 + 1.5 * cos(th), 2 + 1.5 * sin(th), 3}, p[3], n[3];
-    ck_assert_double_eq_tol(pl_shape_query(&s, x, p, n), 0.5, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, x, p, n), 0.5, 1e-14);
     ck_assert_double_eq_tol(n[0], cos(th), 1e-14);
     ck_assert_double_eq_tol(n[1], sin(th), 1e-14);
     /* random points: rotated query = local query of R^T (x - c) */
     pl_shape local;
     const double zero[3] = {0, 0, 0};
-    ck_assert_int_eq(pl_shape_box(&local, zero, e, NULL, &err), PL_OK);
+    ck_assert_int_eq(shape_box(&local, zero, e, NULL, &err), PL_OK);
     unsigned seed = 3;
     for (int t = 0; t < 200; ++t) {
         double y[3] = {urand(&seed, -2, 4), urand(&seed, -1, 5), urand(&seed, 2, 4)}, yl[3];
         for (int j = 0; j < 3; ++j)
             yl[j] = R[j] * (y[0] - c[0]) + R[3 + j] * (y[1] - c[1]) + R[6 + j] * (y[2] - c[2]);
-        ck_assert_double_eq_tol(pl_shape_query(&s, y, NULL, NULL),
-                                pl_shape_query(&local, yl, NULL, NULL), 1e-13);
+        ck_assert_double_eq_tol(shape_query(&s, y, NULL, NULL),
+                                shape_query(&local, yl, NULL, NULL), 1e-13);
         check_invariants(&s, y);
     }
 }
@@ -197,12 +197,12 @@ START_TEST(test_plane_any_orientation)
     const double pt[3] = {0.5, -1, 2}, nn[3] = {1, 2, 2}; /* |nn| = 3 */
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_plane(&s, pt, nn, &err), PL_OK);
+    ck_assert_int_eq(shape_plane(&s, pt, nn, &err), PL_OK);
     unsigned seed = 11;
     for (int t = 0; t < 100; ++t) {
         double x[3] = {urand(&seed, -3, 3), urand(&seed, -3, 3), urand(&seed, -3, 3)}, p[3], n[3];
         double ref = (nn[0] * (x[0] - pt[0]) + nn[1] * (x[1] - pt[1]) + nn[2] * (x[2] - pt[2])) / 3;
-        ck_assert_double_eq_tol(pl_shape_query(&s, x, p, n), ref, 1e-13);
+        ck_assert_double_eq_tol(shape_query(&s, x, p, n), ref, 1e-13);
         for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(n[i], nn[i] / 3.0, 1e-15);
         check_invariants(&s, x);
     }
@@ -214,15 +214,15 @@ START_TEST(test_sphere_analytic)
     const double c[3] = {1, -2, 0.5};
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_sphere(&s, c, 0.75, &err), PL_OK);
+    ck_assert_int_eq(shape_sphere(&s, c, 0.75, &err), PL_OK);
     unsigned seed = 5;
     for (int t = 0; t < 100; ++t) {
         double x[3] = {urand(&seed, -1, 3), urand(&seed, -4, 0), urand(&seed, -1.5, 2.5)};
-        ck_assert_double_eq_tol(pl_shape_query(&s, x, NULL, NULL), dist3(x, c) - 0.75, 1e-14);
+        ck_assert_double_eq_tol(shape_query(&s, x, NULL, NULL), dist3(x, c) - 0.75, 1e-14);
         check_invariants(&s, x);
     }
     double p[3], n[3];
-    ck_assert_double_eq_tol(pl_shape_query(&s, c, p, n), -0.75, 1e-15); /* centre: fixed choice */
+    ck_assert_double_eq_tol(shape_query(&s, c, p, n), -0.75, 1e-15); /* centre: fixed choice */
     ck_assert_double_eq_tol(n[0], 1.0, 1e-15);
 }
 END_TEST
@@ -232,25 +232,25 @@ START_TEST(test_capsule_against_brute_force)
     const double a[3] = {0, 0, 0}, b[3] = {1, 1, 0.5};
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_capsule(&s, a, b, 0.2, &err), PL_OK);
+    ck_assert_int_eq(shape_capsule(&s, a, b, 0.2, &err), PL_OK);
     unsigned seed = 13;
     for (int t = 0; t < 150; ++t) {
         double x[3] = {urand(&seed, -0.6, 1.6), urand(&seed, -0.6, 1.6), urand(&seed, -0.5, 1)};
         double ref = capsule_brute(a, b, 0.2, x);
-        ck_assert_double_eq_tol(pl_shape_query(&s, x, NULL, NULL), ref, 1e-10);
+        ck_assert_double_eq_tol(shape_query(&s, x, NULL, NULL), ref, 1e-10);
         check_invariants(&s, x);
     }
     /* beyond an end: the rounded cap, normal along the axis */
     double len = 1.5, u[3] = {1 / len, 1 / len, 0.5 / len}, x[3], p[3], n[3];
     for (int i = 0; i < 3; ++i) x[i] = b[i] + 0.5 * u[i];
-    ck_assert_double_eq_tol(pl_shape_query(&s, x, p, n), 0.3, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, x, p, n), 0.3, 1e-14);
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(n[i], u[i], 1e-14);
     for (int i = 0; i < 3; ++i) x[i] = a[i] - 0.1 * u[i];
-    ck_assert_double_eq_tol(pl_shape_query(&s, x, p, n), -0.1, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, x, p, n), -0.1, 1e-14);
     for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(n[i], -u[i], 1e-14);
     /* on the axis: depth = radius */
     double mid[3] = {0.5, 0.5, 0.25};
-    ck_assert_double_eq_tol(pl_shape_query(&s, mid, p, n), -0.2, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, mid, p, n), -0.2, 1e-14);
     ck_assert_double_eq_tol(n[0] * u[0] + n[1] * u[1] + n[2] * u[2], 0.0, 1e-14);
 }
 END_TEST
@@ -262,7 +262,7 @@ START_TEST(test_cylinder_against_brute_force)
     const double r = 0.25, len = 0.6;
     pl_shape s;
     pl_error err;
-    ck_assert_int_eq(pl_shape_cylinder(&s, c, ax, r, len, &err), PL_OK);
+    ck_assert_int_eq(shape_cylinder(&s, c, ax, r, len, &err), PL_OK);
     unsigned seed = 17;
     const int k = 200;
     for (int t = 0; t < 120; ++t) {
@@ -270,24 +270,24 @@ START_TEST(test_cylinder_against_brute_force)
         /* local frame with z along y: (x, y, z) -> (z', x', y') keeps a right-handed swap */
         double xl[3] = {x[2] - c[2], x[0] - c[0], x[1] - c[1]};
         double ref = cylinder_brute(r, len / 2, xl, k);
-        double phi = pl_shape_query(&s, x, NULL, NULL);
+        double phi = shape_query(&s, x, NULL, NULL);
         ck_assert_msg(fabs(phi - ref) <= 2.0 * M_PI * r / (4 * k) + len / k,
                       "cylinder at (%g %g %g): %g vs %g", x[0], x[1], x[2], phi, ref);
         check_invariants(&s, x);
     }
     double p[3], n[3];
     double side[3] = {0.2 + 0.5, 0.15, -0.3}; /* beside it */
-    ck_assert_double_eq_tol(pl_shape_query(&s, side, p, n), 0.25, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, side, p, n), 0.25, 1e-14);
     ck_assert_double_eq_tol(n[0], 1.0, 1e-14);
     double cap[3] = {0.3, 0.1 + 0.3 + 0.2, -0.3}; /* above the top cap */
-    ck_assert_double_eq_tol(pl_shape_query(&s, cap, p, n), 0.2, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, cap, p, n), 0.2, 1e-14);
     ck_assert_double_eq_tol(n[1], 1.0, 1e-14);
     double rim[3] = {0.2 + 0.25 + 0.3, 0.1 - 0.3 - 0.4, -0.3}; /* below and beside: the rim */
-    ck_assert_double_eq_tol(pl_shape_query(&s, rim, p, n), 0.5, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, rim, p, n), 0.5, 1e-14);
     ck_assert_double_eq_tol(n[0], 0.6, 1e-14);
     ck_assert_double_eq_tol(n[1], -0.8, 1e-14);
     double in[3] = {0.2, 0.1 + 0.25, -0.3}; /* on the axis, 0.05 below the top cap */
-    ck_assert_double_eq_tol(pl_shape_query(&s, in, p, n), -0.05, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&s, in, p, n), -0.05, 1e-14);
     ck_assert_double_eq_tol(n[1], 1.0, 1e-14);
 }
 END_TEST
@@ -298,15 +298,15 @@ START_TEST(test_transform_moves_shape)
     const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0};
     pl_shape s, m;
     pl_error err;
-    ck_assert_int_eq(pl_shape_capsule(&s, a, b, 0.1, &err), PL_OK);
+    ck_assert_int_eq(shape_capsule(&s, a, b, 0.1, &err), PL_OK);
     const double Rz[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, tr[3] = {5, 0, 0};
-    pl_shape_transform(&s, Rz, tr, &m);
+    shape_transform(&s, Rz, tr, &m);
     /* the segment is now from (5,0,0) to (5,1,0) */
     double x[3] = {5.3, 0.5, 0}, p[3], n[3];
-    ck_assert_double_eq_tol(pl_shape_query(&m, x, p, n), 0.2, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&m, x, p, n), 0.2, 1e-14);
     ck_assert_double_eq_tol(n[0], 1.0, 1e-14);
     double top[3] = {5, 1.4, 0};
-    ck_assert_double_eq_tol(pl_shape_query(&m, top, p, n), 0.3, 1e-14);
+    ck_assert_double_eq_tol(shape_query(&m, top, p, n), 0.3, 1e-14);
     ck_assert_double_eq_tol(n[1], 1.0, 1e-14);
 }
 END_TEST
@@ -319,7 +319,7 @@ START_TEST(test_tangents_orthonormal)
         if (t < 6) n[0] = n[1] = n[2] = 0, n[t % 3] = t < 3 ? 1 : -1; /* the axes themselves */
         double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), t1[3], t2[3];
         for (int i = 0; i < 3; ++i) n[i] /= l;
-        pl_contact_tangents(n, t1, t2);
+        contact_tangents(n, t1, t2);
         double d11 = 0, d22 = 0, d12 = 0, d1n = 0, d2n = 0;
         for (int i = 0; i < 3; ++i) {
             d11 += t1[i] * t1[i], d22 += t2[i] * t2[i], d12 += t1[i] * t2[i];
@@ -336,7 +336,7 @@ START_TEST(test_tangents_orthonormal)
         for (int i = 0; i < 3; ++i) ck_assert_double_eq_tol(cz[i], n[i], 1e-14);
         /* deterministic: the same normal gives the same tangents */
         double u1[3], u2[3];
-        pl_contact_tangents(n, u1, u2);
+        contact_tangents(n, u1, u2);
         ck_assert(memcmp(t1, u1, sizeof t1) == 0 && memcmp(t2, u2, sizeof t2) == 0);
     }
 }
@@ -347,23 +347,23 @@ START_TEST(test_broken_shapes_refused)
     pl_shape s;
     pl_error err;
     const double o[3] = {0, 0, 0}, zero[3] = {0, 0, 0}, x[3] = {1, 0, 0};
-    ck_assert_int_eq(pl_shape_plane(&s, o, zero, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_plane(&s, o, zero, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "normal"));
-    ck_assert_int_eq(pl_shape_sphere(&s, o, -0.1, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_sphere(&s, o, -0.1, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "radius"));
-    ck_assert_int_eq(pl_shape_sphere(&s, o, NAN, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_sphere(&s, o, NAN, &err), PL_EINPUT);
     const double bad_half[3] = {1, -1, 1};
-    ck_assert_int_eq(pl_shape_box(&s, o, bad_half, NULL, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_box(&s, o, bad_half, NULL, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "halfExtents"));
-    ck_assert_int_eq(pl_shape_capsule(&s, o, x, -1, &err), PL_EINPUT);
-    ck_assert_int_eq(pl_shape_cylinder(&s, o, zero, 1, 1, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_capsule(&s, o, x, -1, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_cylinder(&s, o, zero, 1, 1, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "axis"));
-    ck_assert_int_eq(pl_shape_cylinder(&s, o, x, 1, -2, &err), PL_EINPUT);
+    ck_assert_int_eq(shape_cylinder(&s, o, x, 1, -2, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "length"));
     /* a capsule with coinciding ends is a sphere */
-    ck_assert_int_eq(pl_shape_capsule(&s, x, x, 0.5, &err), PL_OK);
+    ck_assert_int_eq(shape_capsule(&s, x, x, 0.5, &err), PL_OK);
     double y[3] = {1, 2, 0};
-    ck_assert_double_eq_tol(pl_shape_query(&s, y, NULL, NULL), 1.5, 1e-15);
+    ck_assert_double_eq_tol(shape_query(&s, y, NULL, NULL), 1.5, 1e-15);
 }
 END_TEST
 

@@ -31,25 +31,25 @@ static double blade_edge_gap(const double q0[3], const double q1[3], int b0, int
     memcpy(ex, q0, 3 * sizeof(double));
     memcpy(ex + 3, q1, 3 * sizeof(double));
     pl_coll_mesh B, E;
-    pl_coll_mesh_init(&B);
-    pl_coll_mesh_init(&E);
+    coll_mesh_init(&B);
+    coll_mesh_init(&E);
     B.nverts = 3, B.ntris = 1, B.nedges = 3, B.x0 = B.x1 = bx, B.tris = btri, B.edges = bedges;
     B.active = rigid, B.sides = PL_SIDES_TWO;
     E.nverts = 2, E.nedges = 1, E.x0 = E.x1 = ex, E.edges = eedge, E.sides = PL_SIDES_TWO;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&B, 0.05, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&E, 0.05, &err), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.05);
+    ck_assert_int_eq(coll_mesh_prepare(&B, 0.05, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&E, 0.05, &err), PL_OK);
+    pl_detect_params prm = detect_defaults(0.05);
     prm.vertex_face = 0;
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
     double gap = NAN;
     for (int k = 0; k < p.n; ++k)
         if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == b0 && p.items[k].b[1] == b1)
             gap = p.items[k].gap;
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&B);
-    pl_coll_mesh_free(&E);
+    proximities_free(&p);
+    coll_mesh_free(&B);
+    coll_mesh_free(&E);
     return gap;
 }
 
@@ -93,7 +93,7 @@ START_TEST(test_edge_wrapped_round_a_blade_border_keeps_its_row)
     const double o[3] = {0, 0, 0}, apex[3] = {0, 1, 1}, end[3] = {0, 0, 1};
     double a0[3] = {-0.0023, P[1] + 0.003 * r, P[2] - 0.003 * r};
     double a1[3] = {0.002, P[1] - 0.01 * r + 0.016 * r, P[2] + 0.01 * r + 0.016 * r};
-    double s, t, d = sqrt(pl_closest_segments(o, apex, a0, a1, &s, &t));
+    double s, t, d = sqrt(closest_segments(o, apex, a0, a1, &s, &t));
     ck_assert(s > 0.01 && s < 0.99 && t > 0.01 && t < 0.99 && d < 0.005);
     double g = blade_edge_gap(a0, a1, 0, 2);
     ck_assert_msg(g < 0.0 && fabs(g) <= d + 1e-12, "through the blade: gap %g", g);
@@ -101,7 +101,7 @@ START_TEST(test_edge_wrapped_round_a_blade_border_keeps_its_row)
      * bottom edge: the edge passes the bottom edge 1.4 mm from it and keeps
      * that side */
     double b0[3] = {0.002, 0.01, 0.5}, b1[3] = {0.001, -0.008, 0.52};
-    d = sqrt(pl_closest_segments(o, end, b0, b1, &s, &t));
+    d = sqrt(closest_segments(o, end, b0, b1, &s, &t));
     g = blade_bottom_gap(b0, b1);
     ck_assert_msg(fabs(g - d) < 1e-12, "round the bottom edge: gap %g, distance %g", g, d);
 }
@@ -116,8 +116,8 @@ static void hint_from_below(pl_side_hints *h, int b0, int b1, int b2)
     prev.kind = PL_PROX_VERTEX_FACE, prev.model_a = 0, prev.model_b = 1, prev.na = 1, prev.nb = 3;
     prev.b[0] = b0, prev.b[1] = b1, prev.b[2] = b2;
     prev.normal[2] = -1.0, prev.gap = 0.001, prev.side = -1;
-    pl_side_hints_init(h);
-    ck_assert_int_eq(pl_side_hints_build(h, &prev, 1), PL_OK);
+    side_hints_init(h);
+    ck_assert_int_eq(side_hints_build(h, &prev, 1), PL_OK);
 }
 
 /* A vertex under a thin sheet (in contact with triangle t1 from below last
@@ -127,24 +127,24 @@ START_TEST(test_side_of_a_neighbouring_triangle)
 {
     double sx[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
     int stris[6] = {0, 1, 3, 0, 3, 2}, *sedges, sne;
-    ck_assert_int_eq(pl_triangle_edges(stris, 2, &sedges, &sne), PL_OK);
+    ck_assert_int_eq(triangle_edges(stris, 2, &sedges, &sne), PL_OK);
     double px[3] = {0.3, 0.7, 0.002}; /* over t2 (y > x), 2 mm above: through */
     pl_coll_mesh S, P;
-    pl_coll_mesh_init(&S);
-    pl_coll_mesh_init(&P);
+    coll_mesh_init(&S);
+    coll_mesh_init(&P);
     S.nverts = 4, S.ntris = 2, S.nedges = sne, S.x0 = S.x1 = sx, S.tris = stris, S.edges = sedges;
     S.sides = PL_SIDES_TWO;
     P.nverts = 1, P.x0 = P.x1 = px;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&S, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
     pl_side_hints h;
     hint_from_below(&h, 0, 1, 3); /* t1 */
     for (int with = 0; with < 2; ++with) {
-        pl_detect_params prm = pl_detect_defaults(0.01);
+        pl_detect_params prm = detect_defaults(0.01);
         prm.hints = with ? &h : NULL;
         pl_proximities p = {0};
-        ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
         ck_assert_int_ge(p.n, 1);
         const pl_proximity *q = &p.items[0];
         ck_assert_int_eq(q->b[0] + q->b[1] + q->b[2], 0 + 3 + 2); /* t2 */
@@ -152,11 +152,11 @@ START_TEST(test_side_of_a_neighbouring_triangle)
         ck_assert_double_eq_tol(q->normal[2], with ? -1.0 : 1.0, 1e-12);
         ck_assert_double_eq_tol(q->gap, with ? -0.002 : 0.002, 1e-12);
         ck_assert_int_eq(q->side, with ? -1 : 1);
-        pl_proximities_free(&p);
+        proximities_free(&p);
     }
-    pl_side_hints_free(&h);
-    pl_coll_mesh_free(&S);
-    pl_coll_mesh_free(&P);
+    side_hints_free(&h);
+    coll_mesh_free(&S);
+    coll_mesh_free(&P);
     free(sedges);
 }
 END_TEST
@@ -176,18 +176,18 @@ START_TEST(test_edge_turning_about_its_end_gets_a_row)
     double ex0[6] = {0.003, 1.003, 0.0, -0.3, 0.9, 0.0}, ex1[6] = {0.05, 1.0, 0.0, -0.05, 0.8, 0.001};
     int ee[2] = {0, 1};
     pl_coll_mesh B, E;
-    pl_coll_mesh_init(&B);
-    pl_coll_mesh_init(&E);
+    coll_mesh_init(&B);
+    coll_mesh_init(&E);
     B.nverts = 3, B.ntris = 1, B.nedges = 3, B.x0 = B.x1 = bx, B.tris = btri, B.edges = be;
     B.active = rigid, B.sides = PL_SIDES_TWO;
     E.nverts = 2, E.nedges = 1, E.x0 = ex0, E.x1 = ex1, E.edges = ee, E.sides = PL_SIDES_TWO;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&B, 0.05, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&E, 0.05, &err), PL_OK);
-    pl_detect_params prm = pl_detect_defaults(0.05);
+    ck_assert_int_eq(coll_mesh_prepare(&B, 0.05, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&E, 0.05, &err), PL_OK);
+    pl_detect_params prm = detect_defaults(0.05);
     prm.vertex_face = 0;
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&E, 0, &B, 1, &prm, &p), PL_OK);
     int found = 0;
     for (int k = 0; k < p.n; ++k)
         if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].b[0] == 0 && p.items[k].b[1] == 1) {
@@ -197,9 +197,9 @@ START_TEST(test_edge_turning_about_its_end_gets_a_row)
             found = 1;
         }
     ck_assert_msg(found, "no edge-edge row with the blade edge (%d proximities)", p.n);
-    pl_proximities_free(&p);
-    pl_coll_mesh_free(&B);
-    pl_coll_mesh_free(&E);
+    proximities_free(&p);
+    coll_mesh_free(&B);
+    coll_mesh_free(&E);
 }
 END_TEST
 
@@ -212,34 +212,34 @@ START_TEST(test_vertex_under_a_sliding_sheet)
     double sx0[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, sx1[9];
     for (int k = 0; k < 9; k += 3) sx1[k] = sx0[k] - 0.3, sx1[k + 1] = sx0[k + 1] - 0.3, sx1[k + 2] = 0.0;
     int stri[3] = {0, 1, 2}, *sedges, sne;
-    ck_assert_int_eq(pl_triangle_edges(stri, 1, &sedges, &sne), PL_OK);
+    ck_assert_int_eq(triangle_edges(stri, 1, &sedges, &sne), PL_OK);
     double px[3] = {0.01, 0.01, -0.003}; /* under the corner, 3 mm below */
     unsigned char rigid[1] = {0};
     pl_coll_mesh S, P;
-    pl_coll_mesh_init(&S);
-    pl_coll_mesh_init(&P);
+    coll_mesh_init(&S);
+    coll_mesh_init(&P);
     S.nverts = 3, S.ntris = 1, S.nedges = sne, S.x0 = sx0, S.x1 = sx1, S.tris = stri, S.edges = sedges;
     S.sides = PL_SIDES_TWO;
     P.nverts = 1, P.x0 = P.x1 = px, P.active = rigid;
     pl_error err;
-    ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
-    ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&S, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
     pl_side_hints h;
     hint_from_below(&h, 0, 1, 2);
-    pl_detect_params prm = pl_detect_defaults(0.01);
+    pl_detect_params prm = detect_defaults(0.01);
     prm.hints = &h;
     pl_proximities p = {0};
-    ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
     ck_assert_int_eq(p.n, 1);
     /* at the end of the step the apex is under (0.31, 0.31) of the sheet */
     ck_assert_double_eq_tol(p.items[0].wb[1], 0.31, 1e-12);
     ck_assert_double_eq_tol(p.items[0].wb[2], 0.31, 1e-12);
     ck_assert_double_eq_tol(p.items[0].normal[2], -1.0, 1e-12);
     ck_assert_double_eq_tol(p.items[0].gap, 0.003, 1e-12);
-    pl_proximities_free(&p);
-    pl_side_hints_free(&h);
-    pl_coll_mesh_free(&S);
-    pl_coll_mesh_free(&P);
+    proximities_free(&p);
+    side_hints_free(&h);
+    coll_mesh_free(&S);
+    coll_mesh_free(&P);
     free(sedges);
 }
 END_TEST
@@ -267,22 +267,22 @@ START_TEST(test_corner_under_cloth_layers_keeps_each)
         }
     }
     int *sedges, sne;
-    ck_assert_int_eq(pl_triangle_edges(stris, 4, &sedges, &sne), PL_OK);
+    ck_assert_int_eq(triangle_edges(stris, 4, &sedges, &sne), PL_OK);
     double px[3] = {0.0, 0.0, 0.0};
     unsigned char rigid[1] = {0};
     for (int dof = 0; dof < 2; ++dof) {
         pl_coll_mesh S, P;
-        pl_coll_mesh_init(&S);
-        pl_coll_mesh_init(&P);
+        coll_mesh_init(&S);
+        coll_mesh_init(&P);
         S.nverts = 12, S.ntris = 4, S.nedges = sne, S.x0 = S.x1 = sx, S.tris = stris;
         S.edges = sedges, S.sides = PL_SIDES_TWO;
         P.nverts = 1, P.x0 = P.x1 = px, P.active = dof ? NULL : rigid;
         pl_error err;
-        ck_assert_int_eq(pl_coll_mesh_prepare(&S, 0.01, &err), PL_OK);
-        ck_assert_int_eq(pl_coll_mesh_prepare(&P, 0.01, &err), PL_OK);
-        pl_detect_params prm = pl_detect_defaults(0.01);
+        ck_assert_int_eq(coll_mesh_prepare(&S, 0.01, &err), PL_OK);
+        ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+        pl_detect_params prm = detect_defaults(0.01);
         pl_proximities p = {0};
-        ck_assert_int_eq(pl_detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair(&P, 0, &S, 1, &prm, &p), PL_OK);
         int want = dof ? 1 : 4;
         ck_assert_int_eq(p.n, want);
         for (int i = 0; i < p.n; ++i) {
@@ -291,9 +291,9 @@ START_TEST(test_corner_under_cloth_layers_keeps_each)
             ck_assert(p.items[i].normal[1] < -0.9); /* the cloth above the corner */
         }
         if (dof) ck_assert_int_eq(p.items[0].b[0], 0); /* the nearest */
-        pl_proximities_free(&p);
-        pl_coll_mesh_free(&S);
-        pl_coll_mesh_free(&P);
+        proximities_free(&p);
+        coll_mesh_free(&S);
+        coll_mesh_free(&P);
     }
     free(sedges);
 }

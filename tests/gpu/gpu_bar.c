@@ -28,8 +28,8 @@ void gpu_bar_free(gpu_bar *b)
 {
     free(b->rest);
     free(b->mass);
-    for (int m = 0; m < 3; ++m) pl_hyper_elements_free(&b->el[m]);
-    pl_sparse_inverse_destroy(b->spinv);
+    for (int m = 0; m < 3; ++m) hyper_elements_free(&b->el[m]);
+    sparse_inverse_destroy(b->spinv);
     memset(b, 0, sizeof *b);
 }
 
@@ -44,7 +44,7 @@ int gpu_bar_build(gpu_bar *b, int nx, int ny, int nz, pl_error *err)
     memset(b, 0, sizeof *b);
     b->nx = nx, b->ny = ny, b->nz = nz, b->n = nx * ny * nz, b->h = 0.01;
     int n = b->n;
-    int *tets = pl_spinv_grid_tets(nx, ny, nz, &b->ntets);
+    int *tets = spinv_grid_tets(nx, ny, nz, &b->ntets);
     b->rest = malloc((size_t)n * 3 * sizeof *b->rest);
     b->mass = calloc((size_t)n, sizeof *b->mass);
     if (!tets || !b->rest || !b->mass) {
@@ -62,7 +62,7 @@ int gpu_bar_build(gpu_bar *b, int nx, int ny, int nz, pl_error *err)
     const double E = 1e9, nu = 0.45, rho = 1000.0;
     const pl_hyper_material mats[3] = {PL_HYPER_ARAP, PL_HYPER_COROTATIONAL, PL_HYPER_NEOHOOKEAN};
     for (int m = 0; m < 3; ++m) {
-        if (pl_hyper_elements_build(&b->el[m], mats[m], 4, tets, b->ntets, b->rest, n, &E, 1, &nu,
+        if (hyper_elements_build(&b->el[m], mats[m], 4, tets, b->ntets, b->rest, n, &E, 1, &nu,
                                     1, 0.0, err) != PL_OK) {
             free(tets);
             gpu_bar_free(b);
@@ -77,14 +77,14 @@ int gpu_bar_build(gpu_bar *b, int nx, int ny, int nz, pl_error *err)
     if (pl_triplets_init(&T, n, n, 16 * e->n + n) != PL_OK) return fail(b, err, "out of memory");
     int rc = PL_OK;
     for (int i = 0; i < n && rc == PL_OK; ++i) rc = pl_triplets_add(&T, i, i, b->mass[i]);
-    if (rc == PL_OK) rc = pl_hyper_elements_add_matrix(e, 0, b->h * b->h, &T, err);
+    if (rc == PL_OK) rc = hyper_elements_add_matrix(e, 0, b->h * b->h, &T, err);
     pl_csc A;
     if (rc == PL_OK) rc = pl_triplets_to_csc(&T, &A);
     pl_triplets_free(&T);
     if (rc != PL_OK) return fail(b, err, "assembling A");
     pl_spinv_options o = {PL_SPINV_METIS, PL_SPINV_SPARSE, 0};
-    b->spinv = pl_sparse_inverse_create(&o);
-    rc = b->spinv ? pl_sparse_inverse_factor(b->spinv, &A, err) : PL_EINTERNAL;
+    b->spinv = sparse_inverse_create(&o);
+    rc = b->spinv ? sparse_inverse_factor(b->spinv, &A, err) : PL_EINTERNAL;
     pl_csc_free(&A);
     if (rc != PL_OK) return fail(b, err, "factoring A");
     return PL_OK;
@@ -106,9 +106,9 @@ int gpu_bar_rhs(gpu_bar *b, const double *q, double *rhs, pl_error *err)
 {
     for (int v = 0; v < b->n; ++v)
         for (int c = 0; c < 3; ++c) rhs[3 * v + c] = b->mass[v] * q[3 * v + c];
-    double *work = malloc(pl_hyper_elements_work_size(&b->el[0]) * sizeof *work);
+    double *work = malloc(hyper_elements_work_size(&b->el[0]) * sizeof *work);
     if (!work) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    int rc = pl_hyper_elements_project(&b->el[0], 0, b->h * b->h, q, NULL, work, rhs, NULL, err);
+    int rc = hyper_elements_project(&b->el[0], 0, b->h * b->h, q, NULL, work, rhs, NULL, err);
     free(work);
     return rc;
 }

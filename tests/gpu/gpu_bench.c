@@ -7,10 +7,10 @@
  * device n x 3 blocks, float32 and float64: median over `repetitions` (100)
  * single solves timed with events, the products S a and S^T y alone, and
  * the solve replayed as a CUDA graph.  Achieved bandwidth = bytes of S a
- * step must read (values; pl_spinv_cuda_step_bytes) / time,
+ * step must read (values; spinv_cuda_step_bytes) / time,
  * against a measured device-to-device copy (bytes read + written).  Local
  * steps: GPU gather and atomic assembly, and the CPU's
- * pl_hyper_elements_project on this machine's cores for reference; the CPU
+ * hyper_elements_project on this machine's cores for reference; the CPU
  * global step too. */
 #include <cuda_runtime_api.h>
 #include <math.h>
@@ -96,8 +96,8 @@ static int run_solve(void *ctx, cudaStream_t st)
     solve_ctx *c = ctx;
     pl_error err;
     if (c->exec) return cudaGraphLaunch(c->exec, st) != cudaSuccess;
-    int rc = c->stage < 0 ? pl_spinv_cuda_solve(c->g, c->b, c->x, c->io, st, &err)
-                          : pl_spinv_cuda_run_stage(c->g, (pl_spinv_cuda_stage)c->stage, st, &err);
+    int rc = c->stage < 0 ? spinv_cuda_solve(c->g, c->b, c->x, c->io, st, &err)
+                          : spinv_cuda_run_stage(c->g, (pl_spinv_cuda_stage)c->stage, st, &err);
     if (rc != PL_OK) fprintf(stderr, "solve: %s\n", err.msg);
     return rc != PL_OK;
 }
@@ -127,7 +127,7 @@ static void bench_global(gpu_bar *bar, double copy_gbs, cudaStream_t st)
     pl_error err;
     for (int r = 0; t && r < 21; ++r) {
         double t0 = omp_get_wtime();
-        pl_sparse_inverse_solve(bar->spinv, b, x, 3, &err);
+        sparse_inverse_solve(bar->spinv, b, x, 3, &err);
         if (r) t[r - 1] = 1e3 * (omp_get_wtime() - t0);
     }
     if (t) {
@@ -139,7 +139,7 @@ static void bench_global(gpu_bar *bar, double copy_gbs, cudaStream_t st)
     }
     for (int pi = 0; pi < 2; ++pi) {
         pl_precision p = pi ? PL_F32 : PL_F64;
-        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, &err);
+        pl_spinv_cuda *g = spinv_cuda_create(bar->spinv, p, &err);
         if (!g) {
             printf("create: %s\n", err.msg);
             continue;
@@ -157,17 +157,17 @@ static void bench_global(gpu_bar *bar, double copy_gbs, cudaStream_t st)
             ms_graph = time_events(run_solve, &c, st);
             cudaGraphExecDestroy(c.exec);
         }
-        double gbs = pl_spinv_cuda_step_bytes(g) / (ms * 1e-3) / 1e9;
+        double gbs = spinv_cuda_step_bytes(g) / (ms * 1e-3) / 1e9;
         printf("%dx%dx%d own kernels %s: step %.4f ms (graph %.4f), P %.4f, S %.4f, S^T %.4f, %.0f "
                "GB/s = %.0f%% of copy, S on device %.1f MB\n",
                bar->nx, bar->ny, bar->nz, pi ? "float32" : "float64", ms, ms_graph, ms_p, ms_s,
-               ms_st, gbs, 100.0 * gbs / copy_gbs, pl_spinv_cuda_device_bytes(g) / 1048576.0);
+               ms_st, gbs, 100.0 * gbs / copy_gbs, spinv_cuda_device_bytes(g) / 1048576.0);
         fprintf(md, "| %dx%dx%d | %d | own kernels | %s | %.4f | %.4f | %.4f / %.4f / %.4f | %.0f | "
                     "%.0f%% |\n",
                 bar->nx, bar->ny, bar->nz, bar->n, pi ? "float32" : "float64", ms, ms_graph, ms_p,
                 ms_s, ms_st, gbs, 100.0 * gbs / copy_gbs);
         gpu_free(c.b), gpu_free(c.x);
-        pl_spinv_cuda_destroy(g);
+        spinv_cuda_destroy(g);
     }
 done:
     free(b), free(x);
@@ -190,7 +190,7 @@ static void bench_variants(gpu_bar *bar, cudaStream_t st)
         for (int v = 0; v < (int)(sizeof groups / sizeof groups[0]); ++v) {
             int blocks = base * scale[v] / 4;
             pl_spinv_cuda *g =
-                pl_spinv_cuda_create_tuned(bar->spinv, p, groups[v], blocks, &err);
+                spinv_cuda_create_tuned(bar->spinv, p, groups[v], blocks, &err);
             if (!g) {
                 printf("create: %s\n", err.msg);
                 continue;
@@ -204,7 +204,7 @@ static void bench_variants(gpu_bar *bar, cudaStream_t st)
             fprintf(md, "| %dx%dx%d | %s | %d | %d | %.4f | %.4f |\n", bar->nx, bar->ny, bar->nz,
                     pi ? "float32" : "float64", groups[v], blocks, ms_s, ms);
             gpu_free(c.b), gpu_free(c.x);
-            pl_spinv_cuda_destroy(g);
+            spinv_cuda_destroy(g);
         }
     }
     free(b);
@@ -221,7 +221,7 @@ static int run_local(void *ctx, cudaStream_t st)
 {
     local_ctx *c = ctx;
     pl_error err;
-    int rc = pl_hyper_cuda_project(c->g, 0, c->h2, c->q, c->u, c->rhs, c->mode, st, &err);
+    int rc = hyper_cuda_project(c->g, 0, c->h2, c->q, c->u, c->rhs, c->mode, st, &err);
     if (rc != PL_OK) fprintf(stderr, "local: %s\n", err.msg);
     return rc != PL_OK;
 }
@@ -237,16 +237,16 @@ static void bench_local(gpu_bar *bar, int m, cudaStream_t st)
     if (!q || !u || !rhs) goto done;
     gpu_bar_twist(bar, 0.25, 1e-3, 29, q);
     int admm = e->material != PL_HYPER_ARAP;
-    double *work = malloc(pl_hyper_elements_work_size(e) * sizeof *work);
+    double *work = malloc(hyper_elements_work_size(e) * sizeof *work);
     if (!work) goto done;
     for (int r = 0; r < 11; ++r) {
         double t0 = omp_get_wtime();
-        pl_hyper_elements_project(e, 0, bar->h * bar->h, q, admm ? u : NULL, work, rhs, NULL, &err);
+        hyper_elements_project(e, 0, bar->h * bar->h, q, admm ? u : NULL, work, rhs, NULL, &err);
         if (r) t[r - 1] = 1e3 * (omp_get_wtime() - t0);
     }
     free(work);
     double cpu = gpu_median(t, 10), gms[2] = {NAN, NAN};
-    pl_hyper_cuda *g = pl_hyper_cuda_create(e, &err);
+    pl_hyper_cuda *g = hyper_cuda_create(e, &err);
     if (g) {
         local_ctx c = {g, bar->h * bar->h, gpu_put(q, n3, PL_F64), admm ? gpu_put(u, nd, PL_F64) : NULL,
                        gpu_put(NULL, n3, PL_F64), PL_HYPER_CUDA_GATHER};
@@ -254,7 +254,7 @@ static void bench_local(gpu_bar *bar, int m, cudaStream_t st)
         c.mode = PL_HYPER_CUDA_ATOMIC;
         gms[1] = time_events(run_local, &c, st);
         gpu_free(c.q), gpu_free(c.u), gpu_free(c.rhs);
-        pl_hyper_cuda_destroy(g);
+        hyper_cuda_destroy(g);
     }
     printf("%dx%dx%d local %-13s %d tets: GPU gather %.4f ms, atomic %.4f ms, CPU %.3f ms\n",
            bar->nx, bar->ny, bar->nz, names[m], e->n, gms[0], gms[1], cpu);
@@ -287,10 +287,10 @@ static void bench_iteration(gpu_bar *bar, cudaStream_t st)
     pl_error err;
     if (!q) return;
     gpu_bar_twist(bar, 0.25, 1e-3, 31, q);
-    pl_hyper_cuda *h = pl_hyper_cuda_create(&bar->el[0], &err);
+    pl_hyper_cuda *h = hyper_cuda_create(&bar->el[0], &err);
     for (int pi = 0; h && pi < 2; ++pi) {
         pl_precision p = pi ? PL_F32 : PL_F64;
-        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, &err);
+        pl_spinv_cuda *g = spinv_cuda_create(bar->spinv, p, &err);
         if (!g) continue;
         iter_ctx c;
         memset(&c, 0, sizeof c);
@@ -315,9 +315,9 @@ static void bench_iteration(gpu_bar *bar, cudaStream_t st)
         fprintf(md, "| %dx%dx%d | %s | %.4f | %.4f |\n", bar->nx, bar->ny, bar->nz,
                 pi ? "float32" : "float64", plain, graph);
         gpu_free(c.local.q), gpu_free(c.local.rhs), gpu_free(c.global.x);
-        pl_spinv_cuda_destroy(g);
+        spinv_cuda_destroy(g);
     }
-    pl_hyper_cuda_destroy(h);
+    hyper_cuda_destroy(h);
     free(q);
 }
 

@@ -7,7 +7,7 @@
  * For the twisting bars 44x11x11 and 72x17x17 (gpu_bar.h):
  *  - local step, ARAP / corotational / Neo-Hookean: right-hand-side
  *    contributions and updated duals, GPU (gather and atomic assembly) vs
- *    pl_hyper_elements_project: <= 1e-9 relative;
+ *    hyper_elements_project: <= 1e-9 relative;
  *  - global step x = A^-1 b, b the ARAP right-hand side of a twisted state:
  *    float64 <= 1e-9 and float32 <= 1e-4 relative
  *    to the CPU sparse inverse; also a random b (float64 checked, float32
@@ -51,8 +51,8 @@ static void check_local(gpu_bar *bar, int m)
     memcpy(uc, u0, nd * sizeof *uc);
     int sc[2], sg[2];
     int admm = e->material != PL_HYPER_ARAP;
-    double *work = malloc(pl_hyper_elements_work_size(e) * sizeof *work);
-    int cpu_rc = work ? pl_hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, work, rc, sc, &err)
+    double *work = malloc(hyper_elements_work_size(e) * sizeof *work);
+    int cpu_rc = work ? hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, work, rc, sc, &err)
                       : pl_error_set(&err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     free(work);
     if (cpu_rc != PL_OK) {
@@ -60,17 +60,17 @@ static void check_local(gpu_bar *bar, int m)
         gpu_check_line(md, "local step on the CPU", 1.0, 0.0);
         goto done;
     }
-    pl_hyper_cuda *g = pl_hyper_cuda_create(e, &err);
+    pl_hyper_cuda *g = hyper_cuda_create(e, &err);
     if (!g) {
-        printf("pl_hyper_cuda_create: %s\n", err.msg);
+        printf("hyper_cuda_create: %s\n", err.msg);
         gpu_check_line(md, "local step device copy", 1.0, 0.0);
         goto done;
     }
     for (int mode = 0; mode < 2; ++mode) {
         double *dq = gpu_put(q, n3, PL_F64), *dr = gpu_put(NULL, n3, PL_F64);
         double *du = admm ? gpu_put(u0, nd, PL_F64) : NULL;
-        int rc_ = pl_hyper_cuda_project(g, 0, h2, dq, du, dr, (pl_hyper_cuda_assembly)mode, NULL, &err);
-        if (rc_ == PL_OK) rc_ = pl_hyper_cuda_stats(g, NULL, sg, &err);
+        int rc_ = hyper_cuda_project(g, 0, h2, dq, du, dr, (pl_hyper_cuda_assembly)mode, NULL, &err);
+        if (rc_ == PL_OK) rc_ = hyper_cuda_stats(g, NULL, sg, &err);
         if (rc_ != PL_OK) printf("GPU local step: %s\n", err.msg);
         if (rc_ == PL_OK && gpu_get(rg, dr, n3, PL_F64) == 0 &&
             (!admm || gpu_get(ug, du, nd, PL_F64) == 0)) {
@@ -92,7 +92,7 @@ static void check_local(gpu_bar *bar, int m)
         }
         gpu_free(dq), gpu_free(dr), gpu_free(du);
     }
-    pl_hyper_cuda_destroy(g);
+    hyper_cuda_destroy(g);
 done:
     free(q), free(rc), free(rg), free(u0), free(uc), free(ug);
 }
@@ -102,7 +102,7 @@ static int device_solve(pl_spinv_cuda *g, const double *b, double *x, size_t n3,
 {
     void *db = gpu_put(b, n3, io), *dx = gpu_put(NULL, n3, io);
     pl_error err;
-    int rc = db && dx ? pl_spinv_cuda_solve(g, db, dx, io, NULL, &err) : PL_EINTERNAL;
+    int rc = db && dx ? spinv_cuda_solve(g, db, dx, io, NULL, &err) : PL_EINTERNAL;
     if (rc != PL_OK && db && dx) printf("solve: %s\n", err.msg);
     if (rc == PL_OK) rc = gpu_sync("solve") || gpu_get(x, dx, n3, io) ? -1 : PL_OK;
     gpu_free(db), gpu_free(dx);
@@ -115,7 +115,7 @@ static void check_products(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, doub
     const pl_spinv_profile *S = pl_sparse_inverse_S(bar->spinv);
     const pl_spinv_runs *ST = pl_sparse_inverse_ST(bar->spinv);
     size_t n3 = (size_t)bar->n * 3;
-    pl_precision p = pl_spinv_cuda_precision(g);
+    pl_precision p = spinv_cuda_precision(g);
     double *x = malloc(n3 * sizeof *x), *yc = malloc(n3 * sizeof *yc), *yg = malloc(n3 * sizeof *yg);
     int bounds[2] = {0, bar->n};
     char what[160];
@@ -129,9 +129,9 @@ static void check_products(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, doub
                          : pl_spinv_cuda_apply_ST(g, dx, dy, NULL, &err);
         if (rc == PL_OK) rc = gpu_sync("product") || gpu_get(yg, dy, n3, p) ? -1 : PL_OK;
         if (op == 0)
-            pl_spinv_profile_mult(S, x, yc, 3, bounds, 1, 1);
+            spinv_profile_mult(S, x, yc, 3, bounds, 1, 1);
         else
-            pl_spinv_runs_mult(ST, x, yc, 3, bounds, 1, 1);
+            spinv_runs_mult(ST, x, yc, 3, bounds, 1, 1);
         snprintf(what, sizeof what, "%dx%dx%d %s %s, random x", bar->nx, bar->ny, bar->nz,
                  op ? "S^T x" : "S x", tag);
         gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(yg, yc, n3) : INFINITY, tol);
@@ -145,7 +145,7 @@ done:
 static void check_own_extras(gpu_bar *bar, pl_spinv_cuda *g, const double *b, const double *xc)
 {
     size_t n3 = (size_t)bar->n * 3;
-    pl_precision p = pl_spinv_cuda_precision(g);
+    pl_precision p = spinv_cuda_precision(g);
     double *x = malloc(n3 * sizeof *x), *x2 = malloc(n3 * sizeof *x2);
     char what[160];
     pl_error err;
@@ -153,13 +153,13 @@ static void check_own_extras(gpu_bar *bar, pl_spinv_cuda *g, const double *b, co
     const char *tag = p == PL_F32 ? "float32" : "float64";
     double tol = p == PL_F32 ? 1e-4 : 1e-9;
     void *d = gpu_put(b, n3, PL_F64);
-    int rc = d ? pl_spinv_cuda_solve(g, d, d, PL_F64, NULL, &err) : -1;
+    int rc = d ? spinv_cuda_solve(g, d, d, PL_F64, NULL, &err) : -1;
     if (rc == PL_OK) rc = gpu_sync("in place") || gpu_get(x, d, n3, PL_F64);
     gpu_free(d);
     snprintf(what, sizeof what, "%dx%dx%d global own %s S, float64 blocks, x = b in place",
              bar->nx, bar->ny, bar->nz, tag);
     gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(x, xc, n3) : INFINITY, tol);
-    rc = pl_spinv_cuda_solve_host(g, b, x, NULL, &err);
+    rc = spinv_cuda_solve_host(g, b, x, NULL, &err);
     snprintf(what, sizeof what, "%dx%dx%d global own %s S, host blocks", bar->nx, bar->ny, bar->nz,
              tag);
     gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(x, xc, n3) : INFINITY, tol);
@@ -187,8 +187,8 @@ static void check_global(gpu_bar *bar)
     unsigned st = 17;
     for (size_t i = 0; i < n3; ++i) br[i] = gpu_rand(&st);
     if (gpu_bar_rhs(bar, q, b, &err) != PL_OK ||
-        pl_sparse_inverse_solve(bar->spinv, b, xc, 3, &err) != PL_OK ||
-        pl_sparse_inverse_solve(bar->spinv, br, xrc, 3, &err) != PL_OK) {
+        sparse_inverse_solve(bar->spinv, b, xc, 3, &err) != PL_OK ||
+        sparse_inverse_solve(bar->spinv, br, xrc, 3, &err) != PL_OK) {
         printf("CPU global step failed: %s\n", err.msg);
         gpu_check_line(md, "CPU global step", 1.0, 0.0);
         goto done;
@@ -197,9 +197,9 @@ static void check_global(gpu_bar *bar)
         pl_precision p = pi ? PL_F32 : PL_F64;
         const char *tag = pi ? "float32" : "float64";
         double tol = pi ? 1e-4 : 1e-9;
-        pl_spinv_cuda *g = pl_spinv_cuda_create(bar->spinv, p, &err);
+        pl_spinv_cuda *g = spinv_cuda_create(bar->spinv, p, &err);
         if (!g) {
-            printf("pl_spinv_cuda_create: %s\n", err.msg);
+            printf("spinv_cuda_create: %s\n", err.msg);
             gpu_check_line(md, "device copy of S", 1.0, 0.0);
             continue;
         }
@@ -216,7 +216,7 @@ static void check_global(gpu_bar *bar)
             gpu_check_line(md, what, r, tol);
         check_products(bar, g, pi ? "float32" : "float64", pi ? 1e-5 : 1e-12);
         check_own_extras(bar, g, b, xc);
-        pl_spinv_cuda_destroy(g);
+        spinv_cuda_destroy(g);
     }
 done:
     free(q), free(b), free(br), free(xc), free(xrc), free(x);
@@ -289,7 +289,7 @@ int main(int argc, char **argv)
             continue;
         }
         printf("bar %dx%dx%d: n = %d, tets = %d, nnz(S) = %lld\n", bar.nx, bar.ny, bar.nz, bar.n,
-               bar.ntets, (long long)pl_sparse_inverse_stats(bar.spinv)->nnz_S);
+               bar.ntets, (long long)sparse_inverse_stats(bar.spinv)->nnz_S);
         for (int m = 0; m < 3; ++m) check_local(&bar, m);
         check_global(&bar);
         gpu_bar_free(&bar);

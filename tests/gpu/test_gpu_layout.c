@@ -3,7 +3,7 @@
  * index arithmetic and masks as spinv_cuda_kernels.cu, and must
  *  - visit every padded value of S exactly once in y = S a, and every
  *    stored value of a column j < n exactly once in z = S^T y;
- *  - reproduce pl_spinv_profile_mult / pl_spinv_runs_mult (1e-13).
+ *  - reproduce spinv_profile_mult / spinv_runs_mult (1e-13).
  * Runs without a GPU (the GPU checks are tests/gpu/gpu_check). */
 #include <check.h>
 #include <math.h>
@@ -23,19 +23,19 @@ typedef struct fixture {
 
 static void fixture_grid(fixture *f, int nx, int ny, int nz)
 {
-    ck_assert_int_eq(pl_spinv_grid_matrix(nx, ny, nz, 50.0, &f->A), PL_OK);
+    ck_assert_int_eq(spinv_grid_matrix(nx, ny, nz, 50.0, &f->A), PL_OK);
     pl_spinv_options o = {PL_SPINV_METIS, PL_SPINV_SPARSE, 1};
-    f->s = pl_sparse_inverse_create(&o);
+    f->s = sparse_inverse_create(&o);
     pl_error err;
     ck_assert_ptr_nonnull(f->s);
-    ck_assert_int_eq(pl_sparse_inverse_factor(f->s, &f->A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_factor(f->s, &f->A, &err), PL_OK);
     f->S = pl_sparse_inverse_S(f->s);
     f->ST = pl_sparse_inverse_ST(f->s);
 }
 
 static void fixture_free(fixture *f)
 {
-    pl_sparse_inverse_destroy(f->s);
+    sparse_inverse_destroy(f->s);
     pl_csc_free(&f->A);
 }
 
@@ -165,7 +165,7 @@ static void check_layout(const fixture *f, int elem_size, int group, int item_bl
     pl_spinv_cuda_layout L;
     pl_error err;
     ck_assert_int_eq(
-        pl_spinv_cuda_layout_build(f->S, f->ST, elem_size, group, item_blocks, &L, &err), PL_OK);
+        spinv_cuda_layout_build(f->S, f->ST, elem_size, group, item_blocks, &L, &err), PL_OK);
     int n = L.n;
     ck_assert_int_eq(L.vc, 16 / elem_size);
     ck_assert_int_eq(L.npad % PL_SPINV_CUDA_BLOCK, 0);
@@ -176,14 +176,14 @@ static void check_layout(const fixture *f, int elem_size, int group, int item_bl
     double *yref = malloc((size_t)n * 3 * sizeof *yref), *zref = malloc((size_t)n * 3 * sizeof *zref);
     int bounds[2] = {0, n};
     ck_assert(val && visits && a && y4 && y && z && yref && zref);
-    pl_spinv_cuda_layout_fill_f64(&L, f->S, val);
+    spinv_cuda_layout_fill_f64(&L, f->S, val);
     srand(7);
     for (int i = 0; i < 3 * n; ++i) a[i] = rand() / (double)RAND_MAX - 0.5;
     replay_S(&L, val, a, y4, visits);
     for (int64_t q = 0; q < L.nval; ++q) ck_assert_int_eq(visits[q], 1);
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) y[3 * i + c] = y4[4 * i + c];
-    pl_spinv_profile_mult(f->S, a, yref, 3, bounds, 1, 1);
+    spinv_profile_mult(f->S, a, yref, 3, bounds, 1, 1);
     ck_assert_double_lt(rel_diff(y, yref, (size_t)3 * n), 1e-13);
 
     /* S^T on y: each stored value of a real column once */
@@ -192,10 +192,10 @@ static void check_layout(const fixture *f, int elem_size, int group, int item_bl
     for (int i = 0; i < n; ++i)
         for (int j = L.meta[i].f0; j <= L.meta[i].e && j < n; ++j)
             ck_assert_int_eq(visits[L.meta[i].vbase + j], 1);
-    pl_spinv_runs_mult(f->ST, y, zref, 3, bounds, 1, 1);
+    spinv_runs_mult(f->ST, y, zref, 3, bounds, 1, 1);
     ck_assert_double_lt(rel_diff(z, zref, (size_t)3 * n), 1e-13);
     free(val), free(visits), free(a), free(y4), free(y), free(z), free(yref), free(zref);
-    pl_spinv_cuda_layout_free(&L);
+    spinv_cuda_layout_free(&L);
 }
 
 START_TEST(test_layout_replay_matches_cpu_products_small_bar)
@@ -219,7 +219,7 @@ START_TEST(test_layout_replay_splits_long_rows_and_tiles)
     fixture_grid(&f, 20, 8, 8);
     pl_spinv_cuda_layout L;
     pl_error err;
-    ck_assert_int_eq(pl_spinv_cuda_layout_build(f.S, f.ST, 4, 8, 0, &L, &err), PL_OK);
+    ck_assert_int_eq(spinv_cuda_layout_build(f.S, f.ST, 4, 8, 0, &L, &err), PL_OK);
     ck_assert_int_gt(L.nparts_S, 0);
     ck_assert_int_gt(L.nparts_ST, 0);
     ck_assert_int_gt(L.nshort, 0);
@@ -228,8 +228,8 @@ START_TEST(test_layout_replay_splits_long_rows_and_tiles)
     ck_assert_int_gt(grouped, 0);
     /* padding stays small: under 5% more values than nnz(S) */
     ck_assert_double_lt((double)L.nval, 1.05 * (double)f.S->start[f.S->n] + 16.0 * f.S->n);
-    pl_spinv_cuda_layout_free(&L);
-    ck_assert_int_eq(pl_spinv_cuda_layout_build(f.S, f.ST, 4, 3, 0, &L, &err), PL_EINPUT);
+    spinv_cuda_layout_free(&L);
+    ck_assert_int_eq(spinv_cuda_layout_build(f.S, f.ST, 4, 3, 0, &L, &err), PL_EINPUT);
     check_layout(&f, 8, 0, 0);
     check_layout(&f, 4, 0, 0);
     check_layout(&f, 4, 8, 16);

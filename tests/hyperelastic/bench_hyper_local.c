@@ -1,4 +1,4 @@
-/* bench_hyper_local.c - times the local step (pl_hyper_elements_project) of
+/* bench_hyper_local.c - times the local step (hyper_elements_project) of
  * ARAP, corotational and Neo-Hookean tetrahedra and membranes.  Not a test:
  *   build-<dir>/bin/bench_hyper_local [n (grid vertices per axis, default 30)] [reps]
  * Prints ms per local step and ns per element for the current OMP_NUM_THREADS. */
@@ -24,21 +24,21 @@ static void bench(const char *label, pl_hyper_material mat, int k, const int *ce
 {
     pl_hyper_elements el;
     double E = 1e6, nu = 0.45;
-    if (pl_hyper_elements_build(&el, mat, k, cells, ncells, rest, nv, &E, 1, &nu, 1, 1e-3, NULL)) {
+    if (hyper_elements_build(&el, mat, k, cells, ncells, rest, nv, &E, 1, &nu, 1, 1e-3, NULL)) {
         fprintf(stderr, "build failed\n");
         exit(1);
     }
     unsigned long long st = 1;
     double *q = malloc(sizeof(double) * 3 * nv), *rhs = calloc((size_t)3 * nv, sizeof(double));
     for (int i = 0; i < 3 * nv; ++i) q[i] = 1.1 * rest[i] + 0.002 * ht_rand(&st);
-    int nd = pl_hyper_elements_dual_size(&el);
+    int nd = hyper_elements_dual_size(&el);
     double *u = calloc((size_t)ncells * (nd ? nd : 1), sizeof(double));
     int stats[2];
-    double *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&el));
-    pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL); /* warm up */
+    double *work = malloc(sizeof(double) * hyper_elements_work_size(&el));
+    hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL); /* warm up */
     double t0 = now();
     for (int r = 0; r < reps; ++r)
-        pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL);
+        hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL);
     double dt = (now() - t0) / reps;
     printf("%-26s %8d elements  %8.3f ms/step  %7.1f ns/element  (max Newton its %d)\n", label,
            ncells, 1e3 * dt, 1e9 * dt / ncells, stats[0]);
@@ -46,7 +46,7 @@ static void bench(const char *label, pl_hyper_material mat, int k, const int *ce
     free(rhs);
     free(u);
     free(work);
-    pl_hyper_elements_free(&el);
+    hyper_elements_free(&el);
 }
 
 int main(int argc, char **argv)

@@ -31,14 +31,14 @@ START_TEST(bending_energy_is_zero_for_flat_cloth)
     int nv = ht_tri_grid(9, 9, 0.05, &v, &t, &nt);
     pl_hyper_stencils iso, lb;
     int skipped = -1;
-    ck_assert_int_eq(pl_hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, &skipped, NULL), PL_OK);
+    ck_assert_int_eq(hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, &skipped, NULL), PL_OK);
     ck_assert_int_eq(skipped, 0);
     ck_assert_int_eq(iso.n, 3 * 8 * 8 - 2 * 8); /* interior edges of an 8 x 8 cell grid */
-    ck_assert_int_eq(pl_hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL), PL_OK);
+    ck_assert_int_eq(hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL), PL_OK);
     ck_assert_int_eq(lb.n, nv);
     const double scale = 0.5 * K_BEND * 0.16; /* k/2 * area for unit curvature */
-    ck_assert_double_le(pl_hyper_stencils_energy(&iso, 0, v, NULL), 1e-12 * scale);
-    ck_assert_double_le(pl_hyper_stencils_energy(&lb, 0, v, NULL), 1e-12 * scale);
+    ck_assert_double_le(hyper_stencils_energy(&iso, 0, v, NULL), 1e-12 * scale);
+    ck_assert_double_le(hyper_stencils_energy(&lb, 0, v, NULL), 1e-12 * scale);
     /* a rigid motion of the flat cloth */
     unsigned long long st = 9;
     double R[9], *x = malloc(sizeof(double) * 3 * nv);
@@ -47,18 +47,18 @@ START_TEST(bending_energy_is_zero_for_flat_cloth)
         for (int a = 0; a < 3; ++a)
             x[3 * i + a] = 0.3 * a + R[3 * a] * v[3 * i] + R[3 * a + 1] * v[3 * i + 1] +
                            R[3 * a + 2] * v[3 * i + 2];
-    ck_assert_double_le(pl_hyper_stencils_energy(&iso, 0, x, NULL), 1e-12 * scale);
-    ck_assert_double_le(pl_hyper_stencils_energy(&lb, 0, x, NULL), 1e-12 * scale);
+    ck_assert_double_le(hyper_stencils_energy(&iso, 0, x, NULL), 1e-12 * scale);
+    ck_assert_double_le(hyper_stencils_energy(&lb, 0, x, NULL), 1e-12 * scale);
     /* isometric bending is also blind to in-plane affine stretch */
     for (int i = 0; i < nv; ++i) {
         x[3 * i] = 1.3 * v[3 * i] + 0.2 * v[3 * i + 1];
         x[3 * i + 1] = 0.8 * v[3 * i + 1];
         x[3 * i + 2] = 0.0;
     }
-    ck_assert_double_le(pl_hyper_stencils_energy(&iso, 0, x, NULL), 1e-12 * scale);
+    ck_assert_double_le(hyper_stencils_energy(&iso, 0, x, NULL), 1e-12 * scale);
     free(x);
-    pl_hyper_stencils_free(&iso);
-    pl_hyper_stencils_free(&lb);
+    hyper_stencils_free(&iso);
+    hyper_stencils_free(&lb);
     free(v);
     free(t);
 }
@@ -74,11 +74,11 @@ START_TEST(bending_energy_of_a_cylinder)
     double *x = malloc(sizeof(double) * 3 * nv);
     roll(v, nv, r, x);
     pl_hyper_stencils iso, lb;
-    ck_assert_int_eq(pl_hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, NULL, NULL), PL_OK);
-    ck_assert_int_eq(pl_hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL), PL_OK);
+    ck_assert_int_eq(hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, NULL, NULL), PL_OK);
+    ck_assert_int_eq(hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL), PL_OK);
     double analytic = 0.5 * K_BEND / (r * r) * 0.16; /* k/2 kappa^2 area */
-    double e_iso = pl_hyper_stencils_energy(&iso, 0, x, NULL);
-    double e_lb = pl_hyper_stencils_energy(&lb, 0, x, NULL);
+    double e_iso = hyper_stencils_energy(&iso, 0, x, NULL);
+    double e_lb = hyper_stencils_energy(&lb, 0, x, NULL);
     printf("cylinder r=%g: analytic %.6g, isometric %.6g (ratio %.4f), Laplace-Beltrami %.6g "
            "(ratio %.4f)\n", r, analytic, e_iso, e_iso / analytic, e_lb, e_lb / analytic);
     ck_assert(e_iso > 0.0 && e_lb > 0.0);
@@ -100,8 +100,8 @@ START_TEST(bending_energy_of_a_cylinder)
      * (calibrated for 3 edge directions) reads 3x here; see the header */
     ck_assert_double_eq_tol(e_iso / analytic, 3.0, 0.45);
     free(x);
-    pl_hyper_stencils_free(&iso);
-    pl_hyper_stencils_free(&lb);
+    hyper_stencils_free(&iso);
+    hyper_stencils_free(&lb);
     free(v);
     free(t);
 }
@@ -114,22 +114,22 @@ static void check_derivatives(pl_hyper_stencils *s, const double *x0, int nv, co
     double *g = calloc(n, sizeof *g), *gp = calloc(n, sizeof *g), *gm = calloc(n, sizeof *g);
     double *x = malloc(sizeof(double) * n), *H = calloc((size_t)n * n, sizeof *H);
     memcpy(x, x0, sizeof(double) * n);
-    pl_hyper_stencils_add_gradient(s, 0, x, targets, g, NULL);
+    hyper_stencils_add_gradient(s, 0, x, targets, g, NULL);
     double gmax = 0.0, err = 0.0, h = 1e-7;
     for (int i = 0; i < n; ++i) gmax = fmax(gmax, fabs(g[i]));
     for (int i = 0; i < n; ++i) {
         double xi = x[i];
         x[i] = xi + h;
-        double ep = pl_hyper_stencils_energy(s, 0, x, targets);
+        double ep = hyper_stencils_energy(s, 0, x, targets);
         x[i] = xi - h;
-        double em = pl_hyper_stencils_energy(s, 0, x, targets);
+        double em = hyper_stencils_energy(s, 0, x, targets);
         x[i] = xi;
         err = fmax(err, fabs((ep - em) / (2 * h) - g[i]));
     }
     ck_assert_msg(err <= 1e-6 * gmax, "gradient %g vs %g", err, gmax);
     pl_triplets T;
     pl_triplets_init(&T, n, n, 64);
-    pl_hyper_stencils_add_hessian(s, 0, x, 0, &T, NULL);
+    hyper_stencils_add_hessian(s, 0, x, 0, &T, NULL);
     ht_triplets_to_dense(&T, H, n);
     double hmax = 0.0;
     for (int i = 0; i < n * n; ++i) hmax = fmax(hmax, fabs(H[i]));
@@ -139,9 +139,9 @@ static void check_derivatives(pl_hyper_stencils *s, const double *x0, int nv, co
         memset(gp, 0, sizeof(double) * n);
         memset(gm, 0, sizeof(double) * n);
         x[j] = xj + h;
-        pl_hyper_stencils_add_gradient(s, 0, x, targets, gp, NULL);
+        hyper_stencils_add_gradient(s, 0, x, targets, gp, NULL);
         x[j] = xj - h;
-        pl_hyper_stencils_add_gradient(s, 0, x, targets, gm, NULL);
+        hyper_stencils_add_gradient(s, 0, x, targets, gm, NULL);
         x[j] = xj;
         for (int i = 0; i < n; ++i) err = fmax(err, fabs((gp[i] - gm[i]) / (2 * h) - H[i * n + j]));
     }
@@ -149,7 +149,7 @@ static void check_derivatives(pl_hyper_stencils *s, const double *x0, int nv, co
     /* projected: H + tiny I has a Cholesky factor */
     T.nnz = 0;
     memset(H, 0, sizeof(double) * n * n);
-    pl_hyper_stencils_add_hessian(s, 0, x, 1, &T, NULL);
+    hyper_stencils_add_hessian(s, 0, x, 1, &T, NULL);
     ht_triplets_to_dense(&T, H, n);
     for (int i = 0; i < n; ++i) H[i * n + i] += 1e-10 * hmax;
     ck_assert_int_eq(ht_cholesky(n, H), 0);
@@ -171,11 +171,11 @@ START_TEST(bending_derivatives_match_finite_differences)
     unsigned long long st = 10;
     for (int i = 0; i < 3 * nv; ++i) x[i] += 0.01 * ht_rand(&st);
     pl_hyper_stencils iso, lb, tg;
-    pl_hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, NULL, NULL);
-    pl_hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL);
+    hyper_isometric_bending_build(&iso, t, nt, v, nv, K_BEND, NULL, NULL);
+    hyper_laplace_beltrami_build(&lb, t, nt, v, nv, K_BEND, NULL);
     int idx[3] = {0, 7, 24};
     double targets[9] = {0.1, 0.2, 0.3, -0.1, 0.0, 0.05, 0.4, 0.4, 0.1};
-    ck_assert_int_eq(pl_hyper_point_targets_build(&tg, idx, 3, nv, 50.0, NULL), PL_OK);
+    ck_assert_int_eq(hyper_point_targets_build(&tg, idx, 3, nv, 50.0, NULL), PL_OK);
     check_derivatives(&iso, x, nv, NULL);
     check_derivatives(&lb, x, nv, NULL);
     check_derivatives(&tg, x, nv, targets);
@@ -183,10 +183,10 @@ START_TEST(bending_derivatives_match_finite_differences)
     double e = 0.0;
     for (int r = 0; r < 3; ++r)
         for (int a = 0; a < 3; ++a) e += 25.0 * pow(x[3 * idx[r] + a] - targets[3 * r + a], 2);
-    ck_assert_double_eq_tol(pl_hyper_stencils_energy(&tg, 0, x, targets), e, 1e-12 * e);
-    pl_hyper_stencils_free(&iso);
-    pl_hyper_stencils_free(&lb);
-    pl_hyper_stencils_free(&tg);
+    ck_assert_double_eq_tol(hyper_stencils_energy(&tg, 0, x, targets), e, 1e-12 * e);
+    hyper_stencils_free(&iso);
+    hyper_stencils_free(&lb);
+    hyper_stencils_free(&tg);
     free(x);
     free(v);
     free(t);
@@ -199,12 +199,12 @@ START_TEST(bending_rejects_bad_input)
     double rest[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     pl_hyper_stencils s;
     pl_error err;
-    ck_assert_int_eq(pl_hyper_isometric_bending_build(&s, tris, 1, rest, 3, 1.0, NULL, &err), PL_EINPUT);
+    ck_assert_int_eq(hyper_isometric_bending_build(&s, tris, 1, rest, 3, 1.0, NULL, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "out of range"));
     int ok[3] = {0, 1, 2};
-    ck_assert_int_eq(pl_hyper_laplace_beltrami_build(&s, ok, 1, rest, 3, -1.0, &err), PL_EINPUT);
+    ck_assert_int_eq(hyper_laplace_beltrami_build(&s, ok, 1, rest, 3, -1.0, &err), PL_EINPUT);
     double flat[9] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
-    ck_assert_int_eq(pl_hyper_laplace_beltrami_build(&s, ok, 1, flat, 3, 1.0, &err), PL_EINPUT);
+    ck_assert_int_eq(hyper_laplace_beltrami_build(&s, ok, 1, flat, 3, 1.0, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "degenerate"));
 }
 END_TEST

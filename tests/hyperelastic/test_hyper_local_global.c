@@ -32,9 +32,9 @@ static double objective(const problem *P, const double *x)
     for (int i = 0; i < P->nv; ++i)
         for (int a = 0; a < 3; ++a) f += 0.5 * P->mass[i] * pow(x[3 * i + a] - P->sn[3 * i + a], 2);
     f /= P->h * P->h;
-    f += pl_hyper_elements_energy(&P->el, 0, x);
-    if (P->bend.n) f += pl_hyper_stencils_energy(&P->bend, 0, x, NULL);
-    if (P->tgt.n) f += pl_hyper_stencils_energy(&P->tgt, 0, x, P->targets);
+    f += hyper_elements_energy(&P->el, 0, x);
+    if (P->bend.n) f += hyper_stencils_energy(&P->bend, 0, x, NULL);
+    if (P->tgt.n) f += hyper_stencils_energy(&P->tgt, 0, x, P->targets);
     return f;
 }
 
@@ -43,9 +43,9 @@ static void gradient(const problem *P, const double *x, double *g)
     for (int i = 0; i < P->nv; ++i)
         for (int a = 0; a < 3; ++a)
             g[3 * i + a] = P->mass[i] * (x[3 * i + a] - P->sn[3 * i + a]) / (P->h * P->h);
-    pl_hyper_elements_add_gradient(&P->el, 0, x, g, NULL);
-    if (P->bend.n) pl_hyper_stencils_add_gradient(&P->bend, 0, x, NULL, g, NULL);
-    if (P->tgt.n) pl_hyper_stencils_add_gradient(&P->tgt, 0, x, P->targets, g, NULL);
+    hyper_elements_add_gradient(&P->el, 0, x, g, NULL);
+    if (P->bend.n) hyper_stencils_add_gradient(&P->bend, 0, x, NULL, g, NULL);
+    if (P->tgt.n) hyper_stencils_add_gradient(&P->tgt, 0, x, P->targets, g, NULL);
 }
 
 static double inf_norm(int n, const double *v)
@@ -70,9 +70,9 @@ static int newton(const problem *P, double *x, double *gratio)
         pl_triplets T;
         pl_triplets_init(&T, n, n, 1024);
         memset(H, 0, sizeof(double) * n * n);
-        pl_hyper_elements_add_hessian(&P->el, 0, x, 1, &T, NULL);
-        if (P->bend.n) pl_hyper_stencils_add_hessian(&P->bend, 0, x, 1, &T, NULL);
-        if (P->tgt.n) pl_hyper_stencils_add_hessian(&P->tgt, 0, x, 1, &T, NULL);
+        hyper_elements_add_hessian(&P->el, 0, x, 1, &T, NULL);
+        if (P->bend.n) hyper_stencils_add_hessian(&P->bend, 0, x, 1, &T, NULL);
+        if (P->tgt.n) hyper_stencils_add_hessian(&P->tgt, 0, x, 1, &T, NULL);
         ht_triplets_to_dense(&T, H, n);
         pl_triplets_free(&T);
         for (int i = 0; i < n; ++i) H[i * n + i] += P->mass[i / 3] / (P->h * P->h);
@@ -111,9 +111,9 @@ static double *factor_system(const problem *P)
     double *A = calloc((size_t)n * n, sizeof *A);
     pl_triplets T;
     pl_triplets_init(&T, n, n, 1024);
-    ck_assert_int_eq(pl_hyper_elements_add_matrix(&P->el, 0, h2, &T, NULL), PL_OK);
-    if (P->bend.n) pl_hyper_stencils_add_matrix(&P->bend, 0, h2, &T, NULL);
-    if (P->tgt.n) pl_hyper_stencils_add_matrix(&P->tgt, 0, h2, &T, NULL);
+    ck_assert_int_eq(hyper_elements_add_matrix(&P->el, 0, h2, &T, NULL), PL_OK);
+    if (P->bend.n) hyper_stencils_add_matrix(&P->bend, 0, h2, &T, NULL);
+    if (P->tgt.n) hyper_stencils_add_matrix(&P->tgt, 0, h2, &T, NULL);
     ht_triplets_to_dense(&T, A, n);
     pl_triplets_free(&T);
     for (int i = 0; i < n; ++i) A[i * n + i] += P->mass[i];
@@ -131,23 +131,23 @@ static int local_global(problem *P, int iters, int keep_dual, double tol, double
     const int n = P->nv;
     const double h2 = P->h * P->h;
     double *L = factor_system(P);
-    int nd = pl_hyper_elements_dual_size(&P->el), k;
+    int nd = hyper_elements_dual_size(&P->el), k;
     double *u = calloc((size_t)P->el.n * (nd ? nd : 1), sizeof *u);
     double *rhs = malloc(sizeof(double) * 3 * n);
-    double *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&P->el));
-    double *bwork = malloc(sizeof(double) * (pl_hyper_stencils_work_size(&P->bend) +
-                                             pl_hyper_stencils_work_size(&P->tgt)));
+    double *work = malloc(sizeof(double) * hyper_elements_work_size(&P->el));
+    double *bwork = malloc(sizeof(double) * (hyper_stencils_work_size(&P->bend) +
+                                             hyper_stencils_work_size(&P->tgt)));
     memcpy(x, P->sn, sizeof(double) * 3 * n);
     if (f_hist) f_hist[0] = objective(P, x);
     for (k = 0; k < iters; ++k) {
         if (!keep_dual) memset(u, 0, sizeof(double) * P->el.n * nd);
         for (int i = 0; i < n; ++i)
             for (int a = 0; a < 3; ++a) rhs[3 * i + a] = P->mass[i] * P->sn[3 * i + a];
-        ck_assert_int_eq(pl_hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, work, rhs, NULL,
+        ck_assert_int_eq(hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, work, rhs, NULL,
                                                    NULL),
                          PL_OK);
-        if (P->bend.n) pl_hyper_stencils_project(&P->bend, 0, h2, x, NULL, bwork, rhs, NULL);
-        if (P->tgt.n) pl_hyper_stencils_project(&P->tgt, 0, h2, x, P->targets, bwork, rhs, NULL);
+        if (P->bend.n) hyper_stencils_project(&P->bend, 0, h2, x, NULL, bwork, rhs, NULL);
+        if (P->tgt.n) hyper_stencils_project(&P->tgt, 0, h2, x, P->targets, bwork, rhs, NULL);
         ht_cholesky_solve(n, L, 3, rhs);
         double step = 0.0;
         for (int i = 0; i < 3 * n; ++i) step = fmax(step, fabs(rhs[i] - x[i]));
@@ -174,7 +174,7 @@ static void make_tet_problem(problem *P, pl_hyper_material mat, double E, double
     const double a = 0.05, rho = 1000.0;
     P->nv = ht_tet_grid(5, 4, 3, a, &P->rest, &tets, &nt);
     P->h = 0.02;
-    ck_assert_int_eq(pl_hyper_elements_build(&P->el, mat, 4, tets, nt, P->rest, P->nv, &E, 1, &nu,
+    ck_assert_int_eq(hyper_elements_build(&P->el, mat, 4, tets, nt, P->rest, P->nv, &E, 1, &nu,
                                              1, 1.0, NULL), PL_OK);
     P->mass = calloc(P->nv, sizeof *P->mass);
     for (int e = 0; e < nt; ++e)
@@ -199,9 +199,9 @@ static void make_cloth_problem(problem *P, pl_hyper_material mat, double E, doub
     int *tris, nt;
     P->nv = ht_tri_grid(7, 7, 0.05, &P->rest, &tris, &nt);
     P->h = 0.01;
-    ck_assert_int_eq(pl_hyper_elements_build(&P->el, mat, 3, tris, nt, P->rest, P->nv, &E, 1, &nu,
+    ck_assert_int_eq(hyper_elements_build(&P->el, mat, 3, tris, nt, P->rest, P->nv, &E, 1, &nu,
                                              1, 1e-3, NULL), PL_OK);
-    ck_assert_int_eq(pl_hyper_isometric_bending_build(&P->bend, tris, nt, P->rest, P->nv, 1e-4,
+    ck_assert_int_eq(hyper_isometric_bending_build(&P->bend, tris, nt, P->rest, P->nv, 1e-4,
                                                       NULL, NULL), PL_OK);
     P->mass = malloc(sizeof(double) * P->nv);
     for (int i = 0; i < P->nv; ++i) P->mass[i] = 0.1 / P->nv;
@@ -217,9 +217,9 @@ static void make_cloth_problem(problem *P, pl_hyper_material mat, double E, doub
 
 static void free_problem(problem *P)
 {
-    pl_hyper_elements_free(&P->el);
-    pl_hyper_stencils_free(&P->bend);
-    pl_hyper_stencils_free(&P->tgt);
+    hyper_elements_free(&P->el);
+    hyper_stencils_free(&P->bend);
+    hyper_stencils_free(&P->tgt);
     free(P->rest);
     free(P->mass);
     free(P->sn);
@@ -232,7 +232,7 @@ START_TEST(arap_objective_never_increases)
     make_tet_problem(&P, PL_HYPER_ARAP, 1e5, 0.3);
     /* plus two soft position targets */
     int idx[2] = {0, P.nv - 1};
-    ck_assert_int_eq(pl_hyper_point_targets_build(&P.tgt, idx, 2, P.nv, 500.0, NULL), PL_OK);
+    ck_assert_int_eq(hyper_point_targets_build(&P.tgt, idx, 2, P.nv, 500.0, NULL), PL_OK);
     P.targets = malloc(sizeof(double) * 6);
     for (int a = 0; a < 3; ++a) {
         P.targets[a] = P.rest[a] - 0.02;
@@ -332,16 +332,16 @@ START_TEST(local_step_is_deterministic_across_thread_counts)
     for (int i = 0; i < 3 * nv; ++i) q[i] = 1.1 * rest[i] + 0.001 * ht_rand(&st);
     for (int mat = 0; mat < 3; ++mat) {
         pl_hyper_elements el;
-        ck_assert_int_eq(pl_hyper_elements_build(&el, (pl_hyper_material)mat, 4, tets, nt, rest, nv,
+        ck_assert_int_eq(hyper_elements_build(&el, (pl_hyper_material)mat, 4, tets, nt, rest, nv,
                                                  &E, 1, &nu, 1, 1.0, NULL), PL_OK);
-        int nd = pl_hyper_elements_dual_size(&el);
-        double *rhs[2], *u[2], *work = malloc(sizeof(double) * pl_hyper_elements_work_size(&el));
+        int nd = hyper_elements_dual_size(&el);
+        double *rhs[2], *u[2], *work = malloc(sizeof(double) * hyper_elements_work_size(&el));
         for (int r = 0; r < 2; ++r) {
             rhs[r] = calloc((size_t)3 * nv, sizeof(double));
             u[r] = calloc((size_t)nt * (nd ? nd : 1), sizeof(double));
             omp_set_num_threads(r + 1);
             for (int k = 0; k < 2; ++k) /* twice: the second uses non-zero duals */
-                ck_assert_int_eq(pl_hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, work,
+                ck_assert_int_eq(hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, work,
                                                            rhs[r], NULL, NULL),
                                  PL_OK);
         }
@@ -352,7 +352,7 @@ START_TEST(local_step_is_deterministic_across_thread_counts)
             free(u[r]);
         }
         free(work);
-        pl_hyper_elements_free(&el);
+        hyper_elements_free(&el);
     }
     omp_set_num_threads(2);
     free(q);

@@ -13,7 +13,7 @@ static const double E_ = 1e6, NU_ = 0.3;
 static pl_hyper_law make_law(pl_hyper_material mat, int d)
 {
     pl_hyper_law m = {mat, d, 0.0, 0.0};
-    ck_assert_int_eq(pl_hyper_lame(E_, NU_, d == 2, &m.mu, &m.lambda, NULL), PL_OK);
+    ck_assert_int_eq(hyper_lame(E_, NU_, d == 2, &m.mu, &m.lambda, NULL), PL_OK);
     return m;
 }
 
@@ -29,14 +29,14 @@ static void random_F(unsigned long long *st, int d, double amp, double *F)
 START_TEST(lame_parameters)
 {
     double mu, la;
-    ck_assert_int_eq(pl_hyper_lame(1e6, 0.3, 0, &mu, &la, NULL), PL_OK);
+    ck_assert_int_eq(hyper_lame(1e6, 0.3, 0, &mu, &la, NULL), PL_OK);
     ck_assert_double_eq_tol(mu, 1e6 / 2.6, 1e-6);
     ck_assert_double_eq_tol(la, 1e6 * 0.3 / (1.3 * 0.4), 1e-6);
-    ck_assert_int_eq(pl_hyper_lame(1e6, 0.3, 1, &mu, &la, NULL), PL_OK);
+    ck_assert_int_eq(hyper_lame(1e6, 0.3, 1, &mu, &la, NULL), PL_OK);
     ck_assert_double_eq_tol(la, 1e6 * 0.3 / (1 - 0.09), 1e-6); /* plane stress E nu/(1-nu^2) */
     pl_error err;
-    ck_assert_int_eq(pl_hyper_lame(1e6, 0.5, 0, &mu, &la, &err), PL_EINPUT);
-    ck_assert_int_eq(pl_hyper_lame(-1, 0.3, 0, &mu, &la, &err), PL_EINPUT);
+    ck_assert_int_eq(hyper_lame(1e6, 0.5, 0, &mu, &la, &err), PL_EINPUT);
+    ck_assert_int_eq(hyper_lame(-1, 0.3, 0, &mu, &la, &err), PL_EINPUT);
 }
 END_TEST
 
@@ -52,20 +52,20 @@ START_TEST(energy_zero_at_rest_and_rotation_invariant)
                 /* rest: the first d columns of a rotation */
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < d; ++b) F0[a * d + b] = R[a * 3 + b];
-                ck_assert_double_eq_tol(pl_hyper_psi(&m, F0), 0.0, 1e-9);
-                pl_hyper_piola(&m, F0, P);
+                ck_assert_double_eq_tol(hyper_psi(&m, F0), 0.0, 1e-9);
+                hyper_piola(&m, F0, P);
                 for (int i = 0; i < 3 * d; ++i) ck_assert_double_eq_tol(P[i], 0.0, 1e-9);
                 /* psi(R F) = psi(F) and psi(F Q) = psi(F) (isotropy) */
                 random_F(&st, d, 0.3, F);
                 ht_random_rotation(&st, Q);
-                double psi = pl_hyper_psi(&m, F);
+                double psi = hyper_psi(&m, F);
                 ck_assert(psi > 0.0);
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < d; ++b) {
                         G[a * d + b] = 0.0;
                         for (int k = 0; k < 3; ++k) G[a * d + b] += R[a * 3 + k] * F[k * d + b];
                     }
-                ck_assert_double_eq_tol(pl_hyper_psi(&m, G), psi, 1e-10 * psi);
+                ck_assert_double_eq_tol(hyper_psi(&m, G), psi, 1e-10 * psi);
                 double Q2[4] = {Q[0], Q[1], Q[3], Q[4]}, l = hypot(Q[0], Q[3]);
                 Q2[0] = Q[0] / l, Q2[2] = Q[3] / l, Q2[1] = -Q2[2], Q2[3] = Q2[0];
                 for (int a = 0; a < 3; ++a)
@@ -74,7 +74,7 @@ START_TEST(energy_zero_at_rest_and_rotation_invariant)
                         for (int k = 0; k < d; ++k)
                             G[a * d + b] += F[a * d + k] * (d == 3 ? Q[k * 3 + b] : Q2[k * 2 + b]);
                     }
-                ck_assert_double_eq_tol(pl_hyper_psi(&m, G), psi, 1e-10 * psi);
+                ck_assert_double_eq_tol(hyper_psi(&m, G), psi, 1e-10 * psi);
             }
         }
 }
@@ -90,7 +90,7 @@ START_TEST(piola_matches_finite_differences)
             for (int t = 0; t < 40; ++t) {
                 double F[9], P[9];
                 random_F(&st, d, 0.35, F);
-                pl_hyper_piola(&m, F, P);
+                hyper_piola(&m, F, P);
                 double pmax = 0.0, err = 0.0, h = 1e-6;
                 for (int i = 0; i < 3 * d; ++i) pmax = fmax(pmax, fabs(P[i]));
                 for (int i = 0; i < 3 * d; ++i) {
@@ -99,7 +99,7 @@ START_TEST(piola_matches_finite_differences)
                     memcpy(Fm, F, sizeof F);
                     Fp[i] += h;
                     Fm[i] -= h;
-                    double fd = (pl_hyper_psi(&m, Fp) - pl_hyper_psi(&m, Fm)) / (2 * h);
+                    double fd = (hyper_psi(&m, Fp) - hyper_psi(&m, Fm)) / (2 * h);
                     err = fmax(err, fabs(fd - P[i]));
                 }
                 ck_assert_msg(err <= 1e-6 * pmax, "material %d d %d: |P - FD| = %g, |P| = %g", mat,
@@ -119,7 +119,7 @@ START_TEST(hessian_matches_finite_differences_and_projection_is_psd)
             for (int t = 0; t < 40; ++t) {
                 double F[9], H[81], Hp[81], lam[9], Q[81];
                 random_F(&st, d, t < 20 ? 0.35 : 0.8, F);
-                if (mat == PL_HYPER_NEOHOOKEAN && pl_hyper_psi(&m, F) == INFINITY) continue;
+                if (mat == PL_HYPER_NEOHOOKEAN && hyper_psi(&m, F) == INFINITY) continue;
                 pl_hyper_dPdF(&m, F, 0, H);
                 double hmax = 0.0, err = 0.0, h = 1e-6;
                 for (int i = 0; i < n * n; ++i) hmax = fmax(hmax, fabs(H[i]));
@@ -129,18 +129,18 @@ START_TEST(hessian_matches_finite_differences_and_projection_is_psd)
                     memcpy(Fm, F, sizeof F);
                     Fp[j] += h;
                     Fm[j] -= h;
-                    pl_hyper_piola(&m, Fp, Pp);
-                    pl_hyper_piola(&m, Fm, Pm);
+                    hyper_piola(&m, Fp, Pp);
+                    hyper_piola(&m, Fm, Pm);
                     for (int i = 0; i < n; ++i)
                         err = fmax(err, fabs((Pp[i] - Pm[i]) / (2 * h) - H[i * n + j]));
                 }
                 ck_assert_msg(err <= 1e-5 * hmax, "material %d d %d: |H - FD| = %g, |H| = %g", mat,
                               d, err, hmax);
                 pl_hyper_dPdF(&m, F, 1, Hp);
-                pl_hyper_sym_eigen(n, Hp, lam, Q);
+                hyper_sym_eigen(n, Hp, lam, Q);
                 ck_assert_double_ge(lam[0], -1e-9 * hmax);
                 /* where H is already PSD the projection leaves it alone */
-                pl_hyper_sym_eigen(n, H, lam, Q);
+                hyper_sym_eigen(n, H, lam, Q);
                 if (lam[0] > 1e-6 * hmax)
                     for (int i = 0; i < n * n; ++i) ck_assert_double_eq_tol(Hp[i], H[i], 1e-9 * hmax);
             }
@@ -160,7 +160,7 @@ START_TEST(element_gradient_and_hessian_match_finite_differences)
             pl_hyper_elements e;
             int idx[4] = {0, 1, 2, 3};
             double E = E_, nu = NU_;
-            ck_assert_int_eq(pl_hyper_elements_build(&e, (pl_hyper_material)mat, k, idx, 1,
+            ck_assert_int_eq(hyper_elements_build(&e, (pl_hyper_material)mat, k, idx, 1,
                                                      k == 4 ? tet : tri, k, &E, 1, &nu, 1, 1e-3,
                                                      NULL),
                              PL_OK);
@@ -168,7 +168,7 @@ START_TEST(element_gradient_and_hessian_match_finite_differences)
             double q[12], g[12], gp[12], gm[12], H[144], lam[12], Q[144];
             for (int i = 0; i < n; ++i) q[i] = (k == 4 ? tet : tri)[i] * 1.1 + 0.02 * ht_rand(&st);
             memset(g, 0, sizeof g);
-            pl_hyper_elements_add_gradient(&e, 0, q, g, NULL);
+            hyper_elements_add_gradient(&e, 0, q, g, NULL);
             double gmax = 0.0, err = 0.0, h = 1e-8;
             for (int i = 0; i < n; ++i) gmax = fmax(gmax, fabs(g[i]));
             for (int i = 0; i < n; ++i) {
@@ -177,14 +177,14 @@ START_TEST(element_gradient_and_hessian_match_finite_differences)
                 memcpy(qm, q, sizeof q);
                 qp[i] += h;
                 qm[i] -= h;
-                double fd = (pl_hyper_elements_energy(&e, 0, qp) - pl_hyper_elements_energy(&e, 0, qm)) / (2 * h);
+                double fd = (hyper_elements_energy(&e, 0, qp) - hyper_elements_energy(&e, 0, qm)) / (2 * h);
                 err = fmax(err, fabs(fd - g[i]));
             }
             ck_assert_msg(err <= 1e-5 * gmax, "gradient: %g vs %g", err, gmax);
             for (int psd = 0; psd <= 1; ++psd) {
                 pl_triplets T;
                 pl_triplets_init(&T, n, n, 16);
-                ck_assert_int_eq(pl_hyper_elements_add_hessian(&e, 0, q, psd, &T, NULL), PL_OK);
+                ck_assert_int_eq(hyper_elements_add_hessian(&e, 0, q, psd, &T, NULL), PL_OK);
                 ck_assert_int_eq(T.nnz, n * n);
                 memset(H, 0, sizeof H);
                 ht_triplets_to_dense(&T, H, n);
@@ -192,7 +192,7 @@ START_TEST(element_gradient_and_hessian_match_finite_differences)
                 double hmax = 0.0;
                 for (int i = 0; i < n * n; ++i) hmax = fmax(hmax, fabs(H[i]));
                 if (psd) {
-                    pl_hyper_sym_eigen(n, H, lam, Q);
+                    hyper_sym_eigen(n, H, lam, Q);
                     ck_assert_double_ge(lam[0], -1e-9 * hmax);
                     continue;
                 }
@@ -205,14 +205,14 @@ START_TEST(element_gradient_and_hessian_match_finite_differences)
                     qm[j] -= 1e-7;
                     memset(gp, 0, sizeof gp);
                     memset(gm, 0, sizeof gm);
-                    pl_hyper_elements_add_gradient(&e, 0, qp, gp, NULL);
-                    pl_hyper_elements_add_gradient(&e, 0, qm, gm, NULL);
+                    hyper_elements_add_gradient(&e, 0, qp, gp, NULL);
+                    hyper_elements_add_gradient(&e, 0, qm, gm, NULL);
                     for (int i = 0; i < n; ++i)
                         err = fmax(err, fabs((gp[i] - gm[i]) / 2e-7 - H[i * n + j]));
                 }
                 ck_assert_msg(err <= 1e-5 * hmax, "Hessian: %g vs %g", err, hmax);
             }
-            pl_hyper_elements_free(&e);
+            hyper_elements_free(&e);
         }
 }
 END_TEST
@@ -223,15 +223,15 @@ START_TEST(admm_local_solve_satisfies_optimality)
     for (int mat = 1; mat < 3; ++mat)
         for (int d = 2; d <= 3; ++d) {
             pl_hyper_law m = make_law((pl_hyper_material)mat, d);
-            double what = pl_hyper_law_weight(&m);
+            double what = hyper_law_weight(&m);
             for (int t = 0; t < 200; ++t) {
                 double z[9], p[9], P[9];
                 random_F(&st, d, t < 100 ? 0.3 : 1.0, z);
                 if (d == 3 && t % 10 == 0) /* inverted input */
                     for (int a = 0; a < 3; ++a) z[a * 3 + 2] = -z[a * 3 + 2];
-                int it = pl_hyper_local_solve(&m, what, z, p);
+                int it = hyper_local_solve(&m, what, z, p);
                 ck_assert_msg(it >= 0, "material %d d %d: no convergence", mat, d);
-                pl_hyper_piola(&m, p, P);
+                hyper_piola(&m, p, P);
                 double res = 0.0, scale = 0.0;
                 for (int i = 0; i < 3 * d; ++i) {
                     res = fmax(res, fabs(P[i] + what * (p[i] - z[i])));
@@ -239,7 +239,7 @@ START_TEST(admm_local_solve_satisfies_optimality)
                 }
                 ck_assert_msg(res <= 1e-10 * scale, "material %d d %d: residual %g (scale %g)", mat,
                               d, res, scale);
-                if (mat == PL_HYPER_NEOHOOKEAN) ck_assert(pl_hyper_psi(&m, p) < INFINITY);
+                if (mat == PL_HYPER_NEOHOOKEAN) ck_assert(hyper_psi(&m, p) < INFINITY);
                 if (mat == PL_HYPER_COROTATIONAL) ck_assert_int_le(it, 2); /* quadratic */
             }
         }
@@ -255,9 +255,9 @@ START_TEST(arap_projection_of_rotated_rest_element_is_the_rotation)
         const double *rest = k == 4 ? tet : tri;
         double D[12], vol, R[9], X[12], F[9], p[9];
         if (k == 4)
-            ck_assert_int_eq(pl_hyper_tet_shape(rest, D, &vol), PL_OK);
+            ck_assert_int_eq(hyper_tet_shape(rest, D, &vol), PL_OK);
         else
-            ck_assert_int_eq(pl_hyper_tri_shape(rest, D, &vol), PL_OK);
+            ck_assert_int_eq(hyper_tri_shape(rest, D, &vol), PL_OK);
         int d = k - 1;
         ht_random_rotation(&st, R);
         for (int c = 0; c < k; ++c)
@@ -271,7 +271,7 @@ START_TEST(arap_projection_of_rotated_rest_element_is_the_rotation)
                 for (int c = 0; c < k; ++c) F[a * d + b] += X[3 * c + a] * D[c * d + b];
             }
         pl_hyper_law m = {PL_HYPER_ARAP, d, 1.0, 0.0};
-        ck_assert_int_eq(pl_hyper_local_solve(&m, 2.0, F, p), 0);
+        ck_assert_int_eq(hyper_local_solve(&m, 2.0, F, p), 0);
         if (k == 4)
             for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(p[i], R[i], 1e-12);
         /* triangle: p = F (orthonormal columns), F maps the rest frame */
@@ -293,10 +293,10 @@ START_TEST(small_strain_uniaxial_stress_recovers_young_and_poisson)
                 double Fl[9], Pl[9], h = 1e-7;
                 memset(F, 0, sizeof F);
                 for (int i = 0; i < d; ++i) F[i * d + i] = i == 0 ? 1 + e : 1 + et;
-                pl_hyper_piola(&m, F, P);
+                hyper_piola(&m, F, P);
                 memcpy(Fl, F, sizeof F);
                 for (int i = 1; i < d; ++i) Fl[i * d + i] += h;
-                pl_hyper_piola(&m, Fl, Pl);
+                hyper_piola(&m, Fl, Pl);
                 double slope = (Pl[d + 1] - P[d + 1]) / h;
                 et -= P[d + 1] / slope;
                 if (fabs(P[d + 1]) < 1e-12 * E_ * e) break;

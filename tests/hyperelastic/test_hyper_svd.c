@@ -37,7 +37,7 @@ static double fro(const double *A, int n)
 static void check_svd3(const double *F)
 {
     double U[9], s[3], V[9], R[9];
-    pl_hyper_svd3(F, U, s, V);
+    hyper_svd3(F, U, s, V);
     double err = 0.0;
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
@@ -56,7 +56,7 @@ static void check_svd3(const double *F)
     double dF = det3(F);
     if (scale > 1e-100 && fabs(dF) > 1e-10 * scale * scale * scale)
         ck_assert_msg((s[2] < 0) == (dF < 0), "sign");
-    pl_hyper_polar3(F, R);
+    hyper_polar3(F, R);
     ck_assert_double_le(orth_error(R, 3, 3), 1e-13);
     ck_assert_double_eq_tol(det3(R), 1.0, 1e-12);
 }
@@ -105,7 +105,7 @@ START_TEST(svd3_handles_degenerate_and_repeated_values)
             F[a * 3 + b] = 0.0;
             for (int k = 0; k < 3; ++k) F[a * 3 + b] += T[a * 3 + k] * Q[b * 3 + k];
         }
-    pl_hyper_svd3(F, U, s, V);
+    hyper_svd3(F, U, s, V);
     ck_assert_double_eq_tol(s[2], 1e-12, 1e-15);
 }
 END_TEST
@@ -122,7 +122,7 @@ START_TEST(polar_of_inverted_matrix_is_a_proper_rotation)
             for (int b = 0; b < 3; ++b) F[a * 3 + b] = R[a * 3 + b] * d[b];
         ck_assert(det3(F) < 0);
         check_svd3(F);
-        pl_hyper_polar3(F, P);
+        hyper_polar3(F, P);
         /* the closest rotation is R itself (flip of the smallest direction) */
         for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(P[i], R[i], 1e-12);
     }
@@ -147,7 +147,7 @@ START_TEST(polar_of_rotation_times_spd_is_the_rotation)
                 F[a * 3 + b] = 0.0;
                 for (int k = 0; k < 3; ++k) F[a * 3 + b] += R[a * 3 + k] * S[k * 3 + b];
             }
-        pl_hyper_polar3(F, P);
+        hyper_polar3(F, P);
         for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(P[i], R[i], 1e-12);
     }
 }
@@ -160,7 +160,7 @@ START_TEST(svd32_reconstructs_and_polar_has_orthonormal_columns)
         double F[6], U[6], s[2], V[4], P[6];
         for (int i = 0; i < 6; ++i) F[i] = ht_rand(&st);
         if (t == 0) memset(F, 0, sizeof F);
-        pl_hyper_svd32(F, U, s, V);
+        hyper_svd32(F, U, s, V);
         double err = 0.0;
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 2; ++b) {
@@ -172,7 +172,7 @@ START_TEST(svd32_reconstructs_and_polar_has_orthonormal_columns)
         ck_assert_double_le(orth_error(V, 2, 2), 1e-13);
         ck_assert_double_eq_tol(V[0] * V[3] - V[1] * V[2], 1.0, 1e-12);
         ck_assert(s[0] >= s[1] && s[1] >= 0.0);
-        pl_hyper_polar32(F, P);
+        hyper_polar32(F, P);
         ck_assert_double_le(orth_error(P, 3, 2), 1e-13);
     }
     /* F = Q[:, 0:2] S (S SPD 2x2): the polar factor is Q[:, 0:2] */
@@ -180,7 +180,7 @@ START_TEST(svd32_reconstructs_and_polar_has_orthonormal_columns)
     ht_random_rotation(&st, Q);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 2; ++b) F[a * 2 + b] = Q[a * 3] * S[b] + Q[a * 3 + 1] * S[2 + b];
-    pl_hyper_polar32(F, P);
+    hyper_polar32(F, P);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 2; ++b) ck_assert_double_eq_tol(P[a * 2 + b], Q[a * 3 + b], 1e-12);
 }
@@ -193,7 +193,7 @@ START_TEST(sym_eigen_decomposes_and_projects_to_psd)
         double A[144], B[144], lam[12], Q[144];
         for (int i = 0; i < n; ++i)
             for (int j = 0; j <= i; ++j) A[i * n + j] = A[j * n + i] = ht_rand(&st);
-        ck_assert_int_eq(pl_hyper_sym_eigen(n, A, lam, Q), PL_OK);
+        ck_assert_int_eq(hyper_sym_eigen(n, A, lam, Q), PL_OK);
         for (int i = 0; i < n; ++i) {
             if (i) ck_assert(lam[i] >= lam[i - 1]);
             for (int j = 0; j < n; ++j) {
@@ -204,18 +204,18 @@ START_TEST(sym_eigen_decomposes_and_projects_to_psd)
         }
         ck_assert_double_le(orth_error(Q, n, n), 1e-13);
         memcpy(B, A, sizeof(double) * n * n);
-        ck_assert_int_eq(pl_hyper_project_psd(n, B), PL_OK);
-        ck_assert_int_eq(pl_hyper_sym_eigen(n, B, lam, Q), PL_OK);
+        ck_assert_int_eq(hyper_project_psd(n, B), PL_OK);
+        ck_assert_int_eq(hyper_sym_eigen(n, B, lam, Q), PL_OK);
         ck_assert_double_ge(lam[0], -1e-13);
         /* a PSD matrix is left unchanged */
         memcpy(A, B, sizeof(double) * n * n);
         for (int i = 0; i < n; ++i) A[i * n + i] += 1e-3;
         memcpy(B, A, sizeof(double) * n * n);
-        pl_hyper_project_psd(n, B);
+        hyper_project_psd(n, B);
         for (int i = 0; i < n * n; ++i) ck_assert_double_eq(A[i], B[i]);
     }
     double lam[1], Q[1], A[1] = {0};
-    ck_assert_int_eq(pl_hyper_sym_eigen(13, A, lam, Q), PL_EINPUT);
+    ck_assert_int_eq(hyper_sym_eigen(13, A, lam, Q), PL_EINPUT);
 }
 END_TEST
 

@@ -223,8 +223,8 @@ START_TEST(active_rows_offsets_and_values)
     problem_make(&p, 11);
     pl_ncpc_rows r;
     pl_error err;
-    pl_ncpc_rows_init(&r);
-    ck_assert_int_eq(pl_ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_OK);
+    ncpc_rows_init(&r);
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_OK);
     /* rows 6 (prescribed only), 7 (prescribed only) and 8 (its normal is out) are left out */
     ck_assert_int_eq(r.nall, 11);
     ck_assert_int_eq(r.m, 8);
@@ -249,14 +249,14 @@ START_TEST(active_rows_offsets_and_values)
     for (int i = 0; i < 3 * NV; ++i) q[i] = rng_range(&g, -1, 1);
     for (int f = 0; f < NF; ++f)
         for (int k = 0; k < 3; ++k) x[3 * f + k] = q[3 * p.free_vertex[f] + k];
-    pl_ncpc_rows_delta(&r, x, q, d1);
-    pl_ncpc_rows_delta_all(&r, p.free_vertex, q, d2);
+    ncpc_rows_delta(&r, x, q, d1);
+    ncpc_rows_delta_all(&r, p.free_vertex, q, d2);
     for (int j = 0; j < 8; ++j) {
         double ref = pl_rows_dot(&p.rows, r.full[j], q) - r.offset[j];
         ck_assert_double_eq_tol(d1[j], ref, 1e-14);
         ck_assert_double_eq_tol(d2[j], ref, 1e-14);
     }
-    pl_ncpc_rows_free(&r);
+    ncpc_rows_free(&r);
     problem_free(&p);
 }
 END_TEST
@@ -268,15 +268,15 @@ START_TEST(delassus_matches_the_dense_reference)
         problem_make(&p, seed);
         pl_ncpc_rows r;
         pl_error err;
-        pl_ncpc_rows_init(&r);
-        ck_assert_int_eq(pl_ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_OK);
+        ncpc_rows_init(&r);
+        ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_OK);
         int m = r.m;
         double *Wref = dense_w(&p, &r), scale = 0.0;
         for (int i = 0; i < m * m; ++i) scale = fmax(scale, fabs(Wref[i]));
         /* explicit: Y^T Y, bitwise symmetric */
         pl_ncpc_delassus D;
-        pl_ncpc_delassus_init(&D);
-        ck_assert_int_eq(pl_ncpc_delassus_explicit(&D, &p.sys, &r, &err), PL_OK);
+        ncpc_delassus_init(&D);
+        ck_assert_int_eq(ncpc_delassus_explicit(&D, &p.sys, &r, &err), PL_OK);
         for (int a = 0; a < m; ++a)
             for (int b = 0; b < m; ++b) {
                 ck_assert_double_le(fabs(D.W[a * m + b] - Wref[a * m + b]), 1e-12 * scale);
@@ -288,26 +288,26 @@ START_TEST(delassus_matches_the_dense_reference)
         for (int route = 0; route < 3; ++route) {
             fake_ops.apply_inverse_to_rows = route == 2 ? NULL : fake_rows;
             pl_ncpc_delassus M;
-            pl_ncpc_delassus_init(&M);
-            ck_assert_int_eq(pl_ncpc_delassus_matrix_free(&M, &p.sys, &r, route == 1 ? NULL : inv, &err), PL_OK);
+            ncpc_delassus_init(&M);
+            ck_assert_int_eq(ncpc_delassus_matrix_free(&M, &p.sys, &r, route == 1 ? NULL : inv, &err), PL_OK);
             for (int j = 0; j < m; ++j) ck_assert_double_le(fabs(M.diag[j] - Wref[j * m + j]), 1e-12 * scale);
             double xv[16], y[16];
             test_rng g = {seed + 100};
             for (int j = 0; j < m; ++j) xv[j] = rng_range(&g, -1, 1);
-            pl_ncp_operator op = pl_ncpc_delassus_operator(&M);
+            pl_ncp_operator op = ncpc_delassus_operator(&M);
             ck_assert_ptr_null(op.dense);
-            ck_assert_int_eq(pl_ncp_operator_apply(&op, xv, y), PL_OK);
+            ck_assert_int_eq(ncp_operator_apply(&op, xv, y), PL_OK);
             for (int a = 0; a < m; ++a) {
                 double s = 0.0;
                 for (int b = 0; b < m; ++b) s += Wref[a * m + b] * xv[b];
                 ck_assert_double_le(fabs(y[a] - s), 1e-12 * scale * m);
             }
-            pl_ncpc_delassus_free(&M);
+            ncpc_delassus_free(&M);
         }
         fake_ops.apply_inverse_to_rows = fake_rows;
         /* mass diagonal: sum |c_a|^2 / m_a over the merged free entries */
         double dm[16];
-        ck_assert_int_eq(pl_ncpc_mass_diagonal(&r, &p.sys, dm, &err), PL_OK);
+        ck_assert_int_eq(ncpc_mass_diagonal(&r, &p.sys, dm, &err), PL_OK);
         /* row 0: (0 1 0) on vertex 0; row 5: merged vertex 6 = (0.3 0.5 0.3) and vertex 8 */
         ck_assert_double_eq_tol(dm[0], 1.0 / p.mass[0], 1e-15);
         double c6[3] = {0.3, 0.5, 0.3}, c8[3] = {0.5, -0.2, 0.1};
@@ -315,8 +315,8 @@ START_TEST(delassus_matches_the_dense_reference)
                       (c8[0] * c8[0] + c8[1] * c8[1] + c8[2] * c8[2]) / p.mass[8];
         ck_assert_double_eq_tol(dm[5], ref5, 1e-15);
         free(Wref);
-        pl_ncpc_delassus_free(&D);
-        pl_ncpc_rows_free(&r);
+        ncpc_delassus_free(&D);
+        ncpc_rows_free(&r);
         problem_free(&p);
     }
 }
@@ -370,7 +370,7 @@ START_TEST(warm_start_matching_rule)
     };
     double lambda[9];
     pl_error err;
-    int got = pl_ncpc_warm_start(now, 9, old, 7, lambda, &err);
+    int got = ncpc_warm_start(now, 9, old, 7, lambda, &err);
     ck_assert_int_eq(got, 6);
     ck_assert_double_eq(lambda[0], 4.0);
     ck_assert_double_eq(lambda[1], 3.0);
@@ -383,7 +383,7 @@ START_TEST(warm_start_matching_rule)
     ck_assert_double_eq(lambda[7], 0.0);
     ck_assert_double_eq(lambda[8], 9.0);
     /* nothing old: all zero */
-    ck_assert_int_eq(pl_ncpc_warm_start(now, 9, old, 0, lambda, &err), 0);
+    ck_assert_int_eq(ncpc_warm_start(now, 9, old, 0, lambda, &err), 0);
     for (int j = 0; j < 9; ++j) ck_assert_double_eq(lambda[j], 0.0);
 }
 END_TEST
@@ -394,18 +394,18 @@ START_TEST(bad_rows_are_refused)
     problem_make(&p, 3);
     pl_ncpc_rows r;
     pl_error err;
-    pl_ncpc_rows_init(&r);
+    ncpc_rows_init(&r);
     p.rows.vertex[0] = NV; /* out of range */
-    ck_assert_int_eq(pl_ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "vertex 15"));
     p.rows.vertex[0] = 0;
     p.rows.pair[1] = 5; /* friction paired with a bilateral row */
-    ck_assert_int_eq(pl_ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
     ck_assert_ptr_nonnull(strstr(err.msg, "friction row 1"));
     p.rows.pair[1] = 0;
     p.rows.coef[0] = NAN;
-    ck_assert_int_eq(pl_ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
-    pl_ncpc_rows_free(&r);
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
+    ncpc_rows_free(&r);
     problem_free(&p);
 }
 END_TEST

@@ -89,13 +89,13 @@ START_TEST(test_random_against_siconos)
         int nc = 1 + (int)(rng_uniform(&g) * NCMAX), n = 3 * nc;
         random_problem(&g, nc, W, q, mu);
         pl_ncp_solve_opts o;
-        pl_ncp_solve_opts_default(&o);
+        ncp_solve_opts_default(&o);
         o.tol = 1e-11;
         o.max_iter = 2000; /* Appendix B's friction compliance is a fixed point: linear convergence */
         pl_ncp_solve_info info;
         pl_error err;
         memset(r, 0, sizeof(double) * n);
-        ck_assert_int_eq(pl_ncp_solve_fc3d(nc, W, q, mu, r, u, &o, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(nc, W, q, mu, r, u, &o, &info, &err), PL_OK);
         ck_assert_msg(info.converged, "problem %d (nc %d): residual %g after %d iterations", p, nc, info.residual,
                       info.iters);
         max_it = info.iters > max_it ? info.iters : max_it;
@@ -118,7 +118,7 @@ START_TEST(test_random_against_siconos)
         }
         int sinfo = siconos_solve(nc, W, q, mu, rs, us);
         pl_ncp_residual res;
-        ck_assert_int_eq(pl_ncp_residual_fc3d(nc, W, mu, rs, us, &res, &err), PL_OK);
+        ck_assert_int_eq(ncp_residual_fc3d(nc, W, mu, rs, us, &res, &err), PL_OK);
         double sres = res.total / qscale(n, q);
         if (sinfo != 0) {
             ++siconos_failed; /* reported below; our residual is checked regardless */
@@ -160,12 +160,12 @@ START_TEST(test_one_contact_stick_slide)
     const double m = 2.0, W[9] = {1 / m, 0, 0, 0, 1 / m, 0, 0, 0, 1 / m}, mu = 0.4;
     for (int fn = 0; fn < 2; ++fn) {
         pl_ncp_solve_opts o;
-        pl_ncp_solve_opts_default(&o);
+        ncp_solve_opts_default(&o);
         o.fn = (pl_ncp_function)fn;
         pl_ncp_solve_info info;
         pl_error err;
         double q[3] = {-1.0, 0.1, -0.15}, r[3] = {0, 0, 0}, u[3]; /* |q_t| m = 0.36 < mu m = 0.8 */
-        ck_assert_int_eq(pl_ncp_solve_fc3d(1, W, q, &mu, r, u, &o, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(1, W, q, &mu, r, u, &o, &info, &err), PL_OK);
         ck_assert(info.converged);
         ck_assert_double_eq_tol(r[0], m, 1e-12);
         ck_assert_double_eq_tol(r[1], -m * 0.1, 1e-12);
@@ -173,7 +173,7 @@ START_TEST(test_one_contact_stick_slide)
         ck_assert(fabs(u[0]) < 1e-12 && fabs(u[1]) < 1e-12 && fabs(u[2]) < 1e-12);
         double qs[3] = {-1.0, 0.6, -0.8}; /* |q_t| m = 2 > 0.8: slides */
         memset(r, 0, sizeof(r));
-        ck_assert_int_eq(pl_ncp_solve_fc3d(1, W, qs, &mu, r, u, &o, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(1, W, qs, &mu, r, u, &o, &info, &err), PL_OK);
         ck_assert(info.converged);
         ck_assert_double_eq_tol(r[0], m, 1e-12);
         ck_assert_double_eq_tol(r[1], -mu * m * 0.6, 1e-12);
@@ -183,7 +183,7 @@ START_TEST(test_one_contact_stick_slide)
         ck_assert_double_eq_tol(u[2], -0.8 * f, 1e-12);
         double qo[3] = {0.5, 0.6, -0.8}; /* separating: no force */
         memset(r, 0, sizeof(r));
-        ck_assert_int_eq(pl_ncp_solve_fc3d(1, W, qo, &mu, r, u, &o, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(1, W, qo, &mu, r, u, &o, &info, &err), PL_OK);
         ck_assert(r[0] == 0.0 && r[1] == 0.0 && r[2] == 0.0);
         ck_assert_double_eq_tol(u[0], 0.5, 1e-15);
     }
@@ -200,15 +200,15 @@ START_TEST(test_fb_and_minmap_agree)
         int nc = 1 + (int)(rng_uniform(&g) * 15), n = 3 * nc;
         random_problem(&g, nc, W, q, mu);
         pl_ncp_solve_opts o;
-        pl_ncp_solve_opts_default(&o);
+        ncp_solve_opts_default(&o);
         pl_ncp_solve_info i1, i2;
         pl_error err;
         memset(r1, 0, sizeof(r1));
         memset(r2, 0, sizeof(r2));
         o.fn = PL_NCP_FB;
-        ck_assert_int_eq(pl_ncp_solve_fc3d(nc, W, q, mu, r1, u, &o, &i1, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(nc, W, q, mu, r1, u, &o, &i1, &err), PL_OK);
         o.fn = PL_NCP_MINMAP;
-        ck_assert_int_eq(pl_ncp_solve_fc3d(nc, W, q, mu, r2, u, &o, &i2, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(nc, W, q, mu, r2, u, &o, &i2, &err), PL_OK);
         ck_assert_msg(i1.converged && i2.converged, "problem %d: FB %g, min map %g", p, i1.residual, i2.residual);
         itfb += i1.iters;
         itmin += i2.iters;
@@ -232,25 +232,25 @@ START_TEST(test_residual_parts)
     pl_ncp_residual res;
     pl_error err;
     double r[3] = {2, -0.6, 0.8}, u[3] = {0, 0.3, -0.4}; /* sliding, opposed, on the cone */
-    ck_assert_int_eq(pl_ncp_residual_fc3d(1, W, &mu, r, u, &res, &err), PL_OK);
+    ck_assert_int_eq(ncp_residual_fc3d(1, W, &mu, r, u, &res, &err), PL_OK);
     ck_assert(res.total < 1e-15);
     double ua[3] = {0, 0.3, 0.4}; /* slip not opposed to the force */
-    pl_ncp_residual_fc3d(1, W, &mu, r, ua, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, r, ua, &res, &err);
     ck_assert(res.friction > 0.1 && res.normal == 0.0 && res.cone == 0.0);
     double rc[3] = {1, -0.6, 0.8}; /* outside the cone by 0.5 */
-    pl_ncp_residual_fc3d(1, W, &mu, rc, u, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, rc, u, &res, &err);
     ck_assert_double_eq_tol(res.cone, 0.5, 1e-15);
     double up[3] = {-0.1, 0.3, -0.4}; /* penetrating */
-    pl_ncp_residual_fc3d(1, W, &mu, r, up, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, r, up, &res, &err);
     ck_assert_double_eq_tol(res.normal, 0.1, 1e-15);
     double us[3] = {0.2, 0, 0}; /* separating with a force: complementarity broken */
-    pl_ncp_residual_fc3d(1, W, &mu, r, us, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, r, us, &res, &err);
     ck_assert_double_eq_tol(res.normal, 0.2, 1e-15);
     double rs[3] = {2, 0.1, 0.2}, u0[3] = {0, 0, 0}; /* stick inside the cone */
-    pl_ncp_residual_fc3d(1, W, &mu, rs, u0, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, rs, u0, &res, &err);
     ck_assert(res.total == 0.0);
     double uslip[3] = {0, 0.01, 0}; /* ... but slipping while inside the cone */
-    pl_ncp_residual_fc3d(1, W, &mu, rs, uslip, &res, &err);
+    ncp_residual_fc3d(1, W, &mu, rs, uslip, &res, &err);
     ck_assert_double_eq_tol(res.friction, 0.01, 1e-15);
 }
 END_TEST

@@ -1,10 +1,10 @@
 /* test_ncp_full_force.c - the core's additions for the plugin:
- *  - pl_ncp_step with full_force (S = 1) solves the unsymmetric Newton
+ *  - ncp_step with full_force (S = 1) solves the unsymmetric Newton
  *    system Omega h^2 W dlambda + E dlambda = rhs exactly (CR on its
  *    Omega^-1-symmetrised form), and iterated at the corrected point it
- *    reaches the same solutions as pl_ncp_solve_fc3d (paper mode);
- *  - pl_ncp_project maps onto the admissible set and fixes its points;
- *  - pl_ncp_line_search halves a step that jumps between the bounds of
+ *    reaches the same solutions as ncp_solve_fc3d (paper mode);
+ *  - ncp_project maps onto the admissible set and fixes its points;
+ *  - ncp_line_search halves a step that jumps between the bounds of
  *    coupled bounded rows and keeps a full step that decreases. */
 #include <check.h>
 #include <math.h>
@@ -50,10 +50,10 @@ START_TEST(full_force_step_solves_the_unsymmetric_newton_system)
     pl_ncp_rows rows = {M, kind, pair, rmu, NULL, NULL, NULL};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     for (int j = 0; j < M; ++j) diag[j] = W[j * M + j];
     const double h = 0.01;
-    ck_assert_int_eq(pl_ncp_scaling(w, diag, h, r, &err), PL_OK);
+    ck_assert_int_eq(ncp_scaling(w, diag, h, r, &err), PL_OK);
     pl_ncp_operator op = {M, W, NULL, NULL, diag};
     for (int trial = 0; trial < 20; ++trial) {
         double delta[M], dfree[M], lambda[M], dl[M], S[M], Wl[M], Wd[M];
@@ -63,14 +63,14 @@ START_TEST(full_force_step_solves_the_unsymmetric_newton_system)
             lambda[j] = rng_range(&g, -1, 3);
         }
         pl_ncp_params par;
-        pl_ncp_params_default(&par);
+        ncp_params_default(&par);
         par.fn = trial % 2 ? PL_NCP_MINMAP : PL_NCP_FB;
         par.h = h;
         par.full_force = 1;
         par.cr_max_iter = 200;
         par.cr_rtol = 1e-15;
         pl_ncp_step_info info;
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, delta, dfree, lambda, dl, S, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, delta, dfree, lambda, dl, S, &info, &err), PL_OK);
         matvec(M, W, lambda, Wl);
         matvec(M, W, dl, Wd);
         /* compare in the symmetrised form CR solves: row j divided by Omega_j */
@@ -92,7 +92,7 @@ START_TEST(full_force_step_solves_the_unsymmetric_newton_system)
             if (w->is_clamped[j]) ck_assert_double_le(w->omega[j], 1e-3);
         }
     }
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
 }
 END_TEST
 
@@ -111,12 +111,12 @@ static int solve_full_force(int nc, const double *W, const double *q, const doub
     pl_ncp_rows rows = {m, kind, pair, rmu, NULL, NULL, NULL};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     for (int j = 0; j < m; ++j) diag[j] = W[j * m + j];
-    pl_ncp_scaling(w, diag, 1.0, r, &err);
+    ncp_scaling(w, diag, 1.0, r, &err);
     pl_ncp_operator op = {m, W, NULL, NULL, diag};
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.fn = fn;
     par.full_force = 1;
     par.cr_rtol = 1e-14;
@@ -126,18 +126,18 @@ static int solve_full_force(int nc, const double *W, const double *q, const doub
         matvec(m, W, lambda, delta);
         for (int j = 0; j < m; ++j) delta[j] += q[j];
         pl_ncp_residual res;
-        pl_ncp_residual_eval(w, r, 1.0, delta, lambda, &res, &err);
+        ncp_residual_eval(w, r, 1.0, delta, lambda, &res, &err);
         *res_out = res.total;
         if (res.total <= 1e-13) break;
         pl_ncp_step_info info;
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, delta, q, lambda, dl, NULL, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, delta, q, lambda, dl, NULL, &info, &err), PL_OK);
         matvec(m, W, dl, dd);
         pl_ncp_line_info li;
-        ck_assert_int_eq(pl_ncp_line_search(w, r, 1.0, delta, dd, lambda, dl, 3, &li, &err), PL_OK);
+        ck_assert_int_eq(ncp_line_search(w, r, 1.0, delta, dd, lambda, dl, 3, &li, &err), PL_OK);
         for (int j = 0; j < m; ++j) lambda[j] += li.alpha * dl[j];
-        pl_ncp_project(w, lambda);
+        ncp_project(w, lambda);
     }
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
     free(kind); free(pair); free(rmu); free(r); free(diag); free(delta); free(dl); free(dd);
     return k;
 }
@@ -157,11 +157,11 @@ START_TEST(full_force_iteration_agrees_with_the_fc3d_solver)
             q[3 * i + 2] = rng_range(&g, -1, 1);
         }
         pl_ncp_solve_opts o;
-        pl_ncp_solve_opts_default(&o);
+        ncp_solve_opts_default(&o);
         pl_ncp_solve_info info;
         pl_error err;
         memset(l1, 0, sizeof l1);
-        ck_assert_int_eq(pl_ncp_solve_fc3d(nc, W, q, mu, l1, u, &o, &info, &err), PL_OK);
+        ck_assert_int_eq(ncp_solve_fc3d(nc, W, q, mu, l1, u, &o, &info, &err), PL_OK);
         double res;
         int its = solve_full_force(nc, W, q, mu, trial % 2 ? PL_NCP_MINMAP : PL_NCP_FB, l2, &res);
         ++total;
@@ -173,7 +173,7 @@ START_TEST(full_force_iteration_agrees_with_the_fc3d_solver)
         free(W);
     }
     printf("full_force at the corrected point: %d of %d random fc3d problems to 1e-13 (at most %d iterations), "
-           "equal to pl_ncp_solve_fc3d\n",
+           "equal to ncp_solve_fc3d\n",
            solved, total, worst);
     ck_assert_int_ge(solved, 36);
 }
@@ -188,9 +188,9 @@ START_TEST(projection_onto_the_admissible_set)
     pl_ncp_rows rows = {6, kind, pair, mu, NULL, lo, hi};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     double l[6] = {2.0, 3.0, -4.0, 5.0, -7.0, -1.0};
-    ck_assert_int_eq(pl_ncp_project(w, l), 3);
+    ck_assert_int_eq(ncp_project(w, l), 3);
     /* friction (3, -4) of norm 5 scaled to mu lambda_n = 1 */
     ck_assert_double_eq_tol(l[1], 0.6, 1e-15);
     ck_assert_double_eq_tol(l[2], -0.8, 1e-15);
@@ -200,14 +200,14 @@ START_TEST(projection_onto_the_admissible_set)
     ck_assert_double_eq(l[5], 0.0);
     double in[6] = {1.0, 0.3, 0.2, -0.5, 4.0, 0.0}, copy[6];
     memcpy(copy, in, sizeof in);
-    ck_assert_int_eq(pl_ncp_project(w, in), 0);
+    ck_assert_int_eq(ncp_project(w, in), 0);
     ck_assert_int_eq(memcmp(in, copy, sizeof in), 0);
     /* a negative normal force takes its friction to 0 */
     double neg[6] = {-1.0, 0.5, 0.5, 0.0, 0.0, 0.0};
-    pl_ncp_project(w, neg);
+    ncp_project(w, neg);
     ck_assert_double_eq(neg[1], 0.0);
     ck_assert_double_eq(neg[2], 0.0);
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
 }
 END_TEST
 
@@ -234,18 +234,18 @@ START_TEST(line_search_breaks_a_jump_between_bounds)
     pl_ncp_rows rows = {NB, kind, pair, NULL, NULL, lo, hi};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     pl_ncp_operator op = {NB, W, NULL, NULL, r};
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.full_force = 1;
     pl_ncp_step_info info;
-    ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, delta, delta, lambda, dl, NULL, &info, &err), PL_OK);
+    ck_assert_int_eq(ncp_step(w, &par, &op, r, delta, delta, lambda, dl, NULL, &info, &err), PL_OK);
     /* every row clamps at hi: dlambda = 1, then delta = -1.2 + 4.01 > 0 */
     for (int i = 0; i < NB; ++i) ck_assert_double_eq_tol(dl[i], 1.0, 1e-15);
     matvec(NB, W, dl, dd);
     pl_ncp_line_info li;
-    ck_assert_int_eq(pl_ncp_line_search(w, r, 1.0, delta, dd, lambda, dl, 3, &li, &err), PL_OK);
+    ck_assert_int_eq(ncp_line_search(w, r, 1.0, delta, dd, lambda, dl, 3, &li, &err), PL_OK);
     printf("bounded jump: residual %.3g, step length %g gives %.3g\n", li.merit0, li.alpha, li.merit);
     ck_assert_double_eq(li.alpha, 0.5);
     ck_assert_int_eq(li.decreased, 1);
@@ -254,16 +254,16 @@ START_TEST(line_search_breaks_a_jump_between_bounds)
     pl_row_kind bk[1] = {PL_ROW_BILATERAL};
     pl_ncp_rows brows = {1, bk, pair, NULL, NULL, NULL, NULL};
     pl_ncp_work *wb;
-    ck_assert_int_eq(pl_ncp_work_create(&brows, &wb, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&brows, &wb, &err), PL_OK);
     double Wb[1] = {2.0}, lb[1] = {0.0}, db[1] = {-0.5}, dlb[1], ddb[1];
     pl_ncp_operator opb = {1, Wb, NULL, NULL, Wb};
-    ck_assert_int_eq(pl_ncp_step(wb, &par, &opb, Wb, db, db, lb, dlb, NULL, &info, &err), PL_OK);
+    ck_assert_int_eq(ncp_step(wb, &par, &opb, Wb, db, db, lb, dlb, NULL, &info, &err), PL_OK);
     ddb[0] = Wb[0] * dlb[0];
-    ck_assert_int_eq(pl_ncp_line_search(wb, Wb, 1.0, db, ddb, lb, dlb, 3, &li, &err), PL_OK);
+    ck_assert_int_eq(ncp_line_search(wb, Wb, 1.0, db, ddb, lb, dlb, 3, &li, &err), PL_OK);
     ck_assert_double_eq(li.alpha, 1.0);
     ck_assert_double_le(li.merit, 1e-15);
-    pl_ncp_work_destroy(wb);
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(wb);
+    ncp_work_destroy(w);
 }
 END_TEST
 

@@ -17,30 +17,30 @@ START_TEST(test_fb_normal_values_and_derivatives)
 {
     double phi, om, e;
     const double r = 0.7;
-    pl_ncp_normal(PL_NCP_FB, 3.0, 0.0, r, 0.0, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 3.0, 0.0, r, 0.0, &phi, &om, &e);
     ck_assert_double_eq(phi, 0.0);
     ck_assert_double_eq_tol(om, 0.0, 1e-15);
     ck_assert_double_eq_tol(e, r, 1e-15);
-    pl_ncp_normal(PL_NCP_FB, 0.0, 2.0, r, 0.0, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 0.0, 2.0, r, 0.0, &phi, &om, &e);
     ck_assert_double_eq(phi, 0.0);
     ck_assert_double_eq_tol(om, 1.0, 1e-15);
     ck_assert_double_eq_tol(e, 0.0, 1e-15);
     test_rng g = {11};
     for (int t = 0; t < 200; ++t) {
         double a = rng_range(&g, -2, 2), lam = rng_range(&g, -2, 2);
-        pl_ncp_normal(PL_NCP_FB, a, lam, r, 0.0, &phi, &om, &e);
+        ncp_eval_normal(PL_NCP_FB, a, lam, r, 0.0, &phi, &om, &e);
         ck_assert_double_eq_tol(phi, fb_plain(a, r * lam), 1e-13);
         double hs = 1e-6, p1, p2, o2, e2;
-        pl_ncp_normal(PL_NCP_FB, a + hs, lam, r, 0.0, &p1, &o2, &e2);
-        pl_ncp_normal(PL_NCP_FB, a - hs, lam, r, 0.0, &p2, &o2, &e2);
+        ncp_eval_normal(PL_NCP_FB, a + hs, lam, r, 0.0, &p1, &o2, &e2);
+        ncp_eval_normal(PL_NCP_FB, a - hs, lam, r, 0.0, &p2, &o2, &e2);
         ck_assert_double_eq_tol(om, (p1 - p2) / (2 * hs), 1e-6);
-        pl_ncp_normal(PL_NCP_FB, a, lam + hs, r, 0.0, &p1, &o2, &e2);
-        pl_ncp_normal(PL_NCP_FB, a, lam - hs, r, 0.0, &p2, &o2, &e2);
+        ncp_eval_normal(PL_NCP_FB, a, lam + hs, r, 0.0, &p1, &o2, &e2);
+        ncp_eval_normal(PL_NCP_FB, a, lam - hs, r, 0.0, &p2, &o2, &e2);
         ck_assert_double_eq_tol(e, (p1 - p2) / (2 * hs), 1e-6);
         ck_assert(om >= 0.0 && om <= 2.0 && e >= 0.0 && e <= 2.0 * r);
     }
     /* no cancellation: delta >> r lambda > 0 gives phi ~ r lambda, omega ~ (r lambda / delta)^2 / 2 */
-    pl_ncp_normal(PL_NCP_FB, 1.0, 1e-9 / r, r, 0.0, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 1.0, 1e-9 / r, r, 0.0, &phi, &om, &e);
     ck_assert_double_eq_tol(phi / 1e-9, 1.0, 1e-8);
     ck_assert_double_eq_tol(om / 5e-19, 1.0, 1e-8);
 }
@@ -51,17 +51,17 @@ END_TEST
 START_TEST(test_fb_normal_zero_zero)
 {
     double phi, om, e;
-    pl_ncp_normal(PL_NCP_FB, 0.0, 0.0, 0.25, 1e-12, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 0.0, 0.0, 0.25, 1e-12, &phi, &om, &e);
     ck_assert(isfinite(phi) && isfinite(om) && isfinite(e));
     ck_assert_double_eq_tol(phi, -1e-12, 1e-24);
     ck_assert_double_eq(om, 1.0);
     ck_assert_double_eq(e, 0.25);
-    pl_ncp_normal(PL_NCP_FB, 0.0, 0.0, 0.25, 0.0, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 0.0, 0.0, 0.25, 0.0, &phi, &om, &e);
     ck_assert_double_eq(phi, 0.0);
     ck_assert_double_eq(om, 1.0);
     ck_assert_double_eq(e, 0.25);
     /* near (0, 0) the regularised derivatives stay bounded */
-    pl_ncp_normal(PL_NCP_FB, 1e-300, 1e-300, 1.0, 1e-12, &phi, &om, &e);
+    ncp_eval_normal(PL_NCP_FB, 1e-300, 1e-300, 1.0, 1e-12, &phi, &om, &e);
     ck_assert(fabs(om - 1.0) < 1e-12 && fabs(e - 1.0) < 1e-12);
 }
 END_TEST
@@ -69,11 +69,11 @@ END_TEST
 START_TEST(test_minmap_normal_branches)
 {
     double phi, om, e;
-    pl_ncp_normal(PL_NCP_MINMAP, 0.1, 1.0, 0.5, 0.0, &phi, &om, &e); /* delta <= r lambda */
+    ncp_eval_normal(PL_NCP_MINMAP, 0.1, 1.0, 0.5, 0.0, &phi, &om, &e); /* delta <= r lambda */
     ck_assert(phi == 0.1 && om == 1.0 && e == 0.0);
-    pl_ncp_normal(PL_NCP_MINMAP, 0.9, 1.0, 0.5, 0.0, &phi, &om, &e); /* delta > r lambda */
+    ncp_eval_normal(PL_NCP_MINMAP, 0.9, 1.0, 0.5, 0.0, &phi, &om, &e); /* delta > r lambda */
     ck_assert(phi == 0.5 && om == 0.0 && e == 0.5);
-    pl_ncp_normal(PL_NCP_MINMAP, 0.0, 0.0, 0.5, 0.0, &phi, &om, &e); /* new contact: position row */
+    ncp_eval_normal(PL_NCP_MINMAP, 0.0, 0.0, 0.5, 0.0, &phi, &om, &e); /* new contact: position row */
     ck_assert(phi == 0.0 && om == 1.0 && e == 0.0);
 }
 END_TEST
@@ -94,7 +94,7 @@ START_TEST(test_fb_friction_compliance)
         double y[2] = {rng_range(&g, -1, 1), rng_range(&g, -1, 1)};
         double L = rng_range(&g, 0.0, 3.0 * mu * ln), ang = rng_range(&g, 0, 6.283185307179586);
         double lf[2] = {L * cos(ang), L * sin(ang)};
-        pl_ncp_friction(PL_NCP_FB, 2, y, lf, ln, mu, rho, phi, &om, &e);
+        ncp_eval_friction(PL_NCP_FB, 2, y, lf, ln, mu, rho, phi, &om, &e);
         ck_assert(om == 1.0);
         ck_assert_msg(e >= 0.0 && isfinite(e), "e = %g", e);
         ck_assert_double_eq_tol(phi[0], y[0] + e * lf[0], 1e-15);
@@ -108,14 +108,14 @@ START_TEST(test_fb_friction_compliance)
     /* both forms agree on the cone: e = |y| / (mu ln), continuous across it */
     double y[2] = {0.3, -0.4}, lf_in[2] = {mu * ln * (1 - 1e-9), 0}, lf_out[2] = {mu * ln * (1 + 1e-9), 0};
     double e_in, e_out;
-    pl_ncp_friction(PL_NCP_FB, 2, y, lf_in, ln, mu, rho, phi, &om, &e_in);
-    pl_ncp_friction(PL_NCP_FB, 2, y, lf_out, ln, mu, rho, phi, &om, &e_out);
+    ncp_eval_friction(PL_NCP_FB, 2, y, lf_in, ln, mu, rho, phi, &om, &e_in);
+    ncp_eval_friction(PL_NCP_FB, 2, y, lf_out, ln, mu, rho, phi, &om, &e_out);
     ck_assert_double_eq_tol(e_in, 0.5 / (mu * ln), 1e-8);
     ck_assert_double_eq_tol(e_out, 0.5 / (mu * ln), 1e-8);
     /* where Appendix B's denominator changes sign (|lf| > 2 mu ln, y = 0) */
     ck_assert(paper_fb_friction(0.0, 3.0 * mu * ln, ln, mu, rho) < 0.0);
     double y0[2] = {0, 0}, lf3[2] = {0, 3.0 * mu * ln};
-    pl_ncp_friction(PL_NCP_FB, 2, y0, lf3, ln, mu, rho, phi, &om, &e);
+    ncp_eval_friction(PL_NCP_FB, 2, y0, lf3, ln, mu, rho, phi, &om, &e);
     ck_assert_double_eq_tol(e, 4.0 * rho, 1e-12); /* (s - b)/(mu ln) = 2 rho 2 mu ln / (mu ln) */
 }
 END_TEST
@@ -126,13 +126,13 @@ START_TEST(test_friction_stick_zero_zero)
 {
     double y[2] = {0, 0}, lf[2] = {0, 0}, phi[2], om, e;
     for (int fn = 0; fn < 2; ++fn) {
-        pl_ncp_friction((pl_ncp_function)fn, 2, y, lf, 1.0, 0.5, 0.2, phi, &om, &e);
+        ncp_eval_friction((pl_ncp_function)fn, 2, y, lf, 1.0, 0.5, 0.2, phi, &om, &e);
         ck_assert(om == 1.0 && e == 0.0 && phi[0] == 0.0 && phi[1] == 0.0);
     }
     double prev = INFINITY;
     for (double a = 1e-2; a > 1e-12; a *= 0.1) {
         double ya[2] = {a, 0};
-        pl_ncp_friction(PL_NCP_FB, 2, ya, lf, 1.0, 0.5, 0.2, phi, &om, &e);
+        ncp_eval_friction(PL_NCP_FB, 2, ya, lf, 1.0, 0.5, 0.2, phi, &om, &e);
         ck_assert(isfinite(e) && e >= 0.0 && e < prev);
         prev = e;
     }
@@ -152,7 +152,7 @@ START_TEST(test_friction_barely_touching)
     for (double a = 1e-2; a > 1e-7; a *= 0.1)
         for (double ln = 1e-3; ln > 1e-19; ln *= 1e-2) {
             double y[2] = {0.6 * a, -0.8 * a};
-            pl_ncp_friction(PL_NCP_FB, 2, y, lf, ln, mu, rho, phi, &om, &e);
+            ncp_eval_friction(PL_NCP_FB, 2, y, lf, ln, mu, rho, phi, &om, &e);
             long double b = (long double)rho * mu * ln, A = a, s = sqrtl(A * A + b * b);
             long double ref = rho * A * (s + A) / (b * (s + A + b));
             ck_assert_msg(e > 0.0 && isfinite(e), "a %g ln %g: e = %g", a, ln, e);
@@ -170,22 +170,22 @@ START_TEST(test_friction_roots)
     for (int fn = 0; fn < 2; ++fn) {
         double y[2] = {0.3, 0.4}; /* slide: lf = -mu ln y / |y| */
         double lf[2] = {-mu * ln * 0.6, -mu * ln * 0.8};
-        pl_ncp_friction((pl_ncp_function)fn, 2, y, lf, ln, mu, rho, phi, &om, &e);
+        ncp_eval_friction((pl_ncp_function)fn, 2, y, lf, ln, mu, rho, phi, &om, &e);
         ck_assert_double_eq_tol(phi[0], 0.0, 1e-14);
         ck_assert_double_eq_tol(phi[1], 0.0, 1e-14);
         ck_assert_double_eq_tol(e, 0.5 / (mu * ln), 1e-14);
         double ys[2] = {0, 0}, ls[2] = {0.5, -0.7}; /* stick inside the cone */
-        pl_ncp_friction((pl_ncp_function)fn, 2, ys, ls, ln, mu, rho, phi, &om, &e);
+        ncp_eval_friction((pl_ncp_function)fn, 2, ys, ls, ln, mu, rho, phi, &om, &e);
         ck_assert(phi[0] == 0.0 && phi[1] == 0.0 && e == 0.0);
         double lz[2] = {0.5, -0.7}; /* inactive */
-        pl_ncp_friction((pl_ncp_function)fn, 2, ys, lz, 0.0, mu, rho, phi, &om, &e);
+        ncp_eval_friction((pl_ncp_function)fn, 2, ys, lz, 0.0, mu, rho, phi, &om, &e);
         ck_assert(om == 0.0 && e == rho);
         ck_assert_double_eq_tol(phi[0], rho * 0.5, 1e-15);
-        pl_ncp_friction((pl_ncp_function)fn, 2, ys, lz, 1.0, 0.0, rho, phi, &om, &e); /* mu = 0 */
+        ncp_eval_friction((pl_ncp_function)fn, 2, ys, lz, 1.0, 0.0, rho, phi, &om, &e); /* mu = 0 */
         ck_assert(om == 0.0 && e == rho);
         /* one tangent row (2D contact) */
         double y1 = -0.2, l1 = mu * ln;
-        pl_ncp_friction((pl_ncp_function)fn, 1, &y1, &l1, ln, mu, rho, phi, &om, &e);
+        ncp_eval_friction((pl_ncp_function)fn, 1, &y1, &l1, ln, mu, rho, phi, &om, &e);
         ck_assert_double_eq_tol(phi[0], 0.0, 1e-14);
     }
 }
@@ -196,10 +196,10 @@ START_TEST(test_minmap_friction_compliance)
 {
     double y[2] = {0.3, 0.4}, lf[2] = {0.1, 0.0}, phi[2], om, e;
     const double ln = 2.0, mu = 0.5, rho = 0.2; /* b = 0.2 (1 - 0.1) = 0.18 */
-    pl_ncp_friction(PL_NCP_MINMAP, 2, y, lf, ln, mu, rho, phi, &om, &e);
+    ncp_eval_friction(PL_NCP_MINMAP, 2, y, lf, ln, mu, rho, phi, &om, &e);
     ck_assert_double_eq_tol(e, (0.5 - 0.18) / 1.0, 1e-15);
     double ys[2] = {0.1, 0.0};
-    pl_ncp_friction(PL_NCP_MINMAP, 2, ys, lf, ln, mu, rho, phi, &om, &e);
+    ncp_eval_friction(PL_NCP_MINMAP, 2, ys, lf, ln, mu, rho, phi, &om, &e);
     ck_assert(e == 0.0);
 }
 END_TEST
@@ -208,25 +208,25 @@ START_TEST(test_bounded_and_bilateral)
 {
     double phi, om, e, pn, on, en;
     const double r = 0.5;
-    pl_ncp_bounded(0.0, 1.0, -1.0, 2.0, r, &phi, &om, &e); /* inside: delta row */
+    ncp_eval_bounded(0.0, 1.0, -1.0, 2.0, r, &phi, &om, &e); /* inside: delta row */
     ck_assert(phi == 0.0 && om == 1.0 && e == 0.0);
-    pl_ncp_bounded(0.3, 2.0, -1.0, 2.0, r, &phi, &om, &e); /* 2 - 0.6 inside */
+    ncp_eval_bounded(0.3, 2.0, -1.0, 2.0, r, &phi, &om, &e); /* 2 - 0.6 inside */
     ck_assert(phi == 0.3 && om == 1.0);
-    pl_ncp_bounded(-0.3, 2.0, -1.0, 2.0, r, &phi, &om, &e); /* at hi, pushed beyond */
+    ncp_eval_bounded(-0.3, 2.0, -1.0, 2.0, r, &phi, &om, &e); /* at hi, pushed beyond */
     ck_assert(phi == 0.0 && om == 0.0 && e == r);
-    pl_ncp_bounded(5.0, 0.0, -1.0, 2.0, r, &phi, &om, &e); /* beyond lo */
+    ncp_eval_bounded(5.0, 0.0, -1.0, 2.0, r, &phi, &om, &e); /* beyond lo */
     ck_assert_double_eq_tol(phi, 0.5, 1e-15);
     ck_assert(om == 0.0 && e == r);
     /* with [0, inf) it is the min-map normal row */
     test_rng g = {3};
     for (int t = 0; t < 100; ++t) {
         double d = rng_range(&g, -1, 1), l = rng_range(&g, -1, 1);
-        pl_ncp_bounded(d, l, 0.0, INFINITY, r, &phi, &om, &e);
-        pl_ncp_normal(PL_NCP_MINMAP, d, l, r, 0.0, &pn, &on, &en);
+        ncp_eval_bounded(d, l, 0.0, INFINITY, r, &phi, &om, &e);
+        ncp_eval_normal(PL_NCP_MINMAP, d, l, r, 0.0, &pn, &on, &en);
         ck_assert_double_eq_tol(phi, pn, 1e-15);
         ck_assert(om == on && e == en);
     }
-    pl_ncp_bilateral(0.2, 3.0, 0.1, &phi, &om, &e);
+    ncp_eval_bilateral(0.2, 3.0, 0.1, &phi, &om, &e);
     ck_assert_double_eq_tol(phi, 0.5, 1e-15);
     ck_assert(om == 1.0 && e == 0.1);
 }
@@ -243,11 +243,11 @@ START_TEST(test_scaling_one_per_contact)
     pl_ncp_rows rows = {8, kinds7, pair7, mu7, NULL, NULL, NULL};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     ck_assert_int_eq(w->nc, 2);
     double d[8] = {1, 2, 4, 8, 3, 5, 7, 9}, r[8];
     const double h = 0.01;
-    ck_assert_int_eq(pl_ncp_scaling(w, d, h, r, &err), PL_OK);
+    ck_assert_int_eq(ncp_scaling(w, d, h, r, &err), PL_OK);
     ck_assert_double_eq_tol(r[0], h * h * 1, 1e-18);
     ck_assert_double_eq_tol(r[1], h * 3.0, 1e-15); /* mean of 2 and 4 */
     ck_assert_double_eq_tol(r[2], h * 3.0, 1e-15);
@@ -256,8 +256,8 @@ START_TEST(test_scaling_one_per_contact)
     ck_assert_double_eq_tol(r[6], h * 5.0, 1e-15);
     ck_assert_double_eq_tol(r[7], h * h * 9, 1e-18);
     d[5] = 0.0;
-    ck_assert_int_eq(pl_ncp_scaling(w, d, h, r, &err), PL_EINPUT);
-    pl_ncp_work_destroy(w);
+    ck_assert_int_eq(ncp_scaling(w, d, h, r, &err), PL_EINPUT);
+    ncp_work_destroy(w);
 }
 END_TEST
 
@@ -269,19 +269,19 @@ START_TEST(test_rows_rejected)
     int p3[4] = {1, 0, 0, 0};
     double mu[4] = {0.2, 0, 0, 0};
     pl_ncp_rows rows = {4, k, p3, mu, NULL, NULL, NULL};
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_EINPUT); /* three tangents */
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_EINPUT); /* three tangents */
     ck_assert(w == NULL);
     int pbad[4] = {1, 2, 0, 0};
     rows.pair = pbad;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_EINPUT); /* pair not a normal row */
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_EINPUT); /* pair not a normal row */
     rows.m = 3;
     rows.pair = p3;
     mu[0] = -0.1;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_EINPUT); /* mu < 0 */
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_EINPUT); /* mu < 0 */
     pl_row_kind kb[1] = {PL_ROW_BOUNDED};
     double lo = 1.0, hi = 0.0;
     pl_ncp_rows rb = {1, kb, NULL, NULL, NULL, &lo, &hi};
-    ck_assert_int_eq(pl_ncp_work_create(&rb, &w, &err), PL_EINPUT); /* empty box */
+    ck_assert_int_eq(ncp_work_create(&rb, &w, &err), PL_EINPUT); /* empty box */
 }
 END_TEST
 
@@ -320,7 +320,7 @@ START_TEST(test_cr_spd_and_indefinite)
     int its;
     double rel;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_cr(N, dense_apply, &o, b, x, 1000, 1e-12, work, &its, &rel, &err), PL_OK);
+    ck_assert_int_eq(ncp_cr(N, dense_apply, &o, b, x, 1000, 1e-12, work, &its, &rel, &err), PL_OK);
     ck_assert(rel <= 1e-12);
     ck_assert_int_eq(its, o.calls);
     dense_apply(&o, x, y);
@@ -338,12 +338,12 @@ START_TEST(test_cr_spd_and_indefinite)
         A[i * N + i] -= 0.5;
     for (int i = 0; i < N; ++i)
         x[i] = 0.0;
-    ck_assert_int_eq(pl_ncp_cr(N, dense_apply, &o, b, x, 4000, 1e-10, work, &its, &rel, &err), PL_OK);
+    ck_assert_int_eq(ncp_cr(N, dense_apply, &o, b, x, 4000, 1e-10, work, &its, &rel, &err), PL_OK);
     ck_assert_msg(rel <= 1e-10, "indefinite CR relres %g after %d", rel, its);
     /* the cap is honoured and reported */
     for (int i = 0; i < N; ++i)
         x[i] = 0.0;
-    ck_assert_int_eq(pl_ncp_cr(N, dense_apply, &o, b, x, 3, 1e-14, work, &its, &rel, &err), PL_OK);
+    ck_assert_int_eq(ncp_cr(N, dense_apply, &o, b, x, 3, 1e-14, work, &its, &rel, &err), PL_OK);
     ck_assert_int_eq(its, 3);
     ck_assert(rel > 1e-14);
     free(A);

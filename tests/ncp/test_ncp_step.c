@@ -1,4 +1,4 @@
-/* test_ncp_step.c - pl_ncp_step driven as in Algorithm 4 (h != 1): a
+/* test_ncp_step.c - ncp_step driven as in Algorithm 4 (h != 1): a
  * particle on a plane sticks or slides with the exact Coulomb forces, a new
  * resting contact (0/0) gives finite and exact first steps, bilateral and
  * bounded rows reach their exact values, and a matrix-free W equals the
@@ -28,16 +28,16 @@ static int run_lg(const pl_ncp_rows *rows, const double *W, const double *diag, 
     int m = rows->m;
     pl_ncp_work *w;
     pl_error err;
-    if (pl_ncp_work_create(rows, &w, &err) != PL_OK)
+    if (ncp_work_create(rows, &w, &err) != PL_OK)
         return 1;
     double *Wd = malloc(sizeof(double) * m), *r = malloc(sizeof(double) * m);
     double *om = malloc(sizeof(double) * m), *dl = malloc(sizeof(double) * m), *t = malloc(sizeof(double) * m);
     for (int j = 0; j < m; ++j)
         Wd[j] = W[j * m + j];
     pl_ncp_operator op = {m, W, NULL, NULL, Wd};
-    pl_ncp_scaling(w, diag ? diag : Wd, h, r, &err);
+    ncp_scaling(w, diag ? diag : Wd, h, r, &err);
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.fn = fn;
     par.h = h;
     par.cr_rtol = 1e-13;
@@ -49,17 +49,17 @@ static int run_lg(const pl_ncp_rows *rows, const double *W, const double *diag, 
     for (int k = 0;; ++k) {
         for (int j = 0; j < m; ++j)
             t[j] = om[j] * lambda[j];
-        pl_ncp_operator_apply(&op, t, delta);
+        ncp_operator_apply(&op, t, delta);
         for (int j = 0; j < m; ++j)
             delta[j] = delta_free[j] + h * h * delta[j];
         pl_ncp_residual res;
-        pl_ncp_residual_eval(w, r, h, delta, lambda, &res, &err);
+        ncp_residual_eval(w, r, h, delta, lambda, &res, &err);
         out->iters = k;
         out->residual = res.total;
         if (res.total <= tol || k == max_iter)
             break;
         pl_ncp_step_info si;
-        if (pl_ncp_step(w, &par, &op, r, delta, delta_free, lambda, dl, om, &si, &err) != PL_OK) {
+        if (ncp_step(w, &par, &op, r, delta, delta_free, lambda, dl, om, &si, &err) != PL_OK) {
             rc = 1;
             break;
         }
@@ -72,7 +72,7 @@ static int run_lg(const pl_ncp_rows *rows, const double *W, const double *diag, 
         }
     }
     free(Wd); free(r); free(om); free(dl); free(t);
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
     return rc;
 }
 
@@ -144,33 +144,33 @@ START_TEST(test_new_resting_contact_first_step)
     pl_ncp_operator op = {3, W, NULL, NULL, Wd};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     double r[3], zero[3] = {0, 0, 0}, df[3] = {-H * H * G, 0, 0}, dl[3], om[3];
-    ck_assert_int_eq(pl_ncp_scaling(w, Wd, H, r, &err), PL_OK);
+    ck_assert_int_eq(ncp_scaling(w, Wd, H, r, &err), PL_OK);
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.h = H;
     par.cr_rtol = 1e-14;
     for (int fn = 0; fn < 2; ++fn) {
         par.fn = (pl_ncp_function)fn;
         /* unloaded: nothing happens */
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, zero, zero, zero, dl, om, NULL, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, zero, zero, zero, dl, om, NULL, &err), PL_OK);
         for (int j = 0; j < 3; ++j)
             ck_assert(isfinite(dl[j]) && fabs(dl[j]) < 1e-7);
         /* loaded by gravity */
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, zero, df, zero, dl, om, NULL, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, zero, df, zero, dl, om, NULL, &err), PL_OK);
         ck_assert_double_eq_tol(dl[0], (fn == PL_NCP_FB ? M * G / 2 : M * G), 1e-7);
         ck_assert(dl[1] == 0.0 && dl[2] == 0.0);
         ck_assert(om[0] == 1.0 && om[1] == 0.0 && om[2] == 0.0);
         /* next: lambda_n > 0, friction at stick with lf = 0 = y (0/0): e = 0, finite */
         double lam[3] = {dl[0], 0, 0}, del[3] = {-H * H * G + H * H * dl[0] / M, 0, 0};
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, del, df, lam, dl, om, NULL, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, del, df, lam, dl, om, NULL, &err), PL_OK);
         ck_assert(om[1] == 1.0 && w->e[1] == 0.0 && w->e[2] == 0.0);
         for (int j = 0; j < 3; ++j)
             ck_assert(isfinite(dl[j]));
         ck_assert_double_eq_tol(lam[0] + dl[0], M * G, (fn == PL_NCP_MINMAP ? 1e-9 : 0.5 * M * G));
     }
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
 }
 END_TEST
 
@@ -255,18 +255,18 @@ START_TEST(test_matrix_free_equals_dense)
     pl_ncp_rows rows = {MM, k, pair, mu, NULL, NULL, NULL};
     pl_ncp_work *w;
     pl_error err;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
-    ck_assert_int_eq(pl_ncp_scaling(w, Wd, 0.01, r, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_scaling(w, Wd, 0.01, r, &err), PL_OK);
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.h = 0.01;
     par.cr_rtol = 1e-14;
     par.cr_max_iter = 500;
     mf_op mo = {W, MM, 0};
     pl_ncp_operator dense = {MM, W, NULL, NULL, Wd}, mfree = {MM, NULL, mf_apply, &mo, Wd};
     pl_ncp_step_info i1, i2;
-    ck_assert_int_eq(pl_ncp_step(w, &par, &dense, r, del, df, lam, d1, o1, &i1, &err), PL_OK);
-    ck_assert_int_eq(pl_ncp_step(w, &par, &mfree, r, del, df, lam, d2, o2, &i2, &err), PL_OK);
+    ck_assert_int_eq(ncp_step(w, &par, &dense, r, del, df, lam, d1, o1, &i1, &err), PL_OK);
+    ck_assert_int_eq(ncp_step(w, &par, &mfree, r, del, df, lam, d2, o2, &i2, &err), PL_OK);
     ck_assert_int_eq(mo.calls, i2.cr_iters + 1); /* CR products + the W Omega lambda^k product */
     double nrm = 0;
     for (int j = 0; j < MM; ++j)
@@ -276,7 +276,7 @@ START_TEST(test_matrix_free_equals_dense)
         ck_assert_double_eq_tol(d1[j], d2[j], 1e-10 * nrm);
     }
     ck_assert(i1.cr_relres <= 1e-14 && i2.cr_relres <= 1e-14);
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
 }
 END_TEST
 
@@ -358,23 +358,23 @@ START_TEST(test_local_global_matches_direct)
     for (int j = 0; j < MM; ++j)
         qref[j] = ROWVAL(qff, j);
     pl_ncp_solve_opts o;
-    pl_ncp_solve_opts_default(&o);
+    ncp_solve_opts_default(&o);
     o.max_iter = 5000;
     pl_ncp_solve_info si;
     pl_error err;
     memset(rref, 0, sizeof(rref));
-    ck_assert_int_eq(pl_ncp_solve_fc3d(NC, Wf, qref, mu, rref, uref, &o, &si, &err), PL_OK);
+    ck_assert_int_eq(ncp_solve_fc3d(NC, Wf, qref, mu, rref, uref, &o, &si, &err), PL_OK);
     ck_assert(si.converged);
     ck_assert(rref[0] > 0.1 && rref[3] > 0.1); /* both contacts pressed */
     /* the local-global loop, Algorithm 4 */
     pl_ncp_rows rows = {MM, kind, pair, mur, NULL, NULL, NULL};
     pl_ncp_work *w;
-    ck_assert_int_eq(pl_ncp_work_create(&rows, &w, &err), PL_OK);
+    ck_assert_int_eq(ncp_work_create(&rows, &w, &err), PL_OK);
     double r[MM], lam[MM] = {0}, dl[MM], S[MM], del[MM], dfree[MM], q[ND], qf[ND], b[ND];
-    ck_assert_int_eq(pl_ncp_scaling(w, Wd, h, r, &err), PL_OK);
+    ck_assert_int_eq(ncp_scaling(w, Wd, h, r, &err), PL_OK);
     pl_ncp_operator op = {MM, W, NULL, NULL, Wd};
     pl_ncp_params par;
-    pl_ncp_params_default(&par);
+    ncp_params_default(&par);
     par.h = h;
     par.cr_rtol = 1e-14;
     memcpy(q, X, sizeof(q));
@@ -390,7 +390,7 @@ START_TEST(test_local_global_matches_direct)
             del[j] = ROWVAL(q, j);
             dfree[j] = ROWVAL(qf, j);
         }
-        ck_assert_int_eq(pl_ncp_step(w, &par, &op, r, del, dfree, lam, dl, S, NULL, &err), PL_OK);
+        ck_assert_int_eq(ncp_step(w, &par, &op, r, del, dfree, lam, dl, S, NULL, &err), PL_OK);
         double change = 0.0;
         for (int j = 0; j < MM; ++j) {
             lam[j] += dl[j];
@@ -416,7 +416,7 @@ START_TEST(test_local_global_matches_direct)
     /* both regimes: contact 0 slides (on the cone), contact 1 sticks (inside) */
     ck_assert_double_eq_tol(hypot(lam[1], lam[2]), mu[0] * lam[0], 1e-8 * lam[0]);
     ck_assert(hypot(lam[4], lam[5]) < 0.95 * mu[1] * lam[3]);
-    pl_ncp_work_destroy(w);
+    ncp_work_destroy(w);
 }
 END_TEST
 

@@ -118,7 +118,7 @@ static void check_role(const char *mode, const char *ordering)
     set_field(c, "mode", mode);
     set_field(c, "ordering", ordering);
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_grid_matrix(9, 5, 4, 10.0, &A), 0);
+    ck_assert_int_eq(spinv_grid_matrix(9, 5, 4, 10.0, &A), 0);
     int n = A.ncols;
     pl_error err;
     double *b = spinv_random_block(n, 3, 2u), *x = malloc(3 * (size_t)n * sizeof *x);
@@ -135,16 +135,16 @@ static void check_role(const char *mode, const char *ordering)
     /* the recorded statistics are the numeric core's */
     pl_spinv_options opt = {!strcmp(ordering, "amd") ? PL_SPINV_AMD : PL_SPINV_METIS,
                             !strcmp(mode, "direct") ? PL_SPINV_DIRECT : PL_SPINV_SPARSE, 0};
-    pl_sparse_inverse *core = pl_sparse_inverse_create(&opt);
-    ck_assert_int_eq(pl_sparse_inverse_factor(core, &A, &err), PL_OK);
+    pl_sparse_inverse *core = sparse_inverse_create(&opt);
+    ck_assert_int_eq(sparse_inverse_factor(core, &A, &err), PL_OK);
     double v = 0;
     ck_assert_int_eq(pl_stat_get(timers, "nnz(S)", &v), 0);
-    ck_assert(v == (double)pl_sparse_inverse_stats(core)->nnz_S);
+    ck_assert(v == (double)sparse_inverse_stats(core)->nnz_S);
     ck_assert_int_eq(pl_stat_get(timers, "nnz(A)", &v), 0);
     ck_assert(v == (double)A.p[n]);
     ck_assert_int_eq(pl_stat_get(timers, "nnz(L)", &v), 0);
-    ck_assert(v == (double)pl_sparse_inverse_stats(core)->nnz_L);
-    pl_sparse_inverse_destroy(core);
+    ck_assert(v == (double)sparse_inverse_stats(core)->nnz_L);
+    sparse_inverse_destroy(core);
     /* solve against the reference */
     double *ref = malloc(3 * (size_t)n * sizeof *ref);
     ck_assert_int_eq(spinv_ref_solve(&A, b, ref, 3), 0);

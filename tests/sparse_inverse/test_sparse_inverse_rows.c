@@ -69,13 +69,13 @@ static double *gram(const pl_csc *Y)
 static void check_rows(const pl_csc *A, pl_spinv_ordering ord, pl_spinv_mode mode, int m)
 {
     pl_spinv_options opt = {ord, mode, 0};
-    pl_sparse_inverse *s = pl_sparse_inverse_create(&opt);
+    pl_sparse_inverse *s = sparse_inverse_create(&opt);
     pl_error err;
-    ck_assert_int_eq(pl_sparse_inverse_factor(s, A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_factor(s, A, &err), PL_OK);
     pl_csr H;
     random_rows(A->ncols, m, 23u, &H);
     pl_csc Y;
-    ck_assert_int_eq(pl_sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_OK);
     ck_assert_int_eq(Y.nrows, A->ncols);
     ck_assert_int_eq(Y.ncols, m);
     ck_assert_int_eq(Y.p[1] - Y.p[0], 0); /* the empty row */
@@ -87,18 +87,18 @@ static void check_rows(const pl_csc *A, pl_spinv_ordering ord, pl_spinv_mode mod
     double *W = gram(&Y), *Wref = reference_delassus(A, &H);
     double d = spinv_rel_diff(W, Wref, (size_t)m * m);
     ck_assert_msg(d < 1e-10, "%s/%s: Y^T Y differs from H A^-1 H^T by %g",
-                  pl_spinv_ordering_name(ord), pl_spinv_mode_name(mode), d);
+                  spinv_ordering_name(ord), spinv_mode_name(mode), d);
     free(W);
     free(Wref);
     pl_csc_free(&Y);
     pl_csr_free(&H);
-    pl_sparse_inverse_destroy(s);
+    sparse_inverse_destroy(s);
 }
 
 START_TEST(test_rows_gram_equals_delassus_on_tet_grid)
 {
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_grid_matrix(7, 5, 4, 10.0, &A), 0);
+    ck_assert_int_eq(spinv_grid_matrix(7, 5, 4, 10.0, &A), 0);
     for (int o = 0; o < 4; ++o) {
         check_rows(&A, (pl_spinv_ordering)o, PL_SPINV_SPARSE, 13);
         check_rows(&A, (pl_spinv_ordering)o, PL_SPINV_DIRECT, 13);
@@ -110,7 +110,7 @@ END_TEST
 START_TEST(test_rows_gram_equals_delassus_on_random_spd)
 {
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_random_spd(250, 3, 5u, &A), 0);
+    ck_assert_int_eq(spinv_random_spd(250, 3, 5u, &A), 0);
     check_rows(&A, PL_SPINV_METIS, PL_SPINV_SPARSE, 20);
     check_rows(&A, PL_SPINV_AMD, PL_SPINV_DIRECT, 20);
     pl_csc_free(&A);
@@ -121,17 +121,17 @@ END_TEST
 START_TEST(test_rows_sparse_and_direct_agree)
 {
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_grid_matrix(10, 6, 5, 10.0, &A), 0);
+    ck_assert_int_eq(spinv_grid_matrix(10, 6, 5, 10.0, &A), 0);
     pl_spinv_options os = {PL_SPINV_NESDIS, PL_SPINV_SPARSE, 0}, od = {PL_SPINV_NESDIS, PL_SPINV_DIRECT, 0};
-    pl_sparse_inverse *s = pl_sparse_inverse_create(&os), *d = pl_sparse_inverse_create(&od);
+    pl_sparse_inverse *s = sparse_inverse_create(&os), *d = sparse_inverse_create(&od);
     pl_error err;
-    ck_assert_int_eq(pl_sparse_inverse_factor(s, &A, &err), PL_OK);
-    ck_assert_int_eq(pl_sparse_inverse_factor(d, &A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_factor(s, &A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_factor(d, &A, &err), PL_OK);
     pl_csr H;
     random_rows(A.ncols, 40, 99u, &H);
     pl_csc Ys, Yd;
-    ck_assert_int_eq(pl_sparse_inverse_apply_inverse_to_rows(s, &H, &Ys, &err), PL_OK);
-    ck_assert_int_eq(pl_sparse_inverse_apply_inverse_to_rows(d, &H, &Yd, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_apply_inverse_to_rows(s, &H, &Ys, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_apply_inverse_to_rows(d, &H, &Yd, &err), PL_OK);
     ck_assert_int_eq(Ys.p[40], Yd.p[40]);
     ck_assert_int_eq(memcmp(Ys.p, Yd.p, 41 * sizeof(int)), 0);
     ck_assert_int_eq(memcmp(Ys.i, Yd.i, (size_t)Ys.p[40] * sizeof(int)), 0);
@@ -140,15 +140,15 @@ START_TEST(test_rows_sparse_and_direct_agree)
     int n = A.ncols;
     double *b = spinv_random_block(n, 3, 4u), *xs = malloc(3 * (size_t)n * sizeof *xs);
     double *xd = malloc(3 * (size_t)n * sizeof *xd);
-    ck_assert_int_eq(pl_sparse_inverse_solve(s, b, xs, 3, &err), PL_OK);
-    ck_assert_int_eq(pl_sparse_inverse_solve(d, b, xd, 3, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_solve(s, b, xs, 3, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_solve(d, b, xd, 3, &err), PL_OK);
     ck_assert(spinv_rel_diff(xs, xd, 3 * (size_t)n) < 1e-12);
     free(b), free(xs), free(xd);
     pl_csc_free(&Ys);
     pl_csc_free(&Yd);
     pl_csr_free(&H);
-    pl_sparse_inverse_destroy(s);
-    pl_sparse_inverse_destroy(d);
+    sparse_inverse_destroy(s);
+    sparse_inverse_destroy(d);
     pl_csc_free(&A);
 }
 END_TEST
@@ -156,18 +156,18 @@ END_TEST
 START_TEST(test_rows_with_wrong_width_are_refused)
 {
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_grid_matrix(3, 3, 3, 1.0, &A), 0);
-    pl_sparse_inverse *s = pl_sparse_inverse_create(NULL);
+    ck_assert_int_eq(spinv_grid_matrix(3, 3, 3, 1.0, &A), 0);
+    pl_sparse_inverse *s = sparse_inverse_create(NULL);
     pl_error err;
     pl_csr H;
     random_rows(A.ncols + 1, 3, 1u, &H);
     pl_csc Y;
-    ck_assert_int_eq(pl_sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_EINPUT);
-    ck_assert_int_eq(pl_sparse_inverse_factor(s, &A, &err), PL_OK);
-    ck_assert_int_eq(pl_sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_EINPUT);
+    ck_assert_int_eq(sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_EINPUT);
+    ck_assert_int_eq(sparse_inverse_factor(s, &A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_apply_inverse_to_rows(s, &H, &Y, &err), PL_EINPUT);
     ck_assert_ptr_null(Y.p);
     pl_csr_free(&H);
-    pl_sparse_inverse_destroy(s);
+    sparse_inverse_destroy(s);
     pl_csc_free(&A);
 }
 END_TEST
@@ -177,32 +177,32 @@ static void check_diagonal(const pl_csc *A, pl_spinv_ordering ord, pl_spinv_mode
 {
     int n = A->ncols;
     pl_spinv_options opt = {ord, mode, 0};
-    pl_sparse_inverse *s = pl_sparse_inverse_create(&opt);
+    pl_sparse_inverse *s = sparse_inverse_create(&opt);
     pl_error err;
-    ck_assert_int_eq(pl_sparse_inverse_factor(s, A, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_factor(s, A, &err), PL_OK);
     double *diag = malloc((size_t)n * sizeof *diag), *E = calloc((size_t)n * n, sizeof *E);
     double *X = malloc((size_t)n * n * sizeof *X), *ref = malloc((size_t)n * sizeof *ref);
     for (int i = 0; i < n; ++i) E[(size_t)i * n + i] = 1.0;
     ck_assert_int_eq(spinv_ref_solve(A, E, X, n), 0);
     for (int i = 0; i < n; ++i) ref[i] = X[(size_t)i * n + i];
-    ck_assert_int_eq(pl_sparse_inverse_inverse_diagonal(s, diag, &err), PL_OK);
+    ck_assert_int_eq(sparse_inverse_inverse_diagonal(s, diag, &err), PL_OK);
     double d = spinv_rel_diff(diag, ref, (size_t)n);
-    ck_assert_msg(d < 1e-12, "%s/%s: diag(A^-1) differs by %g", pl_spinv_ordering_name(ord),
-                  pl_spinv_mode_name(mode), d);
+    ck_assert_msg(d < 1e-12, "%s/%s: diag(A^-1) differs by %g", spinv_ordering_name(ord),
+                  spinv_mode_name(mode), d);
     free(diag), free(E), free(X), free(ref);
-    pl_sparse_inverse_destroy(s);
+    sparse_inverse_destroy(s);
 }
 
 START_TEST(test_inverse_diagonal_equals_solves)
 {
     pl_csc A;
-    ck_assert_int_eq(pl_spinv_grid_matrix(8, 5, 4, 10.0, &A), 0);
+    ck_assert_int_eq(spinv_grid_matrix(8, 5, 4, 10.0, &A), 0);
     for (int o = 0; o < 4; ++o) {
         check_diagonal(&A, (pl_spinv_ordering)o, PL_SPINV_SPARSE);
         check_diagonal(&A, (pl_spinv_ordering)o, PL_SPINV_DIRECT);
     }
     pl_csc_free(&A);
-    ck_assert_int_eq(pl_spinv_random_spd(200, 3, 8u, &A), 0);
+    ck_assert_int_eq(spinv_random_spd(200, 3, 8u, &A), 0);
     check_diagonal(&A, PL_SPINV_METIS, PL_SPINV_SPARSE);
     pl_csc_free(&A);
 }

@@ -172,7 +172,7 @@ int upload(pl_hyper_cuda *g, T **dst, const T *src, size_t count, pl_error *err)
 
 } // namespace
 
-extern "C" pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err)
+extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error *err)
 {
     if (!e || !((e->k == 4 && e->d == 3) || (e->k == 3 && e->d == 2))) {
         pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
@@ -193,19 +193,19 @@ extern "C" pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_er
         upload(g, &g->vinc, e->vinc, k * n, err) ||
         upload(g, &g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
         upload(g, &g->stats, static_cast<const int *>(NULL), 3, err)) {
-        pl_hyper_cuda_destroy(g);
+        hyper_cuda_destroy(g);
         return NULL;
     }
     cudaError_t ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
     if (ce != cudaSuccess) {
         cuda_fail(err, ce, "upload");
-        pl_hyper_cuda_destroy(g);
+        hyper_cuda_destroy(g);
         return NULL;
     }
     return g;
 }
 
-extern "C" void pl_hyper_cuda_destroy(pl_hyper_cuda *g)
+extern "C" void hyper_cuda_destroy(pl_hyper_cuda *g)
 {
     if (!g) return;
     void *ptrs[] = {g->verts, g->D, g->mu, g->lambda, g->w, g->vptr, g->vinc, g->slots, g->stats};
@@ -214,7 +214,7 @@ extern "C" void pl_hyper_cuda_destroy(pl_hyper_cuda *g)
     free(g);
 }
 
-extern "C" int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
+extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
                                      double *dual, double *rhs, pl_hyper_cuda_assembly mode,
                                      struct CUstream_st *stream, pl_error *err)
 {
@@ -244,7 +244,7 @@ extern "C" int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, co
     return PL_OK;
 }
 
-extern "C" int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
+extern "C" int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
                                    pl_error *err)
 {
     int h[3];

@@ -6,7 +6,7 @@
  *
  * The element data of a pl_hyper_elements (verts, D, mu, lambda, w, and the
  * vertex incidence vptr/vinc) is copied to the device once.  project() runs
- * the same algorithm as pl_hyper_elements_project: per element F = X D,
+ * the same algorithm as hyper_elements_project: per element F = X D,
  * p = local solve of F (+ u), u += F - p, and h2 w (p - u) D^T added to the
  * right-hand side.  The right-hand side is assembled either
  *  - GATHER: each element writes its k corner 3-vectors to its own slots,
@@ -39,21 +39,21 @@ typedef struct pl_hyper_cuda pl_hyper_cuda;
 /* Copies the element set (k = 4, d = 3 or k = 3, d = 2) to the current
  * device.  NULL with err set for other shapes, out of device memory or on
  * a CUDA error. */
-pl_hyper_cuda *pl_hyper_cuda_create(const pl_hyper_elements *e, pl_error *err);
-void pl_hyper_cuda_destroy(pl_hyper_cuda *g);
+pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error *err);
+void hyper_cuda_destroy(pl_hyper_cuda *g);
 
 /* The local step: q global positions (device, >= offset + nverts rows x 3);
  * dual (device, n x 3d; NULL for ARAP) updated in place; rhs (device, global
  * n x 3) += h2 w (p - u) D^T. */
-int pl_hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q, double *dual,
+int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q, double *dual,
                           double *rhs, pl_hyper_cuda_assembly mode, struct CUstream_st *stream,
                           pl_error *err);
 
 /* Waits for the last project and reads its statistics as
- * pl_hyper_elements_project reports them: stats[0] the largest Newton
+ * hyper_elements_project reports them: stats[0] the largest Newton
  * iteration count, stats[1] the elements that missed their tolerance.
  * PL_EINTERNAL, naming the first element, if some F was not finite. */
-int pl_hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
+int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
 
 
 #ifdef __cplusplus

@@ -88,7 +88,7 @@ __global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__
 
 } // namespace
 
-extern "C" pl_stencil_cuda *pl_stencil_cuda_create(const pl_hyper_stencils *s, pl_error *err)
+extern "C" pl_stencil_cuda *stencil_cuda_create(const pl_hyper_stencils *s, pl_error *err)
 {
     pl_stencil_cuda *g = static_cast<pl_stencil_cuda *>(calloc(1, sizeof *g));
     if (!g) {
@@ -106,13 +106,13 @@ extern "C" pl_stencil_cuda *pl_stencil_cuda_create(const pl_hyper_stencils *s, p
         upload(g, &g->vptr, s->vptr, (size_t)s->nverts + 1, err) ||
         upload(g, &g->vinc, s->vinc, nnz, err) ||
         upload(g, &g->work, static_cast<const double *>(NULL), 3 * nnz, err)) {
-        pl_stencil_cuda_destroy(g);
+        stencil_cuda_destroy(g);
         return NULL;
     }
     return g;
 }
 
-extern "C" void pl_stencil_cuda_destroy(pl_stencil_cuda *g)
+extern "C" void stencil_cuda_destroy(pl_stencil_cuda *g)
 {
     if (!g) return;
     void *ptrs[] = {g->ptr, g->vert, g->vptr, g->vinc, g->coef, g->w, g->rest, g->targets, g->work};
@@ -121,7 +121,7 @@ extern "C" void pl_stencil_cuda_destroy(pl_stencil_cuda *g)
     free(g);
 }
 
-extern "C" int pl_stencil_cuda_set_targets(pl_stencil_cuda *g, const double *targets,
+extern "C" int stencil_cuda_set_targets(pl_stencil_cuda *g, const double *targets,
                                            struct CUstream_st *stream, pl_error *err)
 {
     if (g->keep_norm || g->n == 0) return PL_OK;
@@ -130,7 +130,7 @@ extern "C" int pl_stencil_cuda_set_targets(pl_stencil_cuda *g, const double *tar
     return e == cudaSuccess ? PL_OK : cuda_fail(err, e, "targets to the device");
 }
 
-extern "C" int pl_stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2, const double *q,
+extern "C" int stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2, const double *q,
                                        int with_targets, double *rhs, struct CUstream_st *stream,
                                        pl_error *err)
 {

@@ -44,9 +44,9 @@ int upload_layout(pl_spinv_cuda *g, const pl_spinv_cuda_layout *L, const pl_spin
     if (!host)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse (cuda): out of memory");
     if (g->prec == PL_F32)
-        pl_spinv_cuda_layout_fill_f32(L, S, static_cast<float *>(host));
+        spinv_cuda_layout_fill_f32(L, S, static_cast<float *>(host));
     else
-        pl_spinv_cuda_layout_fill_f64(L, S, static_cast<double *>(host));
+        spinv_cuda_layout_fill_f64(L, S, static_cast<double *>(host));
     int rc = upload(g, &g->val, host, nval * rs, err);
     free(host);
     if (rc != PL_OK) return rc;
@@ -87,19 +87,19 @@ int check_io(const pl_spinv_cuda *g, pl_precision io, pl_error *err)
 
 } // namespace
 
-extern "C" pl_spinv_cuda *pl_spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
+extern "C" pl_spinv_cuda *spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
                                                pl_error *err)
 {
-    return pl_spinv_cuda_create_tuned(s, precision, 0, 0, err);
+    return spinv_cuda_create_tuned(s, precision, 0, 0, err);
 }
 
-extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
+extern "C" pl_spinv_cuda *spinv_cuda_create_tuned(const pl_sparse_inverse *s,
                                                      pl_precision precision, int group,
                                                      int item_blocks, pl_error *err)
 {
     const pl_spinv_profile *S = s ? pl_sparse_inverse_S(s) : NULL;
     const pl_spinv_runs *ST = s ? pl_sparse_inverse_ST(s) : NULL;
-    const int *perm = s ? pl_sparse_inverse_perm(s) : NULL;
+    const int *perm = s ? sparse_inverse_perm(s) : NULL;
     if (!S || !ST || !perm) {
         pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                      "sparse inverse (cuda): needs a factored solver in sparse mode");
@@ -118,7 +118,7 @@ extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
     g->n = S->n;
     g->prec = precision;
     pl_spinv_cuda_layout L;
-    int rc = pl_spinv_cuda_layout_build(S, ST, (int)real_size(precision), group, item_blocks, &L,
+    int rc = spinv_cuda_layout_build(S, ST, (int)real_size(precision), group, item_blocks, &L,
                                         err);
     if (rc == PL_OK) {
         g->npad = L.npad;
@@ -127,20 +127,20 @@ extern "C" pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s,
         g->ntiles = L.ntiles, g->vc = L.vc, g->tile = L.tile, g->nval = L.nval;
         g->group = L.group, g->item_blocks = L.item_blocks;
         rc = upload_layout(g, &L, S, perm, err);
-        pl_spinv_cuda_layout_free(&L);
+        spinv_cuda_layout_free(&L);
     }
     /* bytes a step must read: the values of S, twice (S a, then S^T y) */
     g->bytes_step = 2.0 * (double)S->start[S->n] * (double)real_size(precision);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hb, (size_t)g->n * 3 * sizeof(double), err);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hx, (size_t)g->n * 3 * sizeof(double), err);
     if (rc != PL_OK) {
-        pl_spinv_cuda_destroy(g);
+        spinv_cuda_destroy(g);
         return NULL;
     }
     return g;
 }
 
-extern "C" void pl_spinv_cuda_destroy(pl_spinv_cuda *g)
+extern "C" void spinv_cuda_destroy(pl_spinv_cuda *g)
 {
     if (!g) return;
     spinv_delassus_destroy(g->dl);
@@ -151,7 +151,7 @@ extern "C" void pl_spinv_cuda_destroy(pl_spinv_cuda *g)
     free(g);
 }
 
-extern "C" int pl_spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
+extern "C" int spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
                                    struct CUstream_st *stream, pl_error *err)
 {
     int rc = check_io(g, io, err);
@@ -165,14 +165,14 @@ extern "C" int pl_spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_
     return spinv_cuda_launch_ST(g, x, io, g->perm, st, err);
 }
 
-extern "C" int pl_spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
+extern "C" int spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
                                         struct CUstream_st *stream, pl_error *err)
 {
     int rc = check_io(g, PL_F64, err);
     if (rc != PL_OK) return rc;
     size_t bytes = (size_t)g->n * 3 * sizeof(double);
     SPINV_CK(cudaMemcpyAsync(g->hb, b, bytes, cudaMemcpyHostToDevice, stream), "copy in");
-    if ((rc = pl_spinv_cuda_solve(g, g->hb, g->hx, PL_F64, stream, err))) return rc;
+    if ((rc = spinv_cuda_solve(g, g->hb, g->hx, PL_F64, stream, err))) return rc;
     SPINV_CK(cudaMemcpyAsync(x, g->hx, bytes, cudaMemcpyDeviceToHost, stream), "copy out");
     SPINV_CK(cudaStreamSynchronize(stream), "global step");
     return PL_OK;
@@ -197,7 +197,7 @@ extern "C" int pl_spinv_cuda_apply_ST(pl_spinv_cuda *g, const void *x, void *y,
     return spinv_cuda_launch_ST(g, y, g->prec, NULL, stream, err);
 }
 
-extern "C" int pl_spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
+extern "C" int spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
                                        struct CUstream_st *stream, pl_error *err)
 {
     if (!g || !g->last_b)
@@ -214,22 +214,22 @@ extern "C" int pl_spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage sta
     return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse (cuda): unknown stage");
 }
 
-extern "C" int pl_spinv_cuda_size(const pl_spinv_cuda *g)
+extern "C" int spinv_cuda_size(const pl_spinv_cuda *g)
 {
     return g ? g->n : 0;
 }
 
-extern "C" pl_precision pl_spinv_cuda_precision(const pl_spinv_cuda *g)
+extern "C" pl_precision spinv_cuda_precision(const pl_spinv_cuda *g)
 {
     return g ? g->prec : PL_F64;
 }
 
-extern "C" double pl_spinv_cuda_device_bytes(const pl_spinv_cuda *g)
+extern "C" double spinv_cuda_device_bytes(const pl_spinv_cuda *g)
 {
     return g ? g->bytes_device : 0.0;
 }
 
-extern "C" double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g)
+extern "C" double spinv_cuda_step_bytes(const pl_spinv_cuda *g)
 {
     return g ? g->bytes_step : 0.0;
 }

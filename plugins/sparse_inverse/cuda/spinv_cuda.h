@@ -45,31 +45,31 @@ typedef struct pl_spinv_cuda pl_spinv_cuda;
  * device.  precision: PL_F64 or PL_F32 (values and arithmetic).  NULL with
  * err set when s has no S (direct mode, not factored), on a bad precision,
  * out of device memory or on a CUDA error. */
-pl_spinv_cuda *pl_spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
+pl_spinv_cuda *spinv_cuda_create(const pl_sparse_inverse *s, pl_precision precision,
                                     pl_error *err);
-void pl_spinv_cuda_destroy(pl_spinv_cuda *g);
+void spinv_cuda_destroy(pl_spinv_cuda *g);
 
 /* x = A^-1 b on device n x 3 blocks whose element type is io (PL_F64 or
  * PL_F32, independent of the object's precision). */
-int pl_spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
+int spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
                         struct CUstream_st *stream, pl_error *err);
 
 /* The same from and to HOST n x 3 float64 blocks (copies in and out through
  * device buffers of the object; returns when x is written). */
-int pl_spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
+int spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
                              struct CUstream_st *stream, pl_error *err);
 
-int pl_spinv_cuda_size(const pl_spinv_cuda *g);
-pl_precision pl_spinv_cuda_precision(const pl_spinv_cuda *g);
+int spinv_cuda_size(const pl_spinv_cuda *g);
+pl_precision spinv_cuda_precision(const pl_spinv_cuda *g);
 /* Device bytes held (matrix, metadata, workspaces). */
-double pl_spinv_cuda_device_bytes(const pl_spinv_cuda *g);
+double spinv_cuda_device_bytes(const pl_spinv_cuda *g);
 /* Bytes of matrix values one global step must read: the floor on its
  * memory traffic. */
-double pl_spinv_cuda_step_bytes(const pl_spinv_cuda *g);
+double spinv_cuda_step_bytes(const pl_spinv_cuda *g);
 
 /* ---- the Delassus operator ------------------------------------------- */
 
-/* Scalar rows of a constraint step for pl_spinv_cuda_delassus: rows of
+/* Scalar rows of a constraint step for spinv_cuda_delassus: rows of
  * coordinate k of constraint row j are k m + j (as in the global solver's
  * apply_inverse_to_rows); their unknowns renumbered 0 .. nu-1. */
 typedef struct pl_spinv_cuda_rows {
@@ -84,15 +84,15 @@ typedef struct pl_spinv_cuda_rows {
 /* From H (3m x n CSR over the unknowns, original numbering) and perm
  * (perm[k] = original index of permuted k).  PL_EINPUT when H is not
  * 3m x n. */
-int pl_spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
+int spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
                              pl_spinv_cuda_rows *R, pl_error *err);
-void pl_spinv_cuda_rows_free(pl_spinv_cuda_rows *R);
+void spinv_cuda_rows_free(pl_spinv_cuda_rows *R);
 
 /* W = H A^-1 H^T (m x m, float64, symmetric, row-major = column-major) into
  * the DEVICE array W, and its diagonal into the HOST array diag_host; queued
  * on stream, returns when diag_host is written.  Device memory: n x nu + nu^2
  * doubles (kept for the next call). */
-int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
+int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
                            double *diag_host, struct CUstream_st *stream, pl_error *err);
 
 /* ---- building blocks (tests and benchmarks) -------------------------- */
@@ -100,7 +100,7 @@ int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double
 /* create() with the row-kernel tuning given: rows of S taken together by
  * one warp at most `group` (1, 2, 4, 8; 0 = default), ROWS items of
  * item_blocks blocks of 8 columns (0 = default). */
-pl_spinv_cuda *pl_spinv_cuda_create_tuned(const pl_sparse_inverse *s, pl_precision precision,
+pl_spinv_cuda *spinv_cuda_create_tuned(const pl_sparse_inverse *s, pl_precision precision,
                                           int group, int item_blocks,
                                           pl_error *err);
 
@@ -119,7 +119,7 @@ typedef enum pl_spinv_cuda_stage {
 
 /* Runs one stage of the last solve again on the same buffers (b and x of
  * that solve must still be valid), for timing the products alone. */
-int pl_spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
+int spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
                             struct CUstream_st *stream, pl_error *err);
 
 #ifdef __cplusplus

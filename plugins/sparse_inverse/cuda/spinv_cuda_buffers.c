@@ -9,10 +9,10 @@
  *    the CPU solver (the kernels take n x 3 blocks). */
 #include "spinv_cuda_buffers.h"
 
-int pl_spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const pl_buffer *b,
+int spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const pl_buffer *b,
                                 pl_buffer *x, struct CUstream_st *stream, pl_error *err)
 {
-    int n = pl_spinv_cuda_size(g);
+    int n = spinv_cuda_size(g);
     if (!g || !b || !x)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "solve (cuda): no device copy of S");
     if (b->rows != (size_t)n || x->rows != (size_t)n || b->cols != x->cols || b->cols < 1)
@@ -26,12 +26,12 @@ int pl_spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const 
         if (b->cols != 3)
             return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                                 "solve (cuda): device blocks must be n x 3, got n x %zu", b->cols);
-        return pl_spinv_cuda_solve(g, b->data, x->data, b->precision, stream, err);
+        return spinv_cuda_solve(g, b->data, x->data, b->precision, stream, err);
     }
     double *bd = pl_buffer_f64(b), *xd = pl_buffer_f64(x);
     if (!bd || !xd)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "solve (cuda): host blocks must be float64");
-    if (b->cols != 3) return pl_sparse_inverse_solve(cpu, bd, xd, (int)b->cols, err);
-    return pl_spinv_cuda_solve_host(g, bd, xd, stream, err);
+    if (b->cols != 3) return sparse_inverse_solve(cpu, bd, xd, (int)b->cols, err);
+    return spinv_cuda_solve_host(g, bd, xd, stream, err);
 }

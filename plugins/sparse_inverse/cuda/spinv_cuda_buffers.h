@@ -13,7 +13,7 @@ extern "C" {
 /* x = A^-1 b: device n x 3 blocks on the GPU (asynchronously, on stream;
  * NULL: the legacy default stream), host float64 blocks through copies
  * (synchronously; k != 3 columns on the CPU solver cpu). */
-int pl_spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const pl_buffer *b,
+int spinv_cuda_solve_buffers(pl_spinv_cuda *g, pl_sparse_inverse *cpu, const pl_buffer *b,
                                 pl_buffer *x, struct CUstream_st *stream, pl_error *err);
 
 #ifdef __cplusplus

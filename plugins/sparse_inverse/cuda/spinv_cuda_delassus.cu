@@ -1,5 +1,5 @@
 /* spinv_cuda_delassus.cu - the Delassus operator W = H A^-1 H^T built on
- * the device (see pl_spinv_cuda_delassus in spinv_cuda.h).
+ * the device (see spinv_cuda_delassus in spinv_cuda.h).
  *
  * A^-1 = P^T S^T S P, so between two unknowns a and b, [A^-1]_ab is the dot
  * product of the columns P a and P b of S.  The rows of one step touch few
@@ -120,7 +120,7 @@ extern "C" void spinv_delassus_destroy(struct spinv_delassus *d)
     free(d);
 }
 
-extern "C" int pl_spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
+extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
                                       double *diag_host, struct CUstream_st *stream, pl_error *err)
 {
     int n = g->n, m = R->m, nu = R->nu;

@@ -38,7 +38,7 @@ struct pl_spinv_cuda {
     void *part_S, *part_ST;          /* partial sums of split rows and tiles */
     int *cnt_S, *cnt_ST;             /* arrival counters (reset by the last warp) */
     double *hb, *hx;                 /* n x 3 float64 staging for solve_host */
-    struct spinv_delassus *dl;       /* pl_spinv_cuda_delassus's state */
+    struct spinv_delassus *dl;       /* spinv_cuda_delassus's state */
     /* the last solve's buffers, for run_stage */
     const void *last_b;
     void *last_x;

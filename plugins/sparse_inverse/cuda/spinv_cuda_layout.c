@@ -7,7 +7,7 @@
 
 #define BLK PL_SPINV_CUDA_BLOCK
 
-void pl_spinv_cuda_layout_free(pl_spinv_cuda_layout *L)
+void spinv_cuda_layout_free(pl_spinv_cuda_layout *L)
 {
     if (!L) return;
     free(L->meta);
@@ -20,7 +20,7 @@ void pl_spinv_cuda_layout_free(pl_spinv_cuda_layout *L)
 
 static int fail(pl_spinv_cuda_layout *L, pl_error *err, const char *msg)
 {
-    pl_spinv_cuda_layout_free(L);
+    spinv_cuda_layout_free(L);
     return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse (cuda layout): %s", msg);
 }
 
@@ -146,7 +146,7 @@ static int build_tile_items(pl_spinv_cuda_layout *L, const pl_spinv_runs *ST)
     return 0;
 }
 
-int pl_spinv_cuda_layout_build(const pl_spinv_profile *S, const pl_spinv_runs *ST,
+int spinv_cuda_layout_build(const pl_spinv_profile *S, const pl_spinv_runs *ST,
                                int elem_size, int group, int item_blocks,
                                pl_spinv_cuda_layout *L, pl_error *err)
 {
@@ -183,7 +183,7 @@ int pl_spinv_cuda_layout_build(const pl_spinv_profile *S, const pl_spinv_runs *S
     return PL_OK;
 }
 
-void pl_spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
+void spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    double *val)
 {
 #pragma omp parallel for schedule(dynamic, 64)
@@ -196,7 +196,7 @@ void pl_spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv
     }
 }
 
-void pl_spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
+void spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    float *val)
 {
 #pragma omp parallel for schedule(dynamic, 64)

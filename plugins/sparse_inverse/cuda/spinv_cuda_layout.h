@@ -87,18 +87,18 @@ typedef struct pl_spinv_cuda_layout {
  * item_blocks blocks (0: ITEM_BYTES of one row).  PL_EINTERNAL on
  * allocation failure or when ST does not list ancestor paths; PL_EINPUT
  * on a bad group. */
-int pl_spinv_cuda_layout_build(const pl_spinv_profile *S, const pl_spinv_runs *ST,
+int spinv_cuda_layout_build(const pl_spinv_profile *S, const pl_spinv_runs *ST,
                                int elem_size, int group, int item_blocks,
                                pl_spinv_cuda_layout *L, pl_error *err);
 /* The default group size: pairs of rows were fastest on an H100 in both
  * precisions (1, 2, 4, 8 measured: docs/benchmarks.md, GPU section). */
 #define PL_SPINV_CUDA_GROUP_DEFAULT 2
 /* The padded values (nval) in float64 or float32. */
-void pl_spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
+void spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    double *val);
-void pl_spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
+void spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    float *val);
-void pl_spinv_cuda_layout_free(pl_spinv_cuda_layout *L);
+void spinv_cuda_layout_free(pl_spinv_cuda_layout *L);
 
 #ifdef __cplusplus
 }

@@ -6,7 +6,7 @@
 
 #include "spinv_cuda.h"
 
-void pl_spinv_cuda_rows_free(pl_spinv_cuda_rows *R)
+void spinv_cuda_rows_free(pl_spinv_cuda_rows *R)
 {
     free(R->pos);
     free(R->rp);
@@ -15,7 +15,7 @@ void pl_spinv_cuda_rows_free(pl_spinv_cuda_rows *R)
     memset(R, 0, sizeof *R);
 }
 
-int pl_spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
+int spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
                              pl_spinv_cuda_rows *R, pl_error *err)
 {
     memset(R, 0, sizeof *R);
@@ -34,7 +34,7 @@ int pl_spinv_cuda_rows_build(const pl_csr *H, int m, const int *perm, int n,
     R->pos = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
     if (!ucol || !pinv || !R->rp || !R->ru || !R->rx || !R->pos) {
         free(ucol), free(pinv);
-        pl_spinv_cuda_rows_free(R);
+        spinv_cuda_rows_free(R);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     }
     for (int k = 0; k < n; ++k) pinv[perm[k]] = k, ucol[k] = -1;
