@@ -35,7 +35,6 @@ void proximities_free(pl_proximities *p)
 
 typedef struct cand {
     pl_proximity p;
-    double rank;   /* nearest first (coll_vf_candidate) */
     int prim;
     int over_face; /* the vertex projects inside the triangle */
 } cand;
@@ -48,11 +47,11 @@ typedef struct work {
     int fail;
 } work;
 
-/* Nearest first: |gap| (an inside point's way out is its nearest face),
- * then what look-ahead found, earliest first. */
+/* Nearest first: |gap| (an inside point's way out is its nearest face). */
 static int cand_less(const cand *x, const cand *y)
 {
-    return x->rank < y->rank || (x->rank == y->rank && x->prim < y->prim);
+    double a = fabs(x->p.gap), b = fabs(y->p.gap);
+    return a < b || (a == b && x->prim < y->prim);
 }
 
 /* Whether triangles (the b of two vertex-face proximities) share a vertex. */
@@ -104,7 +103,7 @@ static int finish_vertex(work *w, const pl_detect_params *prm, int nodof)
     return PL_OK;
 }
 
-static int cand_push(work *w, const pl_proximity *p, int prim, int face, double rank)
+static int cand_push(work *w, const pl_proximity *p, int prim, int face)
 {
     if (w->nc == w->capc) {
         int cap = w->capc ? 2 * w->capc : 16;
@@ -115,7 +114,6 @@ static int cand_push(work *w, const pl_proximity *p, int prim, int face, double 
     }
     w->c[w->nc].p = *p;
     w->c[w->nc].over_face = face;
-    w->c[w->nc].rank = rank;
     w->c[w->nc++].prim = prim;
     return PL_OK;
 }
@@ -133,7 +131,6 @@ static int run_item(const pass *ps, work *w, int i)
     const pl_coll_mesh *P = ps->P, *T = ps->T;
     pl_proximity p;
     int face = 0;
-    double rank = 0.0;
     w->q.n = 0;
     int nt = ps->edges ? T->nedges : T->ntris;
     if (!ps->brute) {
@@ -150,8 +147,8 @@ static int run_item(const pass *ps, work *w, int i)
                 coll_prox_push(&w->out, &p))
                 return PL_EINTERNAL;
         } else if (coll_vf_candidate(P, ps->ip, i, T, ps->it, j, ps->self, ps->second, ps->prm, &p,
-                                     &face, &rank) &&
-                   cand_push(w, &p, j, face, rank)) {
+                                &face) &&
+                   cand_push(w, &p, j, face)) {
             return PL_EINTERNAL;
         }
     }

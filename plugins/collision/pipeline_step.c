@@ -33,21 +33,17 @@ static int fit_model(pipe_model *m)
     return (m->x0 && m->x1 && m->active) ? PL_OK : PL_EINTERNAL;
 }
 
-/* x0 / x1 over the step and which points carry a free DOF.  A deformable
- * point is predicted where its inertia and gravity take it, x + h v + h^2 g
- * (the solver's own initial guess): a falling body's motion over the step
- * is then exact until it touches. */
+/* x0 / x1 over the step and which points carry a free DOF. */
 static void fill_positions(pipe_model *m, const pl_system *sys)
 {
     const pl_collision_geometry *g = &m->g;
-    double h = sys->h, grav[3] = {0.0, 0.0, 0.0};
-    if (!g->is_obstacle) pl_node_gravity(m->c->node, grav);
+    double h = sys->h;
     for (int i = 0; i < g->nverts; ++i) {
         for (int k = 0; k < 3; ++k) {
             double x = g->x[3 * i + k], v = g->v ? g->v[3 * i + k] : 0.0;
             /* obstacles are posed at t + h, deformables given at t */
             m->x0[3 * i + k] = g->is_obstacle ? x - h * v : x;
-            m->x1[3 * i + k] = g->is_obstacle ? x : x + h * v + h * h * grav[k];
+            m->x1[3 * i + k] = g->is_obstacle ? x : x + h * v;
         }
         unsigned char act = 0;
         for (int a = 0; a < 4 && !g->is_obstacle; ++a) {
@@ -73,13 +69,6 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
                                      m->c->name);
         if (fit_model(m)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         fill_positions(m, sys);
-        double grav[3] = {0.0, 0.0, 0.0};
-        if (!m->g.is_obstacle) pl_node_gravity(m->c->node, grav);
-        reach_of(m->g.x, m->g.v, m->g.nverts, m->g.is_obstacle, m->g.groups, sys->h, grav,
-                    &w->reach[k]);
-    }
-    for (int k = 0; k < p->nmodels; ++k) {
-        pipe_model *m = &w->models[k];
         pl_coll_mesh *cm = &m->mesh;
         cm->nverts = m->g.nverts;
         cm->ntris = m->g.ntris;
@@ -90,12 +79,8 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
         cm->edges = m->g.edges;
         cm->active = m->active;
         cm->sides = coll_model_sides(m->c);
-        /* boxes reach alarm / 2 and how far a body struck by another may
-         * move beyond its prediction */
-        double hit = sys->h * hit_speed(w->reach, p->nmodels, k, -1, p->alarm);
         pl_error e;
-        int rc;
-        if ((rc = coll_mesh_prepare(cm, p->alarm + 2.0 * hit, &e)))
+        if ((rc = coll_mesh_prepare(cm, p->alarm, &e)))
             return pl_component_fail(&p->base, err, rc, "collision model '%s': %s", m->c->name,
                                      e.msg);
     }
@@ -124,14 +109,13 @@ static int build_hints(const collision_pipeline *p, coll_ws *w, const pl_data *d
     return side_hints_build(&w->hints, w->prev, n);
 }
 
-int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
+int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d,
                          pl_error *err)
 {
     w->prox.n = 0;
     if (build_hints(p, w, d))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
     pl_detect_params prm = detect_defaults(p->alarm);
-    prm.contact = p->contact;
     prm.hints = &w->hints;
     prm.vertex_face = p->vertex_face;
     prm.edge_edge = p->edge_edge;
@@ -146,9 +130,6 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
             if (l == k && (!p->self || a->g.is_obstacle)) continue;
             if (a->g.groups & b->g.groups) continue; /* they share a group */
             if (!ak && !any_active(b)) continue;
-            /* struck by a third model: beyond the prediction */
-            prm.margin = h * fmax(hit_speed(w->reach, p->nmodels, k, l, p->alarm),
-                                  hit_speed(w->reach, p->nmodels, l, k, p->alarm));
             if (detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &w->prox))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         }
