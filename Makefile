@@ -20,8 +20,8 @@ FUZZ_SECONDS ?= 180
 # targets to run (default: all of tests/fuzz)
 FUZZ_TARGETS ?=
 
-.PHONY: all deps deps-fuzz configure build demo test test-fast test-asan test-doc bench docs clean fuzz \
-	fuzz-build fuzz-coverage
+.PHONY: all deps deps-fuzz configure build demo test test-fast test-asan test-doc bench docs pictures \
+	clean fuzz fuzz-build fuzz-coverage
 
 all: build
 
@@ -97,6 +97,11 @@ bench: build
 
 docs: build
 	$(BUILD)/bin/pliant doc docs/components.md
+	$(BUILD)/bin/pliant doc --sofa docs/sofa-vocabulary.md
+
+# one picture of every scene (pliant render, off screen) for docs/scenes.md
+pictures: build
+	sh docs/make_pictures.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(FUZZ_COV_BUILD) out

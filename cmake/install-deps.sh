@@ -4,8 +4,12 @@
 # Uses sudo when not root.  Safe to run again: it installs nothing when all
 # packages are present.
 set -eu
+# The viewer (pliant view, pliant render, make pictures): OpenGL, EGL with
+# Mesa's software renderer for machines without a GPU, GLFW, libpng, ffmpeg;
+# xvfb and xauth run the window tests without a screen.
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
-zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin"
+zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin \
+libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth"
 # `install-deps.sh fuzz` (make fuzz): clang with libFuzzer, LLVM's coverage
 # tools and clang's OpenMP runtime, only for the fuzz targets.
 if [ "${1:-}" = fuzz ]; then

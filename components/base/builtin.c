@@ -1,6 +1,7 @@
 /* builtin.c - registers the built-in components with a registry. */
 #include "pliant/registry.h"
 
+#include "constraint/pick.h"
 #include "constraint/prescribed.h"
 #include "controller/controller.h"
 #include "export/export.h"
@@ -9,6 +10,7 @@
 #include "mass/mass.h"
 #include "solver/solver.h"
 #include "state/mechanical_object.h"
+#include "visual/visual.h"
 
 extern const pl_type pl_work_limits_type; /* core/src/work_limits.c */
 
@@ -28,8 +30,12 @@ static const pl_type *const BUILTIN[] = {
     &pl_write_state_type,
     &pl_local_global_solver_type,
     &pl_newton_solver_type,
+    &pl_linearized_euler_solver_type,
     &pl_jacobi_solver_type,
     &pl_keyframes_type,
+    &pl_keyboard_controller_type,
+    &pl_pick_spring_type,
+    &pl_interactive_camera_type,
     &pl_work_limits_type,
 };
 

@@ -6,6 +6,7 @@
 #include "pliant/pliant.h"
 
 extern const pl_type pl_keyframes_type;
+extern const pl_type pl_keyboard_controller_type;
 
 /* Keyframe interpolation: k values per time (times increasing, ntimes >= 1,
  * values ntimes x k).  Before the first time the first values hold, after

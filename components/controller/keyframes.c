@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "controller.h"
+#include "controller/target.h"
 
 enum { INTERP_LINEAR = 0, INTERP_STEP = 1 };
 
@@ -93,90 +94,13 @@ static int kf_init(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
-/* Splits "@path.field" and finds the component and its field. */
-static int resolve_target(keyframes *kf, pl_ctx *ctx)
+/* The target's kind must take k numbers per time. */
+static int check_count(keyframes *kf, pl_ctx *ctx)
 {
-    pl_component *c = &kf->base;
-    const char *t = kf->target;
-    if (t[0] == '@') t++;
-    const char *dot = strrchr(t, '.');
-    if (!dot || dot == t || !dot[1] || strchr(dot, '/'))
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "target: expected @component.field (e.g. @cable.value), got "
-                                  "'%s'",
-                                  kf->target);
-    char path[512];
-    snprintf(path, sizeof path, "%.*s", (int)(dot - t), t);
-    const char *fname = dot + 1;
-    kf->comp = pl_node_resolve(c, path);
-    if (!kf->comp)
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "target: no component '%s' (looked in this node and above; "
-                                  "use ../name, child/name or /abs/path)",
-                                  path);
-    kf->field = pl_component_field(kf->comp, fname);
-    if (!kf->field) {
-        const char *best = NULL;
-        int bestd = 1 << 30;
-        for (int i = 0; i < kf->comp->type->nfields; ++i) {
-            int d = pl_edit_distance(fname, kf->comp->type->fields[i].name);
-            if (d < bestd) bestd = d, best = kf->comp->type->fields[i].name;
-        }
-        if (best && bestd <= 3)
-            return pl_component_error(c, ctx, PL_EINPUT,
-                                      "target: %s '%s' has no field '%s' (did you mean %s?)",
-                                      kf->comp->type->name, path, fname, best);
-        return pl_component_error(c, ctx, PL_EINPUT, "target: %s '%s' has no field '%s'",
-                                  kf->comp->type->name, path, fname);
-    }
-    return PL_OK;
-}
-
-/* The names of t's input fields, for messages ("value, pullPoint"). */
-static void input_names(const pl_type *t, char *buf, size_t size)
-{
-    size_t w = 0;
-    buf[0] = '\0';
-    for (int i = 0; i < t->nfields && w < size; ++i)
-        if (t->fields[i].flags & PL_FIELD_INPUT) {
-            int n = snprintf(buf + w, size - w, "%s%s", w ? ", " : "", t->fields[i].name);
-            if (n < 0) break;
-            w += (size_t)n;
-        }
-}
-
-/* The field kind must take k numbers and live in the data. */
-static int check_field(keyframes *kf, pl_ctx *ctx)
-{
-    pl_component *c = &kf->base;
     const pl_field *f = kf->field;
-    if (f->flags & PL_FIELD_OUTPUT)
-        return pl_component_error(c, ctx, PL_EINPUT, "target: '%s' is an output of %s",
-                                  f->name, kf->comp->type->name);
-    if (!(f->flags & PL_FIELD_INPUT)) {
-        char names[256];
-        input_names(kf->comp->type, names, sizeof names);
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "target: %s.%s is not an input field (a model value, which a "
-                                  "step never changes); Keyframes drives input fields only%s%s%s",
-                                  kf->comp->type->name, f->name,
-                                  names[0] ? " (" : "", names, names[0] ? ")" : "");
-    }
-    int want = -1; /* -1: any count */
-    switch (f->type) {
-    case PL_F_DOUBLE:
-    case PL_F_INT: want = 1; break;
-    case PL_F_VEC3: want = 3; break;
-    case PL_F_DOUBLES:
-    case PL_F_INTS: break;
-    default:
-        return pl_component_error(c, ctx, PL_EINPUT,
-                                  "target: '%s' is a %s field; Keyframes drives numbers (double, "
-                                  "int, vec3, lists)",
-                                  f->name, pl_field_type_name(f->type));
-    }
+    int want = f->type == PL_F_DOUBLE || f->type == PL_F_INT ? 1 : f->type == PL_F_VEC3 ? 3 : -1;
     if (want > 0 && kf->k != want)
-        return pl_component_error(c, ctx, PL_EINPUT,
+        return pl_component_error(&kf->base, ctx, PL_EINPUT,
                                   "values: the target '%s' (%s) takes %d number(s) per time, "
                                   "found %d per time",
                                   f->name, pl_field_type_name(f->type), want, kf->k);
@@ -203,8 +127,8 @@ static int kf_write(const keyframes *kf, pl_data *d, double t, pl_error *err)
 static int kf_bind(pl_component *c, pl_ctx *ctx)
 {
     keyframes *kf = (keyframes *)c;
-    int rc = resolve_target(kf, ctx);
-    if (!rc) rc = check_field(kf, ctx);
+    int rc = pl_controller_target(c, ctx, "Keyframes", kf->target, &kf->comp, &kf->field);
+    if (!rc) rc = check_count(kf, ctx);
     if (rc) return rc;
     /* the target holds the value of the initial time from the start */
     pl_error err;

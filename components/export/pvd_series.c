@@ -98,10 +98,15 @@ pl_pvd *pl_pvd_open(const char *path, int append, pl_error *err)
 
 int pl_pvd_append(pl_pvd *s, double time, const char *file, pl_error *err)
 {
+    return pl_pvd_append_part(s, time, 0, file, err);
+}
+
+int pl_pvd_append_part(pl_pvd *s, double time, int part, const char *file, pl_error *err)
+{
     if (!s || !file) return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "invalid series entry");
     if (fseek(s->f, s->footer_pos, SEEK_SET) != 0)
         return pl_error_set(err, PL_EINTERNAL, s->path, 0, NULL, "seeking in the series failed");
-    fprintf(s->f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"", time);
+    fprintf(s->f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"%d\" file=\"", time, part);
     pl_export_xml_attr(s->f, file);
     fputs("\"/>\n", s->f);
     long pos = ftell(s->f);

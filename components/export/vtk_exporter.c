@@ -3,14 +3,19 @@
  * Writes <prefix>_0000.vtu, <prefix>_0001.vtu, ... (one per exported step,
  * numbered by frame) and <prefix>.pvd listing them with their times.  Cells
  * come from the node's topology (tetrahedra and triangles); without one only
- * the points are written.  Point data is a list gathered at each frame (for
- * now the velocity; contact forces join it later). */
+ * the points are written.  Point data: the velocity and the constraint
+ * forces.  With drawings="1" (the default) the obstacles, cable paths and
+ * contacts of the node and of the nodes below without a VTKExporter of
+ * their own go into the same series as further parts (vtk_parts.h), so
+ * ParaView shows what pliant view shows; a node without a state exports
+ * only those. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "export/export.h"
 #include "export/export_internal.h"
+#include "export/vtk_parts.h"
 #include "pliant/log.h"
 #include "pliant/node.h"
 #include "pliant/plugin.h"
@@ -25,9 +30,11 @@ typedef struct vtk_exporter {
     int every;
     int binary;
     int export_velocity;
+    int drawings;
     /* partners (bind) */
     pl_component *state;
     pl_component *topology;
+    pl_vtk_parts parts;
     /* output (first write) */
     char *prefix;      /* resolved path prefix, out_dir applied */
     char *pvd_path;
@@ -55,6 +62,12 @@ static const pl_field vtk_exporter_fields[] = {
              "base64 binary arrays instead of ascii text", 0),
     PL_FIELD(vtk_exporter, export_velocity, "exportVelocity", PL_F_BOOL, "1",
              "write the velocity [m/s] as point data", 0),
+    PL_FIELD(vtk_exporter, drawings, "drawings", PL_F_BOOL, "1",
+             "also write the obstacles (planes as a finite patch, meshes, at their pose), cable "
+             "paths and contact points with their forces of this node and the nodes below "
+             "without their own VTKExporter, as further parts of the series "
+             "(<prefix>_<node>_<component>_0000.vtu, ...)",
+             0),
 };
 
 /* Drops a ".vtu", ".pvd" or ".vtk" the user may have added to the prefix. */
@@ -84,9 +97,14 @@ static int vtk_exporter_bind(pl_component *c, pl_ctx *ctx)
 {
     vtk_exporter *e = (vtk_exporter *)c;
     e->state = pl_node_find_role(c->node, PL_ROLE_STATE);
-    if (!e->state)
+    if (e->drawings && pl_vtk_parts_find(&e->parts, c) != PL_OK)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (!e->state && e->parts.nowners == 0)
         return pl_component_error(c, ctx, PL_EINPUT,
-                                  "no state (MechanicalObject) in this node to export");
+                                  "nothing to export: no state (MechanicalObject) in this node, "
+                                  "and no obstacle, cable or contacts in it or below%s",
+                                  e->drawings ? "" : " (drawings=\"0\")");
+    if (!e->state) return PL_OK;
     const pl_state_ops *so = pl_component_role(e->state, PL_ROLE_STATE);
     if (!so->positions || !so->count)
         return pl_component_error(c, ctx, PL_EINTERNAL, "the state cannot give its positions");
@@ -164,7 +182,8 @@ static const pl_mesh *frame_mesh(vtk_exporter *e, int n)
     return NULL;
 }
 
-static int write_frame(vtk_exporter *e, pl_ctx *ctx, const pl_export_info *info, pl_error *err)
+static int write_body_frame(vtk_exporter *e, pl_ctx *ctx, const pl_export_info *info,
+                            pl_error *err)
 {
     const pl_state_ops *so = pl_component_role(e->state, PL_ROLE_STATE);
     int n = so->count(e->state);
@@ -187,12 +206,22 @@ static int write_frame(vtk_exporter *e, pl_ctx *ctx, const pl_export_info *info,
                               e->binary, err);
             /* the .pvd sits beside the frames: entries are bare file names */
             if (rc == PL_OK) rc = pl_pvd_append(e->pvd, info->time, pl_export_basename(vtu), err);
-            if (rc == PL_OK) e->frame++;
             free(vtu);
         }
     }
     point_data_free(&pd);
     free(owned_xyz);
+    if (rc != PL_OK) pl_export_blame(&e->base, err);
+    return rc;
+}
+
+static int write_frame(vtk_exporter *e, pl_ctx *ctx, const pl_export_info *info, pl_error *err)
+{
+    int rc = e->state ? write_body_frame(e, ctx, info, err) : PL_OK;
+    if (rc == PL_OK && e->parts.nowners)
+        rc = pl_vtk_parts_write(&e->parts, e->prefix, e->frame, ctx->data, e->pvd,
+                                e->state ? 1 : 0, e->binary, err);
+    if (rc == PL_OK) e->frame++;
     if (rc != PL_OK) pl_export_blame(&e->base, err);
     return rc;
 }
@@ -228,6 +257,7 @@ static void vtk_exporter_destroy(pl_component *c)
 {
     vtk_exporter *e = (vtk_exporter *)c;
     pl_pvd_close(e->pvd, NULL);
+    pl_vtk_parts_free(&e->parts);
     free(e->prefix);
     free(e->pvd_path);
 }

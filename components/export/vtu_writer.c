@@ -13,7 +13,7 @@
 #include "export/export.h"
 #include "export/export_internal.h"
 
-enum { VTK_VERTEX = 1, VTK_TRIANGLE = 5, VTK_TETRA = 10 };
+enum { VTK_VERTEX = 1, VTK_LINE = 3, VTK_TRIANGLE = 5, VTK_TETRA = 10 };
 
 /* ---- base64 to a stream -------------------------------------------------- */
 
@@ -74,32 +74,41 @@ typedef enum { ARR_F64, ARR_I32, ARR_U8 } arr_type;
 /* What a DataArray holds, produced element by element so that offsets and
  * types never need a temporary array. */
 typedef struct cells_view {
-    int nverts, ntets, ntris;
-    const int *tets, *tris;
+    int nverts, ntets, ntris, nlines;
+    const int *tets, *tris, *lines;
 } cells_view;
+
+static int no_cells(const cells_view *c)
+{
+    return !c->ntets && !c->ntris && !c->nlines;
+}
 
 static int cells_count(const cells_view *c)
 {
-    return (c->ntets || c->ntris) ? c->ntets + c->ntris : c->nverts;
+    return no_cells(c) ? c->nverts : c->ntets + c->ntris + c->nlines;
 }
 
 static long conn_value(const cells_view *c, size_t i)
 {
-    if (!c->ntets && !c->ntris) return (long)i;
-    size_t nt = (size_t)c->ntets * 4;
-    return i < nt ? c->tets[i] : c->tris[i - nt];
+    if (no_cells(c)) return (long)i;
+    size_t nt = (size_t)c->ntets * 4, nr = (size_t)c->ntris * 3;
+    return i < nt ? c->tets[i] : i < nt + nr ? c->tris[i - nt] : c->lines[i - nt - nr];
 }
 
 static long offset_value(const cells_view *c, size_t i)
 {
-    if (!c->ntets && !c->ntris) return (long)i + 1;
-    return i < (size_t)c->ntets ? 4 * ((long)i + 1) : 4L * c->ntets + 3 * ((long)(i - c->ntets) + 1);
+    if (no_cells(c)) return (long)i + 1;
+    long nt = c->ntets, nr = c->ntris, k = (long)i;
+    if (k < nt) return 4 * (k + 1);
+    if (k < nt + nr) return 4 * nt + 3 * (k - nt + 1);
+    return 4 * nt + 3 * nr + 2 * (k - nt - nr + 1);
 }
 
 static long type_value(const cells_view *c, size_t i)
 {
-    if (!c->ntets && !c->ntris) return VTK_VERTEX;
-    return i < (size_t)c->ntets ? VTK_TETRA : VTK_TRIANGLE;
+    if (no_cells(c)) return VTK_VERTEX;
+    long k = (long)i;
+    return k < c->ntets ? VTK_TETRA : k < c->ntets + c->ntris ? VTK_TRIANGLE : VTK_LINE;
 }
 
 typedef long (*int_source)(const cells_view *c, size_t i);
@@ -179,15 +188,15 @@ static int check_indices(const int *idx, int nelem, int per, int nverts, const c
     return PL_OK;
 }
 
-static int check_input(const char *path, int nverts, const double *xyz, int ntets,
-                       const int *tets, int ntris, const int *tris, const pl_vtu_array *pd,
-                       int npd, int binary, pl_error *err)
+static int check_input(const char *path, int nverts, const double *xyz, const pl_vtu_cells *c,
+                       const pl_vtu_array *pd, int npd, int binary, pl_error *err)
 {
-    if (!path || nverts < 0 || ntets < 0 || ntris < 0 || npd < 0 || (nverts && !xyz) ||
-        (ntets && !tets) || (ntris && !tris) || (npd && !pd))
+    if (!path || nverts < 0 || c->ntets < 0 || c->ntris < 0 || c->nlines < 0 || npd < 0 ||
+        (nverts && !xyz) || (c->ntets && !c->tets) || (c->ntris && !c->tris) ||
+        (c->nlines && !c->lines) || (npd && !pd))
         return pl_error_set(err, PL_EINPUT, path, 0, NULL, "invalid arguments to pl_vtu_write");
     /* connectivity and offsets are Int32, binary byte counts UInt32 */
-    size_t nconn = (size_t)ntets * 4 + (size_t)ntris * 3;
+    size_t nconn = (size_t)c->ntets * 4 + (size_t)c->ntris * 3 + (size_t)c->nlines * 2;
     size_t biggest = (size_t)nverts * 3 * sizeof(double);
     for (int k = 0; k < npd; ++k) {
         if (!pd[k].name || pd[k].ncomp < 1 || (nverts && !pd[k].values))
@@ -199,8 +208,9 @@ static int check_input(const char *path, int nverts, const double *xyz, int ntet
     if (nconn > INT32_MAX || (binary && (biggest > UINT32_MAX || nconn * 4 > UINT32_MAX)))
         return pl_error_set(err, PL_EINPUT, path, 0, NULL,
                             "mesh too large for a .vtu with 32-bit offsets");
-    int rc = check_indices(tets, ntets, 4, nverts, "tetrahedron", path, err);
-    if (rc == PL_OK) rc = check_indices(tris, ntris, 3, nverts, "triangle", path, err);
+    int rc = check_indices(c->tets, c->ntets, 4, nverts, "tetrahedron", path, err);
+    if (rc == PL_OK) rc = check_indices(c->tris, c->ntris, 3, nverts, "triangle", path, err);
+    if (rc == PL_OK) rc = check_indices(c->lines, c->nlines, 2, nverts, "line", path, err);
     return rc;
 }
 
@@ -216,8 +226,9 @@ static void write_body(FILE *f, int nverts, const double *xyz, const cells_view 
                        const pl_vtu_array *pd, int npd, int binary, int *failed)
 {
     int ncells = cells_count(cv);
-    size_t nconn = (cv->ntets || cv->ntris) ? (size_t)cv->ntets * 4 + (size_t)cv->ntris * 3
-                                            : (size_t)nverts;
+    size_t nconn = no_cells(cv) ? (size_t)nverts
+                                : (size_t)cv->ntets * 4 + (size_t)cv->ntris * 3 +
+                                      (size_t)cv->nlines * 2;
     fprintf(f,
             "<?xml version=\"1.0\"?>\n"
             "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
@@ -236,8 +247,8 @@ static void write_body(FILE *f, int nverts, const double *xyz, const cells_view 
     array_body(f, ARR_F64, xyz, NULL, cv, (size_t)nverts * 3, 3, binary, failed);
     fputs("      </Points>\n      <Cells>\n", f);
     array_open(f, ARR_I32, "connectivity", 1, binary);
-    array_body(f, ARR_I32, NULL, conn_value, cv, nconn, cv->ntets ? 4 : cv->ntris ? 3 : 12,
-               binary, failed);
+    array_body(f, ARR_I32, NULL, conn_value, cv, nconn,
+               cv->ntets ? 4 : cv->ntris ? 3 : cv->nlines ? 2 : 12, binary, failed);
     array_open(f, ARR_I32, "offsets", 1, binary);
     array_body(f, ARR_I32, NULL, offset_value, cv, (size_t)ncells, 12, binary, failed);
     array_open(f, ARR_U8, "types", 1, binary);
@@ -249,8 +260,14 @@ int pl_vtu_write(const char *path, int nverts, const double *xyz, int ntets, con
                  int ntris, const int *tris, const pl_vtu_array *point_data, int npoint_data,
                  int binary, pl_error *err)
 {
-    int rc = check_input(path, nverts, xyz, ntets, tets, ntris, tris, point_data, npoint_data,
-                         binary, err);
+    pl_vtu_cells c = {ntets, tets, ntris, tris, 0, NULL};
+    return pl_vtu_write_cells(path, nverts, xyz, &c, point_data, npoint_data, binary, err);
+}
+
+int pl_vtu_write_cells(const char *path, int nverts, const double *xyz, const pl_vtu_cells *c,
+                       const pl_vtu_array *point_data, int npoint_data, int binary, pl_error *err)
+{
+    int rc = check_input(path, nverts, xyz, c, point_data, npoint_data, binary, err);
     if (rc != PL_OK) return rc;
     size_t n = strlen(path);
     char *tmp = malloc(n + 5);
@@ -263,7 +280,7 @@ int pl_vtu_write(const char *path, int nverts, const double *xyz, int ntets, con
         free(tmp);
         return PL_EINPUT;
     }
-    cells_view cv = {nverts, ntets, ntris, tets, tris};
+    cells_view cv = {nverts, c->ntets, c->ntris, c->nlines, c->tets, c->tris, c->lines};
     int failed = 0;
     write_body(f, nverts, xyz, &cv, point_data, npoint_data, binary, &failed);
     if (ferror(f)) failed = 1;

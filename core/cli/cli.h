@@ -13,6 +13,8 @@ int cli_list(int argc, char **argv);
 int cli_doc(int argc, char **argv);
 int cli_regress(int argc, char **argv);
 int cli_sweep(int argc, char **argv);
+int cli_view(int argc, char **argv);
+int cli_render(int argc, char **argv);
 
 /* ---- cli_common.c: arguments, names, temporary folders ---- */
 

@@ -13,9 +13,11 @@
 #include "cli_types.h"
 
 static const char USAGE[] =
-    "usage: pliant doc [FILE.md]\n"
+    "usage: pliant doc [--sofa] [FILE.md]\n"
     "Writes the component reference (every type, its roles and fields) as Markdown to FILE,\n"
     "or to standard output without one.  `make docs` regenerates docs/components.md.\n\n"
+    "  --sofa       write SOFA's vocabulary instead: what each SOFA component and attribute\n"
+    "               becomes in Pliant (docs/sofa-vocabulary.md)\n"
     "  -h, --help   this text\n";
 
 static void doc_type(const cli_type *e, FILE *f)
@@ -63,11 +65,16 @@ static void write_doc(const pl_registry *r, FILE *f)
 
 int cli_doc(int argc, char **argv)
 {
-    static const struct option opts[] = {{"help", no_argument, NULL, 'h'}, {0, 0, 0, 0}};
+    static const struct option opts[] = {
+        {"help", no_argument, NULL, 'h'}, {"sofa", no_argument, NULL, 's'}, {0, 0, 0, 0}};
     opterr = 0;
-    int c;
+    int c, sofa = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         if (c == 'h') return fputs(USAGE, stdout), 0;
+        if (c == 's') {
+            sofa = 1;
+            continue;
+        }
         return cli_bad_option("doc", argv, optind, optopt);
     }
     if (argc - optind > 1) return cli_usage_error("doc", "give at most one FILE");
@@ -80,8 +87,12 @@ int cli_doc(int argc, char **argv)
         pl_registry_free(r);
         return 2;
     }
-    write_doc(r, f);
-    int rc = path ? fclose(f) != 0 : fflush(f) != 0;
+    int rc = 0;
+    if (sofa)
+        rc = pl_sofa_write_vocabulary(f, "markdown") != 0;
+    else
+        write_doc(r, f);
+    rc |= path ? fclose(f) != 0 : fflush(f) != 0;
     pl_registry_free(r);
     if (rc) fprintf(stderr, "pliant doc: cannot write %s\n", path ? path : "to standard output");
     else if (path) fprintf(stderr, "wrote %s\n", path);

@@ -26,6 +26,8 @@ static const command COMMANDS[] = {
     {"doc", cli_doc, "the component reference in Markdown"},
     {"regress", cli_regress, "run a regression list against stored references"},
     {"sweep", cli_sweep, "run a scene over a grid of field values, tabulate outputs"},
+    {"view", cli_view, "the scene live in a window (play, step, keys, mouse)"},
+    {"render", cli_render, "pictures without a display: PNG frames or an MP4"},
 };
 #define NCOMMANDS ((int)(sizeof COMMANDS / sizeof COMMANDS[0]))
 

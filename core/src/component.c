@@ -20,6 +20,8 @@ static const char *const ROLE_NAMES[PL_ROLE_COUNT] = {
     [PL_ROLE_PRESCRIBED] = "prescribed DOFs",
     [PL_ROLE_ANIMATION_LOOP] = "animation loop",
     [PL_ROLE_DEVICE] = "device",
+    [PL_ROLE_VISUAL] = "visual",
+    [PL_ROLE_EVENT] = "event",
 };
 
 const char *pl_role_name(int role)

@@ -4,6 +4,7 @@
  * without entity substitution; a document that declares a DTD is refused
  * as soon as the parser meets it, whatever its encoding. */
 #include "scene.h"
+#include "sofa.h"
 #include "xml_guard.h"
 
 #include <ctype.h>
@@ -14,12 +15,6 @@
 #include <libxml/parser.h>
 #include <libxml/tree.h>
 
-/* Visual and GUI components of SOFA scenes: skipped with a warning. */
-static const char *const IGNORED[] = {"VisualStyle", "OglModel", "OglSceneFrame",
-                                      "BackgroundSetting", "ConstraintAttachButtonSetting",
-                                      "DefaultVisualManagerLoop", "InteractiveCamera",
-                                      "LightManager", "DirectionalLight", NULL};
-
 /* What every step of building the tree needs. */
 typedef struct scene_build {
     const char *file;
@@ -29,13 +24,6 @@ typedef struct scene_build {
 } scene_build;
 
 static const char *const NODE_ATTRS[] = {"name", "dt", "gravity", "animate", NULL};
-
-static int is_ignored(const char *tag)
-{
-    for (int k = 0; IGNORED[k]; ++k)
-        if (!strcmp(tag, IGNORED[k])) return 1;
-    return 0;
-}
 
 static int line_of(xmlNode *x)
 {
@@ -335,10 +323,6 @@ static void build_node(pl_node *n, xmlNode *x, const scene_build *b)
             build_node(child, k, b);
             continue;
         }
-        if (is_ignored(tag)) {
-            pl_diag_warn(diag, file, line_of(k), np, "%s is a visual component: ignored", tag);
-            continue;
-        }
         const pl_type *t = pl_registry_find(b->reg, tag);
         if (!t) {
             const char *s = pl_registry_suggest(b->reg, tag);
@@ -357,6 +341,23 @@ static void build_node(pl_node *n, xmlNode *x, const scene_build *b)
         xmlFree(nm);
         if (c) parse_attributes(c, k, file, diag);
     }
+}
+
+pl_component *pl_node_add_component(pl_node *n, const pl_registry *reg, const char *type,
+                                    const char *name, pl_diag *diag)
+{
+    const pl_type *t = pl_registry_find(reg, type);
+    if (!t) {
+        char np[160];
+        pl_diag_error(diag, PL_EINPUT, n->file ? n->file : "<scene>", 0,
+                      pl_node_path(n, np, sizeof np), "no component type '%s' is registered",
+                      type);
+        return NULL;
+    }
+    pl_component *c = pl_scene_new_component(n, t, name, n->file ? n->file : "<scene>", 0, diag);
+    if (!c && !diag->nerrors)
+        pl_diag_error(diag, PL_EINTERNAL, n->file ? n->file : "<scene>", 0, type, "out of memory");
+    return c;
 }
 
 pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_registry *reg,
@@ -387,6 +388,8 @@ pl_node *pl_scene_build(const char *xml, size_t len, const char *file, pl_regist
         xmlChar *nm = xmlGetProp(x, (const xmlChar *)"name");
         root = new_node(NULL, nm ? (const char *)nm : "root", file, line_of(x));
         xmlFree(nm);
+        /* SOFA's vocabulary and idioms become Pliant components (sofa_lower.c) */
+        pl_sofa_lower(doc, file, reg, diag);
         if (root) build_node(root, x, &b);
     }
     xmlFreeDoc(doc);

@@ -177,8 +177,13 @@ static void check_time_steps(const pl_model *m, const pl_node *n, pl_diag *diag)
     for (int k = 0; k < n->nchildren; ++k) check_time_steps(m, n->children[k], diag);
 }
 
+typedef struct prepare_hook {
+    pl_sim_prepare fn;
+    void *user;
+} prepare_hook;
+
 static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_options *opt,
-                    pl_diag *diag)
+                    const prepare_hook *hook, pl_diag *diag)
 {
     pl_sim *s = calloc(1, sizeof *s);
     if (!s) return NULL;
@@ -209,6 +214,11 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     check_time_steps(&s->model, s->model.root, diag);
     if (diag->nerrors) goto fail;
     pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
+    if (hook->fn && hook->fn(s->model.root, s->registry, diag, hook->user)) {
+        if (!diag->nerrors)
+            pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the program's prepare step failed");
+        goto fail;
+    }
     if (load_tree(s, diag) != PL_OK) goto fail;
     s->frame_timer = pl_timer_id(s->timers, "Frame");
     pl_error e;
@@ -222,13 +232,27 @@ fail:
     return NULL;
 }
 
+pl_sim *pl_sim_load_string_prepared(const char *xml, const char *name,
+                                    const pl_sim_options *opt, pl_sim_prepare prepare,
+                                    void *user, pl_diag *diag)
+{
+    prepare_hook hook = {prepare, user};
+    return load(xml, strlen(xml), name ? name : "<string>", opt, &hook, diag);
+}
+
 pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
                            pl_diag *diag)
 {
-    return load(xml, strlen(xml), name ? name : "<string>", opt, diag);
+    return pl_sim_load_string_prepared(xml, name, opt, NULL, NULL, diag);
 }
 
 pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *diag)
+{
+    return pl_sim_load_file_prepared(path, opt, NULL, NULL, diag);
+}
+
+pl_sim *pl_sim_load_file_prepared(const char *path, const pl_sim_options *opt,
+                                  pl_sim_prepare prepare, void *user, pl_diag *diag)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -252,7 +276,8 @@ pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_diag *d
     }
     buf[len] = '\0';
     fclose(f);
-    pl_sim *s = load(buf, len, path, opt, diag);
+    prepare_hook hook = {prepare, user};
+    pl_sim *s = load(buf, len, path, opt, &hook, diag);
     free(buf);
     return s;
 }
@@ -469,6 +494,35 @@ void pl_sim_set_callback(pl_sim *s, pl_sim_callback fn, void *user)
 {
     s->callback = fn;
     s->callback_user = user;
+}
+
+typedef struct event_walk {
+    pl_ctx ctx;
+    const pl_event *ev;
+    pl_error *err;
+    int used, rc;
+} event_walk;
+
+static int call_event(pl_component *c, void *user)
+{
+    event_walk *w = user;
+    const pl_event_ops *ops = pl_component_role(c, PL_ROLE_EVENT);
+    if (!ops || ops->version < 1 || !ops->handle) return 0;
+    int used = 0;
+    w->rc = ops->handle(c, &w->ctx, w->ev, &used, w->err);
+    if (used) w->used = 1;
+    return w->rc;
+}
+
+int pl_sim_send_event(pl_sim *s, const pl_event *ev, int *used, pl_error *err)
+{
+    pl_error local;
+    if (!err) err = &local;
+    pl_error_clear(err);
+    event_walk w = {make_ctx(s, s->data, NULL), ev, err, 0, PL_OK};
+    pl_node_visit_role(s->model.root, PL_ROLE_EVENT, call_event, &w);
+    if (used) *used = w.used;
+    return w.rc;
 }
 
 typedef struct outputs_walk {

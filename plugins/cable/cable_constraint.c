@@ -472,6 +472,30 @@ static const pl_constraint_ops CONSTRAINT = {.version = PL_CONSTRAINT_OPS_VERSIO
                                              .build_rows = cc_build_rows,
                                              .accept_multipliers = cc_accept};
 
+/* ---- PL_ROLE_VISUAL: the cable's path through the current positions ------ */
+
+static int cc_draw(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err)
+{
+    const cable_constraint *cc = (const cable_constraint *)c;
+    if (!cc->state || !cc->path.npoints) return PL_OK;
+    const pl_state_ops *sops = pl_component_role(cc->state, PL_ROLE_STATE);
+    pl_buffer xb = sops->positions(cc->state, d);
+    const double *x = pl_buffer_f64(&xb);
+    if (!x) return pl_component_fail(c, err, PL_EINTERNAL, "positions are not on the host");
+    pl_draw_part *part = pl_drawing_add(dw, c, PL_DRAW_CABLE);
+    int has_pull = cc->path.has_pull, n = cc->path.npoints + has_pull;
+    double *pts = part ? malloc((size_t)n * 3 * sizeof *pts) : NULL;
+    if (!pts) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    if (has_pull) memcpy(pts, pl_input_vec3(d, c, cc->pull_point), 3 * sizeof *pts);
+    for (int i = 0; i < cc->path.npoints; ++i)
+        cable_point(&cc->path, x, i, pts + 3 * (size_t)(i + has_pull));
+    int rc = pl_draw_polyline(part, pts, n);
+    free(pts);
+    return rc ? pl_component_fail(c, err, rc, "cannot draw the cable") : PL_OK;
+}
+
+static const pl_visual_ops VISUAL = {.version = PL_VISUAL_OPS_VERSION, .draw = cc_draw};
+
 const pl_type pl_cable_constraint_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "CableConstraint",
@@ -487,5 +511,5 @@ const pl_type pl_cable_constraint_type = {
             .destroy = cc_destroy,
             .get = cc_get,
             .workspace_free = cc_workspace_free},
-    .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT},
+    .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT, [PL_ROLE_VISUAL] = &VISUAL},
 };

@@ -235,6 +235,29 @@ static const pl_collision_model_ops MODEL_OPS = {
     .update = mo_update,
 };
 
+/* Visual role: the mesh posed at the state's time. */
+static int mo_draw(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err)
+{
+    const mesh_obstacle *o = (const mesh_obstacle *)c;
+    pl_motion m;
+    pl_error e;
+    if (motion_of(o, &m, NULL, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
+    double R[9], tr[3];
+    motion_pose(&m, d->time, R, tr);
+    pl_draw_part *p = pl_drawing_add(dw, c, PL_DRAW_OBSTACLE);
+    int first = p ? pl_draw_vertices(p, o->mesh.verts, NULL, o->mesh.nverts) : -1;
+    if (first < 0 || pl_draw_triangles(p, o->mesh.tris, o->mesh.ntris, first) != PL_OK)
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    for (int i = 0; i < o->mesh.nverts; ++i) {
+        double *x = &p->x[3 * (size_t)(first + i)], x0[3] = {x[0], x[1], x[2]};
+        for (int k = 0; k < 3; ++k)
+            x[k] = R[3 * k] * x0[0] + R[3 * k + 1] * x0[1] + R[3 * k + 2] * x0[2] + tr[k];
+    }
+    return PL_OK;
+}
+
+static const pl_visual_ops VISUAL_OPS = {.version = PL_VISUAL_OPS_VERSION, .draw = mo_draw};
+
 const pl_type coll_mesh_obstacle_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "MeshObstacle",
@@ -250,5 +273,5 @@ const pl_type coll_mesh_obstacle_type = {
             .reinit = mo_reinit,
             .destroy = mo_destroy,
             .workspace_free = coll_geom_ws_free},
-    .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS},
+    .roles = {[PL_ROLE_COLLISION_MODEL] = &MODEL_OPS, [PL_ROLE_VISUAL] = &VISUAL_OPS},
 };

@@ -55,6 +55,17 @@ static int prepare(const coll_obstacle *o, pl_shape *s, pl_motion *m, pl_error *
     return motion_prepare(m, o->translations.n, err);
 }
 
+int coll_obstacle_pose(const coll_obstacle *o, double t, pl_shape *s, pl_error *err)
+{
+    pl_shape s0;
+    pl_motion m;
+    if (prepare(o, &s0, &m, err) != PL_OK) return PL_EINPUT;
+    double R[9], tr[3];
+    motion_pose(&m, t, R, tr);
+    shape_transform(&s0, R, tr, s);
+    return PL_OK;
+}
+
 typedef struct model_list {
     pl_component **items;
     int n;

@@ -104,6 +104,10 @@ int coll_obstacle_get(const pl_component *c, const pl_data *d, const char *field
                       size_t size);
 extern const pl_constraint_ops coll_obstacle_constraint_ops;
 
+/* The obstacle's shape posed at time t [s] (its fields as they are now). */
+int coll_obstacle_pose(const coll_obstacle *o, double t, pl_shape *s, pl_error *err);
+extern const pl_visual_ops coll_obstacle_visual_ops;
+
 /* The contacts an obstacle recorded in d during the last step (count; *items
  * points into d, valid until the next step). */
 int coll_obstacle_contacts(const pl_component *c, const pl_data *d,

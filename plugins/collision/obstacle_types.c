@@ -22,7 +22,8 @@
                 .destroy = coll_obstacle_destroy,                                               \
                 .get = coll_obstacle_get,                                                       \
                 .workspace_free = coll_obstacle_workspace_free},                                \
-        .roles = {[PL_ROLE_CONSTRAINT] = &coll_obstacle_constraint_ops},                        \
+        .roles = {[PL_ROLE_CONSTRAINT] = &coll_obstacle_constraint_ops,                         \
+                  [PL_ROLE_VISUAL] = &coll_obstacle_visual_ops},                                \
     }
 
 /* ---- PlaneObstacle -------------------------------------------------------- */

@@ -23,6 +23,7 @@
 #include "collision.h"
 #include "models.h"
 #include "pipeline.h"
+#include "shape_draw.h"
 
 static const char *const RULES[] = {"min", "max", "mean", "product", NULL};
 
@@ -302,6 +303,18 @@ static int cp_get(const pl_component *c, const pl_data *d, const char *field, ch
     return PL_EINPUT;
 }
 
+static int cp_draw(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err)
+{
+    const coll_contact_record *items;
+    int n = coll_pipeline_contacts(c, d, &items);
+    if (coll_draw_contacts(c, dw, items, n, sizeof *items, offsetof(coll_contact_record, point_b),
+                           offsetof(coll_contact_record, force)) != PL_OK)
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
+    return PL_OK;
+}
+
+static const pl_visual_ops VISUAL_OPS = {.version = PL_VISUAL_OPS_VERSION, .draw = cp_draw};
+
 const pl_type coll_pipeline_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "CollisionPipeline",
@@ -318,5 +331,5 @@ const pl_type coll_pipeline_type = {
             .destroy = cp_destroy,
             .get = cp_get,
             .workspace_free = cp_workspace_free},
-    .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT_OPS},
+    .roles = {[PL_ROLE_CONSTRAINT] = &CONSTRAINT_OPS, [PL_ROLE_VISUAL] = &VISUAL_OPS},
 };

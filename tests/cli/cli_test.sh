@@ -94,7 +94,7 @@ check "a malformed regression list exits 2 with its line" "[ $? -eq 2 ] && grep 
 # 7. the command line as people expect it: --version, COMMAND --help, help COMMAND
 "$PLIANT" --version > "$TMP/out" 2>&1
 check "--version exits 0 and names the version" "[ $? -eq 0 ] && grep -q '^pliant [0-9]' '$TMP/out'"
-for c in run list doc regress; do
+for c in run list doc regress view render; do
   (cd "$TMP/cwd" && "$PLIANT" $c --help) > "$TMP/out" 2>&1
   check "$c --help exits 0 with its usage" "[ $? -eq 0 ] && grep -q '^usage: pliant $c' '$TMP/out'"
   "$PLIANT" help $c > "$TMP/out2" 2>&1

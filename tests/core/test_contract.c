@@ -139,7 +139,7 @@ START_TEST(a_plugin_of_an_older_minor_version_loads_and_runs)
     ck_assert_int_eq(pl_sim_get(s, "counter.count", buf, sizeof buf, &err), PL_OK);
     ck_assert_str_eq(buf, "5");
     const pl_type *t = pl_sim_component(s, "counter")->type;
-    ck_assert_int_eq(t->abi_version, PL_ABI(PL_ABI_MAJOR, PL_ABI_MINOR - 1));
+    ck_assert_int_eq(t->abi_version, PL_ABI(PL_ABI_MAJOR, 0)); /* built for minor 0 */
     pl_sim_free(s);
 }
 END_TEST

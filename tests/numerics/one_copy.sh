@@ -39,7 +39,10 @@ scan() {
     function report(name) {
         n = tolower(name)
         sub(/.*::/, "", n)
-        if (n ~ /^(pl_|hyper_)/) return  # the CPU entry points over the headers
+        # the CPU entry points over the headers (plugin-private: hyper_, ncpc_,
+        # ncp_eval_ and the solver functions of ncp.h; SDK: pl_)
+        if (n ~ /^(pl_|hyper_|ncpc_|ncp_eval_)/) return
+        if (n ~ /^ncp_(cr|line_search|operator_apply|params_default|project|residual_eval|residual_fc3d|scaling|solve_fc3d|solve_opts_default|step|work_create|work_destroy)$/) return
         if (n ~ names) printf "%s:%d: %s\n", FILENAME, FNR, name
     }
     {

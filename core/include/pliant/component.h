@@ -38,6 +38,10 @@ typedef enum pl_role {
     PL_ROLE_PRESCRIBED,      /* pl_prescribed_ops: fixed or moving DOFs */
     PL_ROLE_ANIMATION_LOOP,  /* pl_animation_loop_ops: advances one step */
     PL_ROLE_DEVICE,          /* pl_device_ops: device memory, copies, a stream (CudaDevice) */
+#if PL_ABI_TARGET_MINOR >= 2
+    PL_ROLE_VISUAL,          /* pl_visual_ops: draws obstacles, cables, contacts (draw.h); 5.2 */
+    PL_ROLE_EVENT,           /* pl_event_ops: key events from an interactive program; 5.2 */
+#endif
     PL_ROLE_COUNT            /* roles defined so far */
 } pl_role;
 

@@ -40,6 +40,24 @@ PL_API int pl_vtu_write(const char *path, int nverts, const double *xyz, int nte
                         int ntris, const int *tris, const pl_vtu_array *point_data, int npoint_data,
                         int binary, pl_error *err);
 
+#if PL_ABI_TARGET_MINOR >= 2
+/* Cells of a frame: tetrahedra, triangles, then line segments (VTK type 3). */
+typedef struct pl_vtu_cells {
+    int ntets;
+    const int *tets;   /* ntets x 4 */
+    int ntris;
+    const int *tris;   /* ntris x 3 */
+    int nlines;
+    const int *lines;  /* nlines x 2 */
+} pl_vtu_cells;
+
+/* pl_vtu_write with line segments too (cable paths); points only (vertex
+ * cells) when there is no cell.  Since ABI 5.2. */
+PL_API int pl_vtu_write_cells(const char *path, int nverts, const double *xyz,
+                              const pl_vtu_cells *c, const pl_vtu_array *point_data,
+                              int npoint_data, int binary, pl_error *err);
+#endif
+
 /* ---- PVD: a time series -------------------------------------------------- */
 
 typedef struct pl_pvd pl_pvd;
@@ -53,6 +71,13 @@ PL_API pl_pvd *pl_pvd_open(const char *path, int append, pl_error *err);
 /* Adds <DataSet timestep="time" part="0" file="file"/>; file is written as
  * given (relative to the .pvd's folder), XML-escaped. */
 PL_API int pl_pvd_append(pl_pvd *s, double time, const char *file, pl_error *err);
+#if PL_ABI_TARGET_MINOR >= 2
+/* Same for part `part` of a multi-part series: ParaView shows the parts of
+ * one time step together (a body, its obstacles, its cable, its contacts).
+ * Since ABI 5.2. */
+PL_API int pl_pvd_append_part(pl_pvd *s, double time, int part, const char *file,
+                              pl_error *err);
+#endif
 /* Entries written through this handle (after an append-open: including the old ones). */
 PL_API int pl_pvd_count(const pl_pvd *s);
 /* Flushes, closes and frees s (NULL is a no-op). */

@@ -51,6 +51,18 @@ PL_API int pl_node_count_role(const pl_node *n, pl_role role);
  * component of the same node).  Returns NULL if not found. */
 PL_API pl_component *pl_node_resolve(const pl_component *from, const char *path);
 
+#if PL_ABI_TARGET_MINOR >= 2
+/* Adds a component of the registered type `type` at the end of n, with its
+ * defaults (name NULL: SOFA's default name, the type's with a lower-case
+ * initial).  For programs that add tools to a parsed scene before it is
+ * initialised (the prepare hook of pl_sim_load_file_prepared); set fields
+ * with pl_field_parse.  NULL with the reason in diag (unknown type, name
+ * taken, out of memory).  Since ABI 5.2. */
+struct pl_registry;
+PL_API pl_component *pl_node_add_component(pl_node *n, const struct pl_registry *reg,
+                                           const char *type, const char *name, pl_diag *diag);
+#endif
+
 #ifdef __cplusplus
 }
 #endif

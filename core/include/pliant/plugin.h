@@ -36,7 +36,12 @@
  * pl_lifecycle.workspace_free), input fields, fixed and variable state
  * slots with restore checks (pl_type's layout changed: a major version).
  * 5.1: 4.1's additions again, as a minor of 5 (a plugin may target 5.0
- * without them). */
+ * without them).
+ * 5.2: the visual role (PL_ROLE_VISUAL, pl_visual_ops, draw.h) and the event
+ * role (PL_ROLE_EVENT, pl_event_ops, pl_sim_send_event) in free role slots;
+ * pl_node_add_component, pl_sim_load_file_prepared / _string_prepared,
+ * pl_vtu_write_cells, pl_pvd_append_part.
+ * 5.3: pl_sofa_write_vocabulary (sofa.h). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

@@ -19,6 +19,7 @@
 
 #include "buffer.h"
 #include "component.h"
+#include "draw.h"
 #include "mesh.h"
 #include "model.h"
 #include "rows.h"
@@ -321,6 +322,50 @@ typedef struct pl_device_ops {
     /* frees a graph from capture_end (NULL: nothing) */
     void (*graph_free)(pl_component *c, void *graph);
 } pl_device_ops;
+
+#if PL_ABI_TARGET_MINOR >= 2
+/* ---- pl_visual: what a component shows (viewer, exporters); ABI 5.2 ---- */
+#define PL_VISUAL_OPS_VERSION 1
+typedef struct pl_visual_ops {
+    int version;
+    /* adds what c shows in state d (at time d->time: obstacles at their pose
+     * then, cables through their current points, the last step's contacts
+     * with their forces) as parts of dw (draw.h) */
+    int (*draw)(const pl_component *c, const pl_data *d, pl_drawing *dw, pl_error *err);
+} pl_visual_ops;
+
+/* ---- pl_event: input from an interactive program; ABI 5.2 --------------- */
+typedef enum pl_event_kind {
+    PL_EVENT_KEY_PRESSED = 0,  /* SOFA's KeypressedEvent */
+    PL_EVENT_KEY_RELEASED = 1  /* SOFA's KeyreleasedEvent */
+} pl_event_kind;
+
+/* Keys: a printable character as itself ('+', 'a'), or one of these. */
+enum {
+    PL_KEY_UP = 0x101,
+    PL_KEY_DOWN,
+    PL_KEY_LEFT,
+    PL_KEY_RIGHT,
+    PL_KEY_PAGE_UP,
+    PL_KEY_PAGE_DOWN
+};
+
+typedef struct pl_event {
+    pl_event_kind kind;
+    int key;
+} pl_event;
+
+#define PL_EVENT_OPS_VERSION 1
+typedef struct pl_event_ops {
+    int version;
+    /* handles an event between two steps; ctx->data is the state shown, the
+     * only thing it may change (its slots, input fields: input.h), as in a
+     * step.  Sets *used when the event meant something to c (others still
+     * get it). */
+    int (*handle)(const pl_component *c, pl_ctx *ctx, const pl_event *ev, int *used,
+                  pl_error *err);
+} pl_event_ops;
+#endif
 
 #ifdef __cplusplus
 }

@@ -17,6 +17,7 @@
 #include "error.h"
 #include "model.h"
 #include "registry.h"
+#include "roles.h"
 #include "timer.h"
 
 #ifdef __cplusplus
@@ -59,6 +60,22 @@ PL_API pl_sim *pl_sim_load_file(const char *path, const pl_sim_options *opt, pl_
 /* Same from XML text; `name` stands for the file name in messages. */
 PL_API pl_sim *pl_sim_load_string(const char *xml, const char *name, const pl_sim_options *opt,
                                   pl_diag *diag);
+#if PL_ABI_TARGET_MINOR >= 2
+/* Called on the parsed scene before it is initialised (after the --set
+ * overrides): an interactive program adds its tools there, e.g. the
+ * viewer's PickSpring (pl_node_add_component).  Non-zero stops the load;
+ * the reason goes to diag. */
+typedef int (*pl_sim_prepare)(pl_node *root, pl_registry *reg, pl_diag *diag, void *user);
+/* pl_sim_load_file / pl_sim_load_string with a prepare hook (NULL: none),
+ * called with `user`.  Since ABI 5.2 (functions rather than members of
+ * pl_sim_options, whose layout a program compiled against an older minor
+ * fixes). */
+PL_API pl_sim *pl_sim_load_file_prepared(const char *path, const pl_sim_options *opt,
+                                         pl_sim_prepare prepare, void *user, pl_diag *diag);
+PL_API pl_sim *pl_sim_load_string_prepared(const char *xml, const char *name,
+                                           const pl_sim_options *opt, pl_sim_prepare prepare,
+                                           void *user, pl_diag *diag);
+#endif
 PL_API void pl_sim_free(pl_sim *sim);
 
 /* Advances nsteps time steps of the scene's dt. */
@@ -103,6 +120,14 @@ PL_API int pl_sim_restore_state(pl_sim *sim, const char *path, pl_error *err);
 
 /* Installs a per-step callback (NULL removes it). */
 PL_API void pl_sim_set_callback(pl_sim *sim, pl_sim_callback fn, void *user);
+
+#if PL_ABI_TARGET_MINOR >= 2
+/* Hands an event (a key pressed in a viewer) to every component playing the
+ * event role (KeyboardController, Python controllers), in scene order, for
+ * the current state.  *used (may be NULL) tells whether one of them used it.
+ * Since ABI 5.2. */
+PL_API int pl_sim_send_event(pl_sim *sim, const pl_event *ev, int *used, pl_error *err);
+#endif
 
 /* Paths of the main files exporters wrote (for "output went to ..."). */
 PL_API int pl_sim_outputs(const pl_sim *sim, const char **paths, int max);
