@@ -156,8 +156,14 @@ void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned
 /* The largest relative speed [m/s] at which another of the n models (not
  * model `except`, -1 for none; not sharing a group) can strike model k in
  * this step: their boxes come within alarm of each other.  Model k's
- * points may move that speed times h beyond their prediction. */
-double hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
+ * points may move that speed times h beyond their prediction.  With
+ * spreads, the bound on any two of their points (the mean velocities'
+ * difference plus both spreads: a spinning body's rim): the detection
+ * boxes; without, the mean velocities' difference alone: what an analytic
+ * obstacle, which sees the other models only as boxes, takes as the
+ * strike (with spreads, a body gripped by a turning gripper looked struck
+ * at the rim speed and got rows up to that speed times h from the floor). */
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int spreads);
 
 /* ---- messy obstacle meshes (mesh_clean.c) ------------------------------- */
 

@@ -5,7 +5,11 @@
  * relative speed times h more than predicted, and its points near a third
  * surface must already have rows there.  The relative speed of any two
  * points of two models is at most the difference of their mean velocities
- * plus the spreads of both (a spinning body's rim). */
+ * plus the spreads of both (a spinning body's rim): the bound that sizes the
+ * detection boxes.  The margin itself is the speed of the strike: the
+ * CollisionPipeline measures it at the proximities of the struck pair
+ * (pipeline_step.c), an analytic obstacle takes the mean velocities'
+ * difference. */
 #include <math.h>
 #include <string.h>
 
@@ -43,7 +47,7 @@ static int near(const pl_aabb *a, const pl_aabb *b, double d)
     return 1;
 }
 
-double hit_speed(const pl_reach *r, int n, int k, int except, double alarm)
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int spreads)
 {
     double u = 0.0;
     if (r[k].n == 0) return 0.0;
@@ -52,7 +56,7 @@ double hit_speed(const pl_reach *r, int n, int k, int except, double alarm)
         if (!near(&r[j].box, &r[k].box, alarm)) continue;
         double d2 = 0.0;
         for (int i = 0; i < 3; ++i) d2 += (r[j].v[i] - r[k].v[i]) * (r[j].v[i] - r[k].v[i]);
-        u = fmax(u, sqrt(d2) + r[j].spread + r[k].spread);
+        u = fmax(u, sqrt(d2) + (spreads ? r[j].spread + r[k].spread : 0.0));
     }
     return u;
 }

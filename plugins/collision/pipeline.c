@@ -145,6 +145,7 @@ static void cp_workspace_free(const pl_component *c, void *ws)
     }
     free(w->models);
     free(w->reach);
+    free(w->struck);
     proximities_free(&w->prox);
     side_hints_free(&w->hints);
     free(w->prev);
@@ -160,7 +161,8 @@ static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
     if (!w || w->models) return w;
     w->models = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->models);
     w->reach = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->reach);
-    if (!w->models || !w->reach) return NULL;
+    w->struck = calloc((size_t)(p->nmodels ? p->nmodels * p->nmodels : 1), sizeof *w->struck);
+    if (!w->models || !w->reach || !w->struck) return NULL;
     for (int k = 0; k < p->nmodels; ++k) {
         w->models[k].c = p->models[k];
         coll_mesh_init(&w->models[k].mesh);

@@ -50,6 +50,7 @@ typedef struct collision_pipeline {
 typedef struct coll_ws {
     pipe_model *models;            /* nmodels, made on first use */
     pl_reach *reach;               /* per model: its motion over the step (impact.c) */
+    double *struck;                /* nmodels x nmodels: speed at which model j strikes k [m/s] */
     pl_proximities prox;
     pl_side_hints hints;           /* sides of the previous step's contacts */
     pl_proximity *prev;            /* their proximities (copied out of the state) */
