@@ -1,13 +1,33 @@
 /* test_collision_messy_mesh.c - a messy real mesh as an obstacle (issue 14
- * item 2), run by hand (not in ctest: it does not pass yet).  A soft block
- * (Neo-Hookean, E 1e5, 6 cm) is dropped onto dragon.obj (scenes/meshes,
- * Stanford geometry via SOFA: non-manifold, 38 duplicate triangles, open
- * borders) scaled to 0.46 m, a MeshObstacle over a floor.  After 1 s every
- * block vertex must be slower than 1 cm/s and none may have crossed the
- * dragon's surface in any step (segment against triangle, scene_check.c).
- * Environment: BX, BY (the block's lowest corner, default -0.03 0.16),
- * SIDES (the MeshObstacle's sides, default auto), DBG=1 (the block's centre
- * and fastest vertex every 10 steps). */
+ * item 2).  A soft ball (Neo-Hookean, E 1e5, radius 2.5 cm, 120 vertices)
+ * is dropped onto dragon.obj (scenes/meshes, Stanford geometry via SOFA:
+ * 38 duplicate triangles, 102 edges of 4-8 triangles, 26 border edges,
+ * 106 pairs of triangles crossing each other) scaled to 0.46 m, a
+ * MeshObstacle standing on a floor.  After 1 s every ball vertex must be
+ * slower than 1 cm/s, the ball must lie on the dragon (its lowest vertex
+ * well above the floor), and no vertex may have crossed a triangle of the
+ * file as written (duplicates included) in any step (segment against
+ * triangle, scene_check.c, not the detection's geometry).
+ * Where: a ball rolls on any slope, so it is dropped over a pocket of the
+ * dragon's feet where it can rest.  The pocket was found from the file
+ * alone (the lowest place a 2.5 cm ball can sit on the upper surface, on a
+ * 2 mm grid); the ball starts 3 mm (exact point-triangle distance) clear
+ * of every triangle, 6.5 cm over the pocket, rolls in and rests at (0.116,
+ * -0.068, 0.019) m touching triangles of non-manifold edges and duplicates
+ * (1988 and 2213 of the file: 0.2 mm inside their planes at rest).
+ * Measured: 1.8e-6 m/s after 1 s, no crossing.  With sides="two" the ball
+ * is thrown out (8e3 m/s, 260 vertex steps through); with the cleaning on
+ * load switched off, "auto" reads the file as open, two-sided, and the ball
+ * jitters (3.1 m/s, 1506 vertex steps through).
+ * What does not pass yet (docs/scenes.md): 2 cm away, where open borders
+ * and crossing triangles make a tangle, a 2 cm ball dropped at (0.124,
+ * -0.059, 0.024) goes into the solid (its centre's winding number 0.93)
+ * and jitters (1.4 m/s, 12150 vertex steps through).  The block of this
+ * test's first version slid off the dragon's back (steeper than the
+ * friction angle) and on along the floor: 0.92 m/s after 1 s, motion, not
+ * jitter.
+ * Environment (to explore): BALL="x y z" and R (the ball), SIDES, DBG=1
+ * (the ball's centre and fastest vertex every 10 steps). */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -19,6 +39,7 @@
 
 #define DT 0.005
 #define STEPS 200 /* 1 s */
+#define FLOOR -0.148 /* under the dragon: its lowest point, scaled [m] */
 
 static const char *HEAD =
     "<Node name='root' dt='0.005' gravity='0 -9.81 0'>"
@@ -30,22 +51,20 @@ static const char *HEAD =
     "<CollisionPipeline name='pipeline' alarmDistance='0.005' contactDistance='0.0005' "
     "mu='0.5'/>";
 
-/* A soft block (Neo-Hookean, E 1e5, 6 cm, 4 x 4 x 4 vertices: a ball
- * would roll off the dragon and on along the floor), its lowest corner at
- * (x, y, z). */
-static int block(char *out, size_t size, double x, double y, double z)
+/* A soft ball (Neo-Hookean, E 1e5), centre c, radius r. */
+static int ball(char *out, size_t size, const double c[3], double r)
 {
     return snprintf(out, size,
-                    "<Node name='ball'><RegularGridTetrahedra name='mesh' min='%g %g %g' "
-                    "max='%g %g %g' n='4 4 4'/>"
+                    "<Node name='ball'><SphereMesh name='mesh' center='%.9g %.9g %.9g' "
+                    "radius='%g' volume='1' vertices='120'/>"
                     "<MechanicalObject name='dofs' src='@mesh'/>"
                     "<DiagonalMass massDensity='1000'/>"
                     "<NeoHookean name='material' youngModulus='1e5' poissonRatio='0.4'/>"
                     "<SurfaceCollisionModel name='surface'/></Node>",
-                    x, y, z, x + 0.06, y + 0.06, z + 0.06);
+                    c[0], c[1], c[2], r);
 }
 
-/* The obstacle's triangles as the scene wrote them (positions, indices). */
+/* The obstacle's triangles as the file has them (positions, indices). */
 typedef struct obstacle {
     double *x;
     int *tris, ntris;
@@ -54,7 +73,7 @@ typedef struct obstacle {
 typedef struct result {
     double vmax;     /* fastest vertex after 1 s [m/s] */
     int crossings;   /* vertex steps that crossed an obstacle triangle */
-    double lowest;   /* lowest block vertex [m] */
+    double lowest;   /* lowest ball vertex after 1 s [m] */
 } result;
 
 static void run(const char *xml, const obstacle *ob, result *r)
@@ -92,7 +111,7 @@ static void run(const char *xml, const obstacle *ob, result *r)
         }
         for (int i = 0; i < n; ++i) {
             ck_assert(isfinite(x[3 * i]) && isfinite(x[3 * i + 1]) && isfinite(x[3 * i + 2]));
-            r->lowest = fmin(r->lowest, x[3 * i + 1]);
+            if (step == STEPS - 1) r->lowest = fmin(r->lowest, x[3 * i + 1]);
             for (int t = 0; t < ob->ntris; ++t)
                 r->crossings += sc_segment_hits_triangle(
                     &prev[3 * i], &x[3 * i], &ob->x[3 * ob->tris[3 * t]],
@@ -140,26 +159,31 @@ static void read_dragon(obstacle *ob)
     free(text);
 }
 
-START_TEST(test_block_on_dragon)
+START_TEST(test_ball_rests_on_dragon)
 {
     obstacle ob;
     read_dragon(&ob);
     char xml[4096];
     int n = snprintf(xml, sizeof xml,
-                     "%s<PlaneObstacle name='floor' point='0 -0.148 0' normal='0 1 0' mu='0.5' "
+                     "%s<PlaneObstacle name='floor' point='0 %g 0' normal='0 1 0' mu='0.5' "
                      "alarmDistance='0.005' contactDistance='0.0005'/>"
                      "<Node name='dragon'><MeshObstacle name='obstacle' "
                      "filename='" PL_SOURCE_DIR "/scenes/meshes/dragon.obj' "
                      "scale3d='0.02 0.02 0.02' sides='%s'/></Node>",
-                     HEAD, getenv("SIDES") ? getenv("SIDES") : "auto");
-    n += block(xml + n, sizeof xml - (size_t)n, getenv("BX") ? atof(getenv("BX")) : -0.03, getenv("BY") ? atof(getenv("BY")) : 0.16, -0.03);
+                     HEAD, FLOOR, getenv("SIDES") ? getenv("SIDES") : "auto");
+    double c[3] = {0.132, 0.026, 0.028};
+    if (getenv("BALL"))
+        ck_assert_int_eq(sscanf(getenv("BALL"), "%lf %lf %lf", &c[0], &c[1], &c[2]), 3);
+    n += ball(xml + n, sizeof xml - (size_t)n, c, getenv("R") ? atof(getenv("R")) : 0.025);
     snprintf(xml + n, sizeof xml - (size_t)n, "</Node>");
     result r;
     run(xml, &ob, &r);
-    printf("block on the dragon: after 1 s fastest vertex %.2e m/s, %d crossings, lowest %.4f m\n",
+    printf("ball on the dragon: after 1 s fastest vertex %.2e m/s, %d crossings, lowest %.4f m\n",
            r.vmax, r.crossings, r.lowest);
-    ck_assert_msg(r.crossings == 0, "%d block vertex steps crossed the dragon", r.crossings);
-    ck_assert_msg(r.vmax < 0.01, "a block vertex still moves at %g m/s after 1 s", r.vmax);
+    ck_assert_msg(r.crossings == 0, "%d ball vertex steps crossed the dragon", r.crossings);
+    ck_assert_msg(r.vmax < 0.01, "a ball vertex still moves at %g m/s after 1 s", r.vmax);
+    ck_assert_msg(r.lowest > FLOOR + 0.03, "the ball left the dragon (lowest vertex %g m)",
+                  r.lowest);
     free(ob.x);
     free(ob.tris);
 }
@@ -169,8 +193,8 @@ int main(void)
 {
     Suite *s = suite_create("collision_messy_mesh");
     TCase *tc = tcase_create("messy");
-    tcase_set_timeout(tc, 600);
-    tcase_add_test(tc, test_block_on_dragon);
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, test_ball_rests_on_dragon);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
