@@ -136,7 +136,7 @@ const pl_type pl_grid_triangles_type = {
 typedef struct shape_mesh {
     pl_component base;
     pl_mesh mesh;
-    double center[3], radius, height;
+    double center[3], radius, height, inner;
     int volume, level, vertices, rings, layers, sides;
 } shape_mesh;
 _Static_assert(offsetof(shape_mesh, mesh) == sizeof(pl_component), "mesh after base");
@@ -149,7 +149,16 @@ static const pl_field SPHERE_FIELDS[] = {
     PL_FIELD(shape_mesh, vertices, "vertices", PL_F_INT, "1000",
              "solid ball: about this many vertices", 0),
     PL_FIELD(shape_mesh, level, "level", PL_F_INT, "3",
-             "surface: icosahedron subdivisions (10*4^level + 2 vertices)", 0),
+             "surface and hollow sphere: icosahedron subdivisions (10*4^level + 2 vertices)", 0),
+    PL_FIELD(shape_mesh, inner, "innerRadius", PL_F_DOUBLE, "0",
+             "> 0: a hollow sphere (thick-walled shell) of tetrahedra between innerRadius and "
+             "radius [m], the icosphere of `level` on layers + 1 spheres; its triangles are "
+             "both boundary spheres",
+             0),
+    PL_FIELD(shape_mesh, layers, "layers", PL_F_INT, "0",
+             "hollow sphere: layers of prisms through the wall (0: about as thick as the inner "
+             "sphere's edges)",
+             0),
 };
 
 static int sphere_init(pl_component *c, pl_ctx *ctx)
@@ -159,6 +168,18 @@ static int sphere_init(pl_component *c, pl_ctx *ctx)
     static const double zero[3] = {0, 0, 0};
     /* a ball of about `vertices` vertices has 6 tetrahedra per vertex at most;
      * an icosphere of level L has 20 4^L triangles */
+    if (s->inner != 0) {
+        /* the inner icosphere's edge is about 1.1 innerRadius / 2^level */
+        int layers = s->layers > 0 ? s->layers
+                     : (int)fmax(1.0, ceil((s->radius - s->inner) /
+                                           (1.1 * s->inner / pow(2, s->level))));
+        if (!s->volume)
+            return pl_component_error(c, ctx, PL_EINPUT, "innerRadius needs volume=\"1\"");
+        if (check_size(c, ctx, 60.0 * pow(4, s->level) * layers)) return PL_EINPUT;
+        int rc = pl_generate_sphere_shell(s->center, s->inner, s->radius, s->level, layers,
+                                          &s->mesh, &err);
+        return finish(c, ctx, &s->mesh, rc, &err, zero, zero);
+    }
     if (check_size(c, ctx, s->volume ? 6.0 * s->vertices : 20.0 * pow(4, s->level)))
         return PL_EINPUT;
     int rc = s->volume ? pl_generate_sphere_tets(s->center, s->radius, s->vertices, &s->mesh, &err)
@@ -169,7 +190,8 @@ static int sphere_init(pl_component *c, pl_ctx *ctx)
 const pl_type pl_sphere_mesh_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "SphereMesh",
-    .help = "A ball of tetrahedra or a sphere surface of triangles.",
+    .help = "A ball of tetrahedra, a hollow sphere (innerRadius > 0) or a sphere surface of "
+            "triangles.",
     .size = sizeof(shape_mesh),
     .fields = SPHERE_FIELDS,
     .nfields = sizeof SPHERE_FIELDS / sizeof SPHERE_FIELDS[0],
