@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "generators/generators.h"
 #include "loader.h"
@@ -15,6 +16,7 @@ typedef struct grid_tets {
     pl_mesh mesh;
     double min[3], max[3], rotation[3], translation[3];
     pl_ints n;
+    pl_doubles holes;
 } grid_tets;
 _Static_assert(offsetof(grid_tets, mesh) == sizeof(pl_component), "mesh after base");
 
@@ -28,7 +30,34 @@ static const pl_field GRID_TETS_FIELDS[] = {
              "rotation of the generated mesh [deg about x, then y, then z]", 0),
     PL_FIELD(grid_tets, translation, "translation", PL_F_VEC3, "0 0 0",
              "translation after the rotation [m]", 0),
+    PL_FIELD(grid_tets, holes, "holes", PL_F_DOUBLES, NULL,
+             "boxes (xmin ymin zmin xmax ymax zmax each, before the rotation) whose cells are "
+             "left out: cavities (SurfacePressureConstraint box) or notches",
+             0),
 };
+
+/* Leaves out the tetrahedra whose centroid lies in a hole box (all six of
+ * a cell share its centre's side for boxes on cell boundaries), then the
+ * vertices no tetrahedron uses. */
+static int cut_holes(pl_mesh *m, const pl_doubles *holes)
+{
+    int kept = 0;
+    for (int t = 0; t < m->ntets; ++t) {
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 4; ++k)
+            for (int a = 0; a < 3; ++a) c[a] += 0.25 * m->verts[3 * m->tets[4 * t + k] + a];
+        int in = 0;
+        for (int b = 0; b + 6 <= holes->n && !in; b += 6) {
+            const double *h = holes->v + b;
+            in = c[0] > h[0] && c[0] < h[3] && c[1] > h[1] && c[1] < h[4] && c[2] > h[2] &&
+                 c[2] < h[5];
+        }
+        if (!in) memmove(m->tets + 4 * kept++, m->tets + 4 * t, 4 * sizeof *m->tets);
+    }
+    m->ntets = kept;
+    m->ntris = 0; /* the generator writes none for a box */
+    return pl_mesh_drop_unused(m);
+}
 
 static int finish(pl_component *c, pl_ctx *ctx, pl_mesh *m, int rc, pl_error *err,
                   const double rot[3], const double tr[3])
@@ -60,7 +89,12 @@ static int grid_tets_init(pl_component *c, pl_ctx *ctx)
     double cells = 1;
     for (int a = 0; a < 3; ++a) cells *= g->n.v[a] >= 2 ? g->n.v[a] - 1.0 : NAN;
     if (check_size(c, ctx, 6.0 * cells)) return PL_EINPUT;
+    if (g->holes.n && pl_util_check_boxes(c, ctx, "holes", &g->holes)) return PL_EINPUT;
     int rc = pl_generate_box_tets(g->n.v, g->min, g->max, &g->mesh, &err);
+    if (rc == PL_OK && g->holes.n && cut_holes(&g->mesh, &g->holes) < 0)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (rc == PL_OK && g->mesh.ntets == 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "holes: they leave no tetrahedron");
     return finish(c, ctx, &g->mesh, rc, &err, g->rotation, g->translation);
 }
 
