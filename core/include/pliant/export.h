@@ -170,6 +170,20 @@ typedef struct pl_regression_result {
     int compared;         /* (state, step) pairs compared */
     int missing;          /* reference steps with no current record within time_tol */
     int passed;           /* compared > 0, missing == 0, finite and error_by_dof <= epsilon */
+    /* Why, for the report of a failure: the state with the largest error by
+     * DoF, and in it the largest vertex distance over the compared steps. */
+    int worst_state;      /* index of that state (-1: nothing compared) */
+    double worst_state_error; /* its sum over compared steps of ||x - x_ref||_2 / nDoF */
+    int worst_vertex;     /* the vertex farthest from its reference position in that state */
+    double worst_distance; /* its distance */
+    double worst_time;    /* the reference time where it is */
+    int missing_state;    /* a state with a missing reference step (-1: none) */
+    double missing_time;  /* the first such reference time */
+    /* SOFA-scene accuracy: at the last reference time, the largest vertex
+     * distance divided by the diagonal of the bounding box of the first
+     * reference record (the rest shape), the largest over the states. */
+    double last_relative; /* NaN if nothing was compared */
+    double last_time;
 } pl_regression_result;
 
 /* SOFA's Regression measure.  ref[i] and cur[i] are the records of state i
