@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <pliant/roles.h>
+
 #include "hyper_test_util.h"
 #include "hyperelastic.h"
 
@@ -150,6 +152,56 @@ END_TEST
 
 /* Element-level: gradient = FD of energy; vertex Hessian = FD of gradient;
  * projected vertex Hessian PSD (tetrahedron and triangle). */
+/* psd == PL_HESSIAN_FIXED_ROTATION (ARAP, corotational): the stiffness with
+ * the element's rotation held fixed, SOFA's R K0 R^T with K0 linear
+ * elasticity: dP = R [mu (G + G^T) + lambda tr(G) I], G = R^T dF (R the
+ * polar rotation of F; ARAP has lambda = 0); it differs from the projected
+ * Hessian away from rest, which carries the rotation's derivative. */
+START_TEST(fixed_rotation_stiffness_is_sofas_corotational_stiffness)
+{
+    unsigned long long st = 11;
+    for (int mat = 0; mat < 2; ++mat) {
+        pl_hyper_law m = make_law((pl_hyper_material)mat, 3);
+        double la = mat == PL_HYPER_COROTATIONAL ? m.lambda : 0.0, differs = 0.0;
+        for (int t = 0; t < 20; ++t) {
+            double F[9], H[81], Hp[81], U[9], sv[3], V[9], R[9];
+            random_F(&st, 3, 0.35, F);
+            hyper_svd3(F, U, sv, V);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    R[a * 3 + b] = 0.0;
+                    for (int i = 0; i < 3; ++i) R[a * 3 + b] += U[a * 3 + i] * V[b * 3 + i];
+                }
+            pl_hyper_dPdF(&m, F, PL_HESSIAN_FIXED_ROTATION, H);
+            pl_hyper_dPdF(&m, F, 1, Hp);
+            double hmax = 0.0, err = 0.0;
+            for (int i = 0; i < 81; ++i) hmax = fmax(hmax, fabs(H[i]));
+            for (int j = 0; j < 9; ++j) { /* column j: dF = e_j */
+                double G[9], S[9], dP[9];
+                for (int a = 0; a < 3; ++a) /* G = R^T dF: row a of G = R[j/3][a] e_(j%3) */
+                    for (int b = 0; b < 3; ++b) G[a * 3 + b] = b == j % 3 ? R[(j / 3) * 3 + a] : 0.0;
+                double tr = G[0] + G[4] + G[8];
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b)
+                        S[a * 3 + b] = m.mu * (G[a * 3 + b] + G[b * 3 + a]) + (a == b ? la * tr : 0.0);
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) {
+                        dP[a * 3 + b] = 0.0;
+                        for (int k = 0; k < 3; ++k) dP[a * 3 + b] += R[a * 3 + k] * S[k * 3 + b];
+                    }
+                for (int i = 0; i < 9; ++i) {
+                    err = fmax(err, fabs(dP[i] - H[i * 9 + j]));
+                    differs = fmax(differs, fabs(Hp[i * 9 + j] - H[i * 9 + j]) / hmax);
+                }
+            }
+            ck_assert_msg(err <= 1e-9 * hmax, "material %d: |H - R K0 R^T| = %g, |H| = %g", mat,
+                          err, hmax);
+        }
+        ck_assert_double_gt(differs, 1e-2); /* the option changes K */
+    }
+}
+END_TEST
+
 START_TEST(element_gradient_and_hessian_match_finite_differences)
 {
     unsigned long long st = 4;
@@ -316,6 +368,7 @@ int main(void)
     tcase_add_test(tc, energy_zero_at_rest_and_rotation_invariant);
     tcase_add_test(tc, piola_matches_finite_differences);
     tcase_add_test(tc, hessian_matches_finite_differences_and_projection_is_psd);
+    tcase_add_test(tc, fixed_rotation_stiffness_is_sofas_corotational_stiffness);
     tcase_add_test(tc, element_gradient_and_hessian_match_finite_differences);
     tcase_add_test(tc, admm_local_solve_satisfies_optimality);
     tcase_add_test(tc, arap_projection_of_rotated_rest_element_is_the_rotation);
