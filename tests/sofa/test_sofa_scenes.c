@@ -6,7 +6,8 @@
  *    force and K v = 0, so every vertex moves by g h^2 n (n + 1) / 2 after n
  *    steps (v_k = k g h, x_n = x_0 + h sum v_k), to the CG's precision;
  *  - liver_hanging.scn: a damped liver hanging from three vertices: those
- *    stay exactly where they are, the rest sags, every value finite;
+ *    stay exactly where they are, the rest sags, every value finite; its
+ *    method="large" FEM takes SOFA's rotation from the edges;
  *  - broken scenes: each refused with its file, its line and the component,
  *    what it changes and what to use instead; a drawing component is one
  *    warning, not an error; an unknown Pliant type names the plugin that
@@ -62,6 +63,11 @@ START_TEST(hanging_liver_keeps_its_fixed_vertices)
     pl_sim *s = load(SCENES "liver_hanging.scn", &d);
     ck_assert_double_eq(ct_get(s, "odesolver.rayleighMass"), 0.1);
     ck_assert_double_eq(ct_get(s, "odesolver.rayleighStiffness"), 0.1);
+    /* method="large" under SOFA's integrator: the rotation from the element's edges, as SOFA's */
+    char rot[64];
+    pl_error err;
+    ck_assert_int_eq(pl_sim_get(s, "Liver/FEM.rotation", rot, sizeof rot, &err), PL_OK);
+    ck_assert_str_eq(rot, "edges");
     ct_step(s, 20);
     int n;
     const double *x = ct_positions(s, "Liver/dofs", 0, &n);
