@@ -83,9 +83,17 @@ static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, int so
     pl_sim_options opt = {.out_dir = out_dir, .device = "cpu"};
     pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
     if (!sim) {
+        /* the row names the first error; all of them went to stderr */
         pl_diag_print(&diag, stderr);
+        const pl_error *first = NULL;
+        for (int k = 0; k < diag.count && !first; ++k)
+            if (diag.items[k].code != PL_OK) first = &diag.items[k];
+        char why[1400] = "";
+        if (first) pl_error_format(first, why, sizeof why);
+        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load%s%s%s",
+                     first ? ": " : "", why,
+                     diag.nerrors > 1 ? " (and more errors on stderr)" : "");
         pl_diag_free(&diag);
-        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load");
         return NULL;
     }
     pl_diag_free(&diag);

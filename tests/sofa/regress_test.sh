@@ -13,7 +13,8 @@
 #           last stored time over the rest diagonal (printed; below 1e-5,
 #           the goal is 1e-3) and SOFA's measure within SOFA's
 #           tolerance 1e-4; mapped 1 is refused naming the mapped
-#           state's reference.  Exits 77 (ctest: skipped) without ../shared.
+#           state's reference; fallingBeamLagrangianCollision.scn is an
+#           ERROR row naming what is refused.  Exits 77 (ctest: skipped) without ../shared.
 set -u
 PLIANT=$1
 SRC=$2
@@ -69,6 +70,16 @@ else
         --refs "$REFS" -q > "$TMP/out" 2>&1
     check "mapped 1: SOFA's mapped state (the spheres) is refused by name" \
         "[ $? -eq 2 ] && grep -q 'reference_1_spheres_mstate.txt.gz: a reference state (1)' '$TMP/out'"
+    # fallingBeam: refused, and the row says where and why
+    echo "$SHARED/fallingBeamLagrangianCollision.scn 45 1e-4 0 1" > "$TMP/list2"
+    PLIANT_DATA_PATH="$SRC/../shared/data/meshes" "$PLIANT" regress "$TMP/list2" --sofa-steps \
+        --refs "$REFS" -q > "$TMP/out" 2> "$TMP/err"
+    code=$?
+    cat "$TMP/out"
+    check "fallingBeamLagrangianCollision.scn: an ERROR row naming the first refusal (file:line)" \
+        "[ $code -eq 2 ] && grep -q 'does not load: .*fallingBeamLagrangianCollision.scn:[0-9]*: ' '$TMP/out'"
+    check "fallingBeamLagrangianCollision.scn: RegularGridTopology refused at its line" \
+        "grep -q 'fallingBeamLagrangianCollision.scn:38: error: RegularGridTopology' '$TMP/err'"
 fi
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
