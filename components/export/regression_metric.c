@@ -75,7 +75,8 @@ static double box_diagonal(const double *x, int n)
 
 /* One state: adds its compared steps to r, and keeps where it is worst. */
 static int compare_state(const pl_state_records *ref, const pl_state_records *cur, int s,
-                         double time_tol, pl_regression_result *r, pl_error *err)
+                         double time_tol, pl_regression_result *r, pl_regression_detail *w,
+                         pl_error *err)
 {
     double by_dof = 0.0, total = 0.0, far = -1.0, far_time = 0.0;
     int far_vertex = 0;
@@ -84,7 +85,7 @@ static int compare_state(const pl_state_records *ref, const pl_state_records *cu
         const pl_state_record *a = &ref->items[k];
         int j = nearest_record(cur, a->time);
         if (j < 0 || !(fabs(cur->items[j].time - a->time) < time_tol)) {
-            if (r->missing++ == 0) r->missing_state = s, r->missing_time = a->time;
+            if (r->missing++ == 0) w->missing_state = s, w->missing_time = a->time;
             continue;
         }
         const pl_state_record *b = &cur->items[j];
@@ -109,15 +110,16 @@ static int compare_state(const pl_state_records *ref, const pl_state_records *cu
         int v;
         double diag = box_diagonal(ref->items[0].x, ref->items[0].nx);
         double rel = largest_distance(last_cur->x, last->x, last->nx, &v) / diag;
-        if (isnan(r->last_relative) || rel > r->last_relative || isnan(rel))
-            r->last_relative = rel, r->last_time = last->time;
+        /* a state of one point has no box: it has no relative error */
+        if (diag > 0 && (isnan(w->last_relative) || rel > w->last_relative || isnan(rel)))
+            w->last_relative = rel, w->last_time = last->time;
     }
-    if (far >= 0 && (r->worst_state < 0 || by_dof > r->worst_state_error || isnan(by_dof))) {
-        r->worst_state = s;
-        r->worst_state_error = by_dof;
-        r->worst_vertex = far_vertex;
-        r->worst_distance = far;
-        r->worst_time = far_time;
+    if (far >= 0 && (w->worst_state < 0 || by_dof > w->worst_state_error || isnan(by_dof))) {
+        w->worst_state = s;
+        w->worst_state_error = by_dof;
+        w->worst_vertex = far_vertex;
+        w->worst_distance = far;
+        w->worst_time = far_time;
     }
     return PL_OK;
 }
@@ -126,16 +128,26 @@ int pl_regression_compare(const pl_state_records *ref, const pl_state_records *c
                           double time_tol, double epsilon, pl_regression_result *res,
                           pl_error *err)
 {
+    return pl_regression_compare_detail(ref, cur, nstates, time_tol, epsilon, res, NULL, err);
+}
+
+int pl_regression_compare_detail(const pl_state_records *ref, const pl_state_records *cur,
+                                 int nstates, double time_tol, double epsilon,
+                                 pl_regression_result *res, pl_regression_detail *why,
+                                 pl_error *err)
+{
     if (!ref || !cur || !res || nstates <= 0 || !(time_tol > 0) || !(epsilon >= 0))
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "regression comparison needs states, time_tol > 0 and epsilon >= 0");
     pl_regression_result r = {0};
-    r.worst_state = r.missing_state = -1;
-    r.last_relative = NAN;
+    pl_regression_detail w = {0};
+    w.worst_state = w.missing_state = -1;
+    w.last_relative = NAN;
     for (int s = 0; s < nstates; ++s) {
-        int rc = compare_state(&ref[s], &cur[s], s, time_tol, &r, err);
+        int rc = compare_state(&ref[s], &cur[s], s, time_tol, &r, &w, err);
         if (rc != PL_OK) return rc;
     }
+    if (why) *why = w;
     r.error_by_dof /= nstates;
     r.total_error /= nstates;
     r.passed = r.compared > 0 && r.missing == 0 && isfinite(r.error_by_dof) &&

@@ -171,7 +171,7 @@ static int extra_reference(const char *refs, const char *scene, int n, int mappe
 
 static int compare_refs(const char *refs, const char *scene, const states *st,
                         const pl_state_records *rec, double dt, double epsilon, int mapped,
-                        pl_regression_result *res, pl_error *err)
+                        pl_regression_result *res, pl_regression_detail *why, pl_error *err)
 {
     pl_state_records ref[64];
     int rc = PL_OK;
@@ -187,27 +187,29 @@ static int compare_refs(const char *refs, const char *scene, const states *st,
             rc = pl_state_file_read(path, &ref[k], err);
     }
     if (rc == PL_OK) rc = extra_reference(refs, scene, st->n, mapped, err);
-    if (rc == PL_OK) rc = pl_regression_compare(ref, rec, st->n, 0.5 * dt, epsilon, res, err);
+    if (rc == PL_OK)
+        rc = pl_regression_compare_detail(ref, rec, st->n, 0.5 * dt, epsilon, res, why, err);
     for (int k = 0; k < st->n; ++k) pl_state_records_free(&ref[k]);
     return rc;
 }
 
 /* Why an entry failed, on one line: which state, which vertex, how far,
  * against which tolerance. */
-static void write_why(FILE *out, const pl_regression_result *r, const states *st, double eps)
+static void write_why(FILE *out, const pl_regression_result *res, const pl_regression_detail *r,
+                      const states *st, double eps)
 {
-    if (r->missing) {
+    if (res->missing) {
         fprintf(out, "why state %d '%s': %d reference step%s not recorded by this run (the first "
                      "at T= %g; SOFA's step counting needs --sofa-steps)\n",
-                r->missing_state, st->items[r->missing_state]->name, r->missing,
-                r->missing == 1 ? "" : "s", r->missing_time);
+                r->missing_state, st->items[r->missing_state]->name, res->missing,
+                res->missing == 1 ? "" : "s", r->missing_time);
     } else if (r->worst_state < 0) {
         fprintf(out, "why nothing compared (the reference states are empty)\n");
     } else {
         fprintf(out, "why state %d '%s': error/DoF %.3e > epsilon %.3g (mean over %d state%s "
                      "%.3e); its vertex %d is %.4g from the reference at T= %g\n",
                 r->worst_state, st->items[r->worst_state]->name, r->worst_state_error, eps,
-                st->n, st->n == 1 ? "" : "s", r->error_by_dof, r->worst_vertex,
+                st->n, st->n == 1 ? "" : "s", res->error_by_dof, r->worst_vertex,
                 r->worst_distance, r->worst_time);
     }
 }
@@ -227,13 +229,14 @@ int regress_entry_job(int i, void *user, FILE *out)
     pl_state_records rec[64];
     pl_error err;
     pl_regression_result res = {0};
+    pl_regression_detail why = {0};
     pl_sim *sim = run_entry(scene, e, x->sofa_steps, x->list_path, x->out_dir, &st, rec, &err);
     int rc = sim ? PL_OK : err.code;
     double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
     if (rc == PL_OK)
         rc = x->update ? write_refs(x->refs, e->scene, &st, rec, &err)
                        : compare_refs(x->refs, e->scene, &st, rec, dt, e->epsilon, e->mapped,
-                                       &res, &err);
+                                       &res, &why, &err);
     if (rc != PL_OK) {
         char msg[1600];
         pl_error_format(&err, msg, sizeof msg);
@@ -244,8 +247,8 @@ int regress_entry_job(int i, void *user, FILE *out)
         fprintf(out, "result written\nstates %d\n", st.n);
     } else {
         fprintf(out, "result %s\nerror %.17g\nlast %.17g\n", res.passed ? "pass" : "FAIL",
-                res.error_by_dof, res.last_relative);
-        if (!res.passed) write_why(out, &res, &st, e->epsilon);
+                res.error_by_dof, why.last_relative);
+        if (!res.passed) write_why(out, &res, &why, &st, e->epsilon);
     }
     for (int k = 0; k < st.n; ++k) pl_state_records_free(&rec[k]);
     pl_sim_free(sim);

@@ -80,8 +80,10 @@ typedef struct pl_prescribed_ops {
 
 /* ---- pl_local_term: a projective term w ||G q - p||^2 (elements, targets) */
 #define PL_LOCAL_TERM_OPS_VERSION 2 /* 2: accepts */
+#if PL_ABI_TARGET_MINOR >= 4 /* since 5.4; older terms read it as psd != 0 */
 /* add_hessian's psd argument: the stiffness without the rotation's derivative */
 #define PL_HESSIAN_FIXED_ROTATION 2
+#endif
 
 typedef struct pl_local_term_ops {
     int version;
