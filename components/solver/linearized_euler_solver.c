@@ -37,6 +37,7 @@ typedef struct le_ws {
     int ready;
     pl_dyn_work w;
     double *f, *kv, *b, *x, *r, *p, *ap; /* 3n (f, kv) or 3 nfree */
+    int warned_threshold;                 /* the CG threshold warning was given */
     cholmod_common cm;
 } le_ws;
 
@@ -163,13 +164,15 @@ static double dot(const double *a, const double *b, int n)
 }
 
 /* SOFA's CGLinearSolver: x = 0; stops at `iterations`, |r|/|b| <= tolerance
- * or p.Ap < threshold.  Returns the iterations done. */
-static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n)
+ * or p.Ap < threshold.  Returns the iterations done; *short_stop is set when
+ * the threshold stopped it with |r|/|b| still above the tolerance. */
+static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n, double *short_stop)
 {
     memset(w->x, 0, (size_t)n * sizeof(double));
     memcpy(w->r, w->b, (size_t)n * sizeof(double));
     double normb = sqrt(dot(w->b, w->b, n)), rho_old = 0;
     int it;
+    *short_stop = 0.0;
     for (it = 0; it < s->iterations; ++it) {
         double rho = dot(w->r, w->r, n);
         if (normb == 0 || sqrt(rho) / normb <= s->tolerance) break;
@@ -179,7 +182,10 @@ static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n)
             for (int i = 0; i < n; ++i) w->p[i] = w->r[i] + rho / rho_old * w->p[i];
         csc_mul(A, w->p, w->ap);
         double den = dot(w->p, w->ap, n);
-        if (fabs(den) < s->threshold) break;
+        if (fabs(den) < s->threshold) {
+            *short_stop = sqrt(rho) / normb;
+            break;
+        }
         double alpha = rho / den;
         for (int i = 0; i < n; ++i) w->x[i] += alpha * w->p[i], w->r[i] -= alpha * w->ap[i];
         rho_old = rho;
@@ -294,8 +300,23 @@ static int le_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         if (s->linear_solver == 1) {
             rc = solve_direct(&A, w, nf3, err);
         } else {
-            int it = solve_cg(s, &A, w, nf3);
+            double short_stop;
+            int it = solve_cg(s, &A, w, nf3, &short_stop);
             pl_stat_set(ctx->timers, "cg iterations", it);
+            /* threshold is SOFA's absolute bound on p.Ap: in SI units a light
+             * body's p.Ap can be below the default 1e-5 from the first
+             * iteration, and the step then leaves the velocity as it was.
+             * SOFA does the same; Pliant says so (once). */
+            if (short_stop > 0.0 && !w->warned_threshold) {
+                char path[192];
+                pl_log_warn("%s: CG stopped by threshold = %g (p.Ap below it) after %d iterations "
+                            "with |r|/|b| = %.3g above tolerance = %g at t = %g s: the step is "
+                            "inexact; lower threshold (p.Ap scales with the masses and h^2) or "
+                            "use linearSolver=\"direct\"",
+                            pl_component_path(c, path, sizeof path), s->threshold, it, short_stop,
+                            s->tolerance, ctx->data->time);
+                w->warned_threshold = 1;
+            }
         }
     }
     pl_csc_free(&A);
