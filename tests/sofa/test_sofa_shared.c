@@ -1,11 +1,13 @@
 /* test_sofa_shared.c - the SOFA and SoftRobots scenes of ../shared/data/
  * sofa_scenes (upstream files, never copied into the project), run when
- * that folder exists; without it the test says so and passes.
+ * that folder exists; without it the test says so and exits 77, which ctest
+ * reports as skipped (SKIP_RETURN_CODE), not as a pass.
  *  - every scene either loads and runs, or is refused before running with
  *    the reason this table expects (what Pliant does not do yet: each line
  *    names the missing piece of issue 17), never run silently wrong;
- *  - liver.scn runs (LinearizedEulerSolver) and ends within 2e-3 of the
- *    rest diagonal of SOFA's stored state at T = 1.98 (measured 1.44e-3);
+ *  - liver.scn runs (LinearizedEulerSolver, SOFA's 'large' rotation) and
+ *    ends within 1e-5 of the rest diagonal of SOFA's stored state at
+ *    T = 1.98 (measured 1.13e-6);
  *  - the cable finger, with its one refused idiom replaced (firstOrder ->
  *    rayleighMass damping) and the cable pulled by 10 mm, bends its tip by
  *    about as much as SoftRobots' finger (24 mm here). */
@@ -176,10 +178,10 @@ START_TEST(shared_liver_against_sofa)
            err, err / diag, diag, moved);
     fflush(stdout);
     ck_assert_double_gt(moved, 1e-2 * diag); /* the reference did move */
-    /* 1.44e-3 measured: the issue's goal is 1e-3; what is left is the
-     * stiffness (Pliant's PSD element Hessian includes the rotation's
-     * derivative, SOFA's R K0 R^T does not) and SOFA's QR frame ('large') */
-    ck_assert_double_lt(err / diag, 2e-3);
+    /* 1.13e-6 measured (the reference has 6 digits): method="large" takes
+     * SOFA's rotation from the edges (Corotational rotation="edges"); with
+     * the polar rotation it was 1.44e-3.  The issue's goal is 1e-3. */
+    ck_assert_double_lt(err / diag, 1e-5);
     pl_state_records_free(&ref);
     pl_sim_free(s);
     pl_diag_free(&d);
@@ -188,6 +190,7 @@ END_TEST
 
 int main(void)
 {
+    if (!have_shared()) return 77; /* ctest's SKIP_RETURN_CODE: reported as skipped */
     Suite *s = suite_create("sofa_shared");
     TCase *tc = tcase_create("shared");
     tcase_set_timeout(tc, 300);
