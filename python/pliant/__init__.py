@@ -8,8 +8,26 @@ Python controllers (docs/python.md).
     sim.step(50)
     print(sim.time, sim.positions("finger/dofs")[-1])
 """
-from ._core import Error, InputError
+import os as _os
+
+# libgomp reads OMP_WAIT_POLICY once, when libpliant loads it (with _core):
+# waiting threads sleep rather than spin, as the pliant CLI does
+# (docs/embedding.md: spinning threads cost 10x on shared cores).
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+from ._core import Error, InputError  # noqa: E402
 from .simulation import Simulation, Controller, scene
 
 __all__ = ["Simulation", "Controller", "Error", "InputError", "scene"]
 __version__ = "0.1.0"
+
+_LEVELS = {"error": 0, "warning": 1, "info": 2, "debug": 3}
+
+
+def set_log_level(level):
+    """How much libpliant writes to stderr: "error", "warning", "info" (the
+    default) or "debug"; process-wide."""
+    from ._core import set_log_level as _set
+    if level not in _LEVELS:
+        raise ValueError(f"log level '{level}': expected one of {', '.join(_LEVELS)}")
+    _set(_LEVELS[level])

@@ -70,8 +70,9 @@ class Simulation(_core.Sim):
 
     def __init__(self, path=None, **kw):
         if path is not None:
-            path = os.fspath(path)
-        super().__init__(path, **kw)
+            super().__init__(os.fspath(path), **kw)
+        else:
+            super().__init__(**kw)
         self._controllers = []
         self._views = {}
 

@@ -52,7 +52,7 @@ static PyObject *sofa_vocabulary(PyObject *self, PyObject *noargs)
     return s;
 }
 
-/* set_log_level(level): 0 debug, 1 info, 2 warnings, 3 errors only (process-wide, log.h). */
+/* set_log_level(level): 0 errors, 1 warnings, 2 info (default), 3 debug (process-wide, log.h). */
 static PyObject *set_log_level(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -64,7 +64,7 @@ static PyObject *set_log_level(PyObject *self, PyObject *args)
 
 static PyMethodDef module_methods[] = {
     {"set_log_level", set_log_level, METH_VARARGS,
-     "set_log_level(level): 0 debug, 1 info (default), 2 warnings, 3 errors (process-wide)"},
+     "set_log_level(level): 0 errors, 1 warnings, 2 info (default), 3 debug (process-wide)"},
     {"sofa_vocabulary", sofa_vocabulary, METH_NOARGS,
      "SOFA's vocabulary as Pliant reads it: TSV text, one entry a line (pliant/sofa.h)."},
     {NULL, NULL, 0, NULL}};
