@@ -8,8 +8,13 @@ PyObject *pl_py_raise(const pl_error *err)
 {
     char buf[2048];
     pl_error_format(err, buf, sizeof buf);
+    return pl_py_raise_text(err, buf);
+}
+
+PyObject *pl_py_raise_text(const pl_error *err, const char *text)
+{
     PyObject *cls = err->code == PL_EINPUT ? pl_py_input_error : pl_py_error;
-    PyObject *exc = PyObject_CallFunction(cls, "s", buf);
+    PyObject *exc = PyObject_CallFunction(cls, "s", text);
     if (!exc) return NULL;
     /* file, line and component path as attributes, for programs */
     PyObject *code = PyLong_FromLong(err->code), *line = PyLong_FromLong(err->line);

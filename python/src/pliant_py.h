@@ -32,6 +32,8 @@ extern PyObject *pl_py_input_error;
 
 /* Raises pliant.Error / InputError from err; returns NULL. */
 PyObject *pl_py_raise(const pl_error *err);
+/* The same with `text` as the message (file, line, where from err). */
+PyObject *pl_py_raise_text(const pl_error *err, const char *text);
 /* A View of slot `slot` of sim's data (a fixed slot of doubles), or NULL
  * with an exception set. */
 PyObject *pl_py_view_new(pl_py_sim *sim, int slot, int writable);

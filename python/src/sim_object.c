@@ -19,16 +19,16 @@ static void raise_diag(const pl_diag *d)
     pl_error e;
     pl_error_clear(&e);
     e.code = pl_diag_status(d) == PL_EINTERNAL ? PL_EINTERNAL : PL_EINPUT;
-    snprintf(e.msg, sizeof e.msg, "%s", text ? text : "the scene did not load");
-    if (d->count) {
-        snprintf(e.file, sizeof e.file, "%s", d->items[0].file);
-        e.line = d->items[0].line;
-        snprintf(e.where, sizeof e.where, "%s", d->items[0].where);
+    for (int k = 0; k < d->count; ++k) {
+        if (d->items[k].code == PL_OK) continue; /* the first error names the place */
+        snprintf(e.file, sizeof e.file, "%s", d->items[k].file);
+        e.line = d->items[k].line;
+        snprintf(e.where, sizeof e.where, "%s", d->items[k].where);
+        break;
     }
+    /* every error and warning, as `pliant run` prints them */
+    pl_py_raise_text(&e, text ? text : "the scene did not load");
     free(text);
-    pl_py_raise(&e);
-    /* the message already starts with file:line: the formatted error repeats
-     * nothing else because pl_error_format prefixes only the message */
 }
 
 /* pl_sim's step callback: the begin hook, inside the C loop. */
@@ -285,6 +285,23 @@ static PyObject *sim_component(pl_py_sim *self, PyObject *args)
     return Py_BuildValue("(ss)", pl_component_path(c, buf, sizeof buf), c->type->name);
 }
 
+/* field_info("path.field"): (type name, flags) of a component's field, e.g.
+ * ("double list", PL_FIELD_INPUT | PL_FIELD_RUNTIME), or None when the
+ * component or the field is unknown (get() then says why). */
+static PyObject *sim_field_info(pl_py_sim *self, PyObject *args)
+{
+    const char *path;
+    if (!PyArg_ParseTuple(args, "s", &path) || check(self)) return NULL;
+    const char *dot = strrchr(path, '.');
+    if (!dot || dot == path) Py_RETURN_NONE;
+    char comp[512];
+    snprintf(comp, sizeof comp, "%.*s", (int)(dot - path), path);
+    pl_component *c = pl_sim_component(self->sim, comp);
+    const pl_field *f = c ? pl_component_field(c, dot + 1) : NULL;
+    if (!f) Py_RETURN_NONE;
+    return Py_BuildValue("(si)", pl_field_type_name(f->type), f->flags);
+}
+
 static PyObject *sim_set_hooks(pl_py_sim *self, PyObject *args)
 {
     PyObject *begin, *end;
@@ -327,6 +344,8 @@ static PyMethodDef sim_methods[] = {
     {"slots", (PyCFunction)sim_slots, METH_NOARGS, "slots(): [(name, bytes, fixed)]"},
     {"view", (PyCFunction)sim_view, METH_VARARGS, "view(slot, writable=False): a View"},
     {"component", (PyCFunction)sim_component, METH_VARARGS, "component(path): (path, type)"},
+    {"field_info", (PyCFunction)sim_field_info, METH_VARARGS,
+     "field_info(path): (type name, flags) of a field, or None"},
     {"set_hooks", (PyCFunction)sim_set_hooks, METH_VARARGS,
      "set_hooks(begin, end): callables(t) at the start and end of every step"},
     {NULL, NULL, 0, NULL}};

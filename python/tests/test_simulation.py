@@ -40,6 +40,14 @@ def test_views_are_the_simulations_memory(tetra):
         a[0, 0] = 1.0
 
 
+def test_get_of_a_large_state_is_the_state(finger):
+    # 158 vertices: the text is longer than a first 4 kB buffer (libpliant once
+    # fell back to the scene's empty value instead of saying it did not fit)
+    finger.step(2)
+    text = np.array(finger.get("finger/dofs.position").split(), dtype=float)
+    np.testing.assert_array_equal(text, finger.positions("finger/dofs").ravel())
+
+
 def test_view_keeps_its_simulation_alive():
     sim = pliant.Simulation(xml=FREE_TETRA, name="t.xml")
     sim.step(2)
