@@ -5,7 +5,7 @@ Env API (issue 18 item 4; docs/python.md).
     env = pliant.gym.CableFingerEnv()          # scenes/cable_finger.xml
     obs, info = env.reset(seed=0)
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
-    envs = pliant.gym.make_vec(8)              # 8 simulations in this process
+    envs = pliant.gym.make_vec(8)              # 8 fingers over one loaded model
 
 Observation (float32, 11 numbers): the tip's position [m] (3) and velocity
 [m/s] (3), the cable's length [m] and tension [N], the target [m] (3).
@@ -61,13 +61,9 @@ class CableFingerEnv(gymnasium.Env):
         self.scene = scene or simulation.scene("cable_finger.xml")
         self.iterations = iterations
         xml, self.limits = _load(self.scene, iterations)
-        self.sim = simulation.Simulation(xml=xml, name=self.scene)
         self.cable, self.dofs = cable, dofs
         self.max_rate, self.max_steps, self.tolerance = max_rate, max_steps, tolerance
-        self.dt = self.sim.dt
-        self.x = self.sim.positions(dofs)
-        self.v = self.sim.velocities(dofs)
-        self.tip = int(np.argmin(self.x[:, 0]))   # the finger points along -x
+        self._attach(simulation.Simulation(xml=xml, name=self.scene))
         self.action_space = spaces.Box(-max_rate, max_rate, shape=(1,), dtype=np.float32)
         # generous physical bounds: positions within 1 m, speeds 100 m/s, tension 1 MN
         high = np.array([1, 1, 1, 100, 100, 100, 10, 1e6, 1, 1, 1], dtype=np.float32)
@@ -77,6 +73,24 @@ class CableFingerEnv(gymnasium.Env):
         self.target = self.x[self.tip].copy()
         self.value = 0.0
         self.steps = 0
+
+    def _attach(self, sim):
+        self.sim = sim
+        self.dt = sim.dt
+        self.x = sim.positions(self.dofs)
+        self.v = sim.velocities(self.dofs)
+        self.tip = int(np.argmin(self.x[:, 0]))   # the finger points along -x
+
+    def fork(self):
+        """Another env of the same scene and settings over this one's model (one
+        factorisation): its own state, actuation and target (Simulation.fork)."""
+        self.sim.reset()
+        other = CableFingerEnv.__new__(CableFingerEnv)
+        other.__dict__.update({k: v for k, v in self.__dict__.items()
+                               if k not in ("sim", "x", "v", "_np_random", "_np_random_seed")})
+        other._attach(self.sim.fork())
+        other.target = self.target.copy()
+        return other
 
     # the tip's positions under a slow pull from min to max: where targets lie
     def _path(self):
@@ -131,6 +145,10 @@ class CableFingerEnv(gymnasium.Env):
 
 
 def make_vec(n, **kw):
-    """n CableFingerEnv in this process, stepped one after the other
-    (gymnasium's SyncVectorEnv; each has its own simulation and actuation)."""
-    return gymnasium.vector.SyncVectorEnv([lambda: CableFingerEnv(**kw) for _ in range(n)])
+    """n cable fingers of one scene in this process (gymnasium's SyncVectorEnv,
+    stepped one after the other): one loaded model, forked n - 1 times (each
+    env its own state, actuation and target; the system is factorised once)."""
+    first = CableFingerEnv(**kw)
+    first._path()
+    envs = [first] + [first.fork() for _ in range(n - 1)]
+    return gymnasium.vector.SyncVectorEnv([(lambda e=e: e) for e in envs])

@@ -76,6 +76,17 @@ class Simulation(_core.Sim):
         self._controllers = []
         self._views = {}
 
+    def fork(self):
+        """A Simulation over the same model (one factorisation, one copy of the
+        meshes) with its own state, starting as a copy of this one's, and its
+        own inputs (a cable's value) and controllers.  Fields that are not
+        inputs (materials, tolerances) belong to the shared model: setting one
+        changes it for every fork.  Exporters write the original's state only."""
+        other = super().fork()
+        other._controllers = []
+        other._views = {}
+        return other
+
     # ---- fields by path ------------------------------------------------------
     def __getitem__(self, path):
         """sim["finger/cable.force"]: a float, an int, a float array or text."""

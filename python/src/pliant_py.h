@@ -15,14 +15,23 @@
 
 #include <pliant/pliant.h>
 
-typedef struct {
+typedef struct pl_py_sim {
     PyObject_HEAD
-    pl_sim *sim;
+    pl_sim *sim;         /* the owner's pl_sim (a fork borrows it) */
+    pl_data *data;       /* a fork's own state over the owner's model; NULL: the sim's */
+    struct pl_py_sim *owner; /* a fork: the Sim that owns sim (a strong reference); NULL */
+    struct pl_py_sim *current; /* owner: the Sim (itself or a fork) being stepped */
     PyObject *begin;     /* callable(t) called at the start of every step, or NULL */
     PyObject *end;       /* callable(t) called at the end of every step, or NULL */
-    int stepping;        /* inside Sim.step: the state may not be replaced */
+    int stepping;        /* owner: inside a step of it or a fork: no state may be replaced */
     PyObject *weakrefs;
 } pl_py_sim;
+
+/* The state a Sim reads and steps: a fork's own, else the sim's. */
+static inline pl_data *pl_py_data(const pl_py_sim *s)
+{
+    return s->data ? s->data : pl_sim_data(s->sim);
+}
 
 extern PyTypeObject pl_py_sim_type;
 extern PyTypeObject pl_py_view_type;

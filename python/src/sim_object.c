@@ -1,6 +1,7 @@
 /* sim_object.c - pliant._core.Sim: one pl_sim. */
 #include "pliant_py.h"
 
+#include <errno.h>
 #include <string.h>
 
 /* Raises InputError with every error and warning of a failed load. */
@@ -35,8 +36,8 @@ static void raise_diag(const pl_diag *d)
 static int begin_hook(pl_sim *s, double t, void *user)
 {
     (void)s;
-    pl_py_sim *self = user;
-    if (!self->begin) return 0;
+    pl_py_sim *self = ((pl_py_sim *)user)->current; /* the owner, or the fork being stepped */
+    if (!self || !self->begin) return 0;
     PyObject *tt = PyFloat_FromDouble(t);
     PyObject *r = tt ? PyObject_CallOneArg(self->begin, tt) : NULL;
     Py_XDECREF(tt);
@@ -110,6 +111,7 @@ fail:
 
 static int sim_traverse(pl_py_sim *self, visitproc visit, void *arg)
 {
+    Py_VISIT((PyObject *)self->owner);
     Py_VISIT(self->begin);
     Py_VISIT(self->end);
     return 0;
@@ -127,7 +129,13 @@ static void sim_dealloc(pl_py_sim *self)
     PyObject_GC_UnTrack(self);
     if (self->weakrefs) PyObject_ClearWeakRefs((PyObject *)self);
     sim_clear(self);
-    if (self->sim) pl_sim_free(self->sim);
+    if (self->owner) {
+        /* a fork: its data goes before the owner's model (it holds the owner) */
+        pl_data_free(self->data);
+        Py_CLEAR(self->owner);
+    } else if (self->sim) {
+        pl_sim_free(self->sim);
+    }
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
@@ -138,10 +146,15 @@ static int check(pl_py_sim *self)
     return -1;
 }
 
+static pl_py_sim *owner_of(pl_py_sim *self)
+{
+    return self->owner ? self->owner : self;
+}
+
 static int check_idle(pl_py_sim *self, const char *what)
 {
     if (check(self)) return -1;
-    if (!self->stepping) return 0;
+    if (!owner_of(self)->stepping) return 0;
     PyErr_Format(PyExc_RuntimeError, "%s inside a step (from a controller) is not allowed", what);
     return -1;
 }
@@ -151,26 +164,50 @@ static PyObject *sim_step(pl_py_sim *self, PyObject *args)
     int n = 1;
     if (!PyArg_ParseTuple(args, "|i", &n) || check_idle(self, "step()")) return NULL;
     if (n < 0) return PyErr_Format(PyExc_ValueError, "step(%d): expected n >= 0", n);
+    pl_py_sim *owner = owner_of(self);
     pl_error err;
-    self->stepping = 1;
+    owner->stepping = 1;
+    owner->current = self; /* the begin hook calls this Sim's controllers */
     for (int k = 0; k < n; ++k) {
         pl_error_clear(&err);
-        int rc = pl_sim_step(self->sim, 1, &err);
+        int rc = self->data ? pl_sim_step_data(self->sim, self->data, 1, &err)
+                            : pl_sim_step(self->sim, 1, &err);
         if (rc == PL_OK && self->end) {
-            PyObject *t = PyFloat_FromDouble(pl_sim_time(self->sim));
+            PyObject *t = PyFloat_FromDouble(pl_py_data(self)->time);
             PyObject *r = t ? PyObject_CallOneArg(self->end, t) : NULL;
             Py_XDECREF(t);
             if (!r) rc = -1;
             Py_XDECREF(r);
         }
         if (rc != PL_OK) {
-            self->stepping = 0;
+            owner->stepping = 0;
             if (PyErr_Occurred()) return NULL; /* a controller raised */
             return pl_py_raise(&err);
         }
     }
-    self->stepping = 0;
+    owner->stepping = 0;
     Py_RETURN_NONE;
+}
+
+/* fork(): a new Sim over the same model (one factorisation, one copy of the
+ * meshes) with its own state, a copy of this one's, and its own inputs
+ * (pl_data_clone).  Fields that are not inputs belong to the model: setting
+ * one in any fork changes it for all. */
+static PyObject *sim_fork(pl_py_sim *self, PyObject *noargs)
+{
+    (void)noargs;
+    if (check_idle(self, "fork()")) return NULL;
+    PyTypeObject *type = Py_TYPE(self);
+    pl_py_sim *f = (pl_py_sim *)type->tp_alloc(type, 0);
+    if (!f) return NULL;
+    f->data = pl_data_clone(pl_py_data(self));
+    if (!f->data) {
+        Py_DECREF(f);
+        return PyErr_NoMemory();
+    }
+    f->sim = self->sim;
+    f->owner = (pl_py_sim *)Py_NewRef((PyObject *)owner_of(self));
+    return (PyObject *)f;
 }
 
 /* Field by path as text; grows the buffer for long values (positions). */
@@ -183,7 +220,7 @@ static PyObject *sim_get(pl_py_sim *self, PyObject *args)
         if (!buf) return PyErr_NoMemory();
         pl_error err;
         pl_error_clear(&err);
-        if (pl_sim_get(self->sim, path, buf, size, &err) == PL_OK) {
+        if (pl_sim_get_data(self->sim, pl_py_data(self), path, buf, size, &err) == PL_OK) {
             PyObject *s = PyUnicode_FromString(buf);
             PyMem_Free(buf);
             return s;
@@ -199,8 +236,26 @@ static PyObject *sim_set(pl_py_sim *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "ss", &path, &value) || check(self)) return NULL;
     pl_error err;
     pl_error_clear(&err);
-    if (pl_sim_set(self->sim, path, value, &err) != PL_OK) return pl_py_raise(&err);
+    if (pl_sim_set_data(self->sim, pl_py_data(self), path, value, &err) != PL_OK)
+        return pl_py_raise(&err);
     Py_RETURN_NONE;
+}
+
+/* pl_sim_save_state / pl_sim_restore_state for this Sim's data (a fork's too). */
+static int state_file(pl_py_sim *self, const char *path, int save, pl_error *err)
+{
+    if (!self->data)
+        return save ? pl_sim_save_state(self->sim, path, err)
+                    : pl_sim_restore_state(self->sim, path, err);
+    FILE *f = fopen(path, save ? "wb" : "rb");
+    if (!f)
+        return pl_error_set(err, PL_EINPUT, path, 0, NULL, "cannot %s: %s",
+                            save ? "write" : "open", strerror(errno));
+    int rc = save ? pl_data_save(self->data, f, err) : pl_data_load(self->data, f, err);
+    if (fclose(f) != 0 && save && rc == PL_OK)
+        rc = pl_error_set(err, PL_EINTERNAL, path, 0, NULL, "cannot write the state file");
+    if (rc != PL_OK && !err->file[0]) snprintf(err->file, sizeof err->file, "%s", path);
+    return rc;
 }
 
 static PyObject *sim_save(pl_py_sim *self, PyObject *args)
@@ -211,7 +266,7 @@ static PyObject *sim_save(pl_py_sim *self, PyObject *args)
     pl_error err;
     pl_error_clear(&err);
     if (check(self) == 0) {
-        if (pl_sim_save_state(self->sim, PyBytes_AS_STRING(path), &err) != PL_OK)
+        if (state_file(self, PyBytes_AS_STRING(path), 1, &err) != PL_OK)
             pl_py_raise(&err);
         else
             r = Py_NewRef(Py_None);
@@ -228,7 +283,7 @@ static PyObject *sim_restore(pl_py_sim *self, PyObject *args)
     pl_error err;
     pl_error_clear(&err);
     if (check_idle(self, "restore()") == 0) {
-        if (pl_sim_restore_state(self->sim, PyBytes_AS_STRING(path), &err) != PL_OK)
+        if (state_file(self, PyBytes_AS_STRING(path), 0, &err) != PL_OK)
             pl_py_raise(&err);
         else
             r = Py_NewRef(Py_None);
@@ -241,7 +296,8 @@ static PyObject *sim_reset(pl_py_sim *self, PyObject *noargs)
 {
     (void)noargs;
     if (check_idle(self, "reset()")) return NULL;
-    if (pl_sim_reset(self->sim) != PL_OK) return PyErr_NoMemory();
+    if (pl_data_copy(pl_py_data(self), pl_sim_model(self->sim)->initial) != 0)
+        return PyErr_NoMemory();
     Py_RETURN_NONE;
 }
 
@@ -251,7 +307,7 @@ static PyObject *sim_slots(pl_py_sim *self, PyObject *noargs)
     (void)noargs;
     if (check(self)) return NULL;
     const pl_model *m = pl_sim_model(self->sim);
-    const pl_data *d = pl_sim_data(self->sim);
+    const pl_data *d = pl_py_data(self);
     PyObject *list = PyList_New(m->nslots);
     for (int k = 0; list && k < m->nslots; ++k) {
         PyObject *t = Py_BuildValue("(snO)", m->slots[k].name, (Py_ssize_t)d->slots[k].bytes,
@@ -317,14 +373,14 @@ static PyObject *sim_get_time(pl_py_sim *self, void *closure)
 {
     (void)closure;
     if (check(self)) return NULL;
-    return PyFloat_FromDouble(pl_sim_time(self->sim));
+    return PyFloat_FromDouble(pl_py_data(self)->time);
 }
 
 static PyObject *sim_get_steps(pl_py_sim *self, void *closure)
 {
     (void)closure;
     if (check(self)) return NULL;
-    return PyLong_FromLong(pl_sim_data(self->sim)->step);
+    return PyLong_FromLong(pl_py_data(self)->step);
 }
 
 static PyObject *sim_get_dt(pl_py_sim *self, void *closure)
@@ -336,6 +392,8 @@ static PyObject *sim_get_dt(pl_py_sim *self, void *closure)
 
 static PyMethodDef sim_methods[] = {
     {"step", (PyCFunction)sim_step, METH_VARARGS, "step(n=1): advance n time steps"},
+    {"fork", (PyCFunction)sim_fork, METH_NOARGS,
+     "fork(): a Sim over the same model with its own state (a copy of this one's)"},
     {"get", (PyCFunction)sim_get, METH_VARARGS, "get(path): a field's value as text"},
     {"set", (PyCFunction)sim_set, METH_VARARGS, "set(path, text): change a field"},
     {"save", (PyCFunction)sim_save, METH_VARARGS, "save(file): the state, binary and exact"},

@@ -19,7 +19,7 @@ PyObject *pl_py_view_new(pl_py_sim *sim, int slot, int writable)
         return PyErr_Format(PyExc_ValueError,
                             "slot '%s' changes size while running: read it with get()",
                             m->slots[slot].name);
-    if (pl_data_slot_bytes(pl_sim_data(sim->sim), slot) % sizeof(double) != 0)
+    if (pl_data_slot_bytes(pl_py_data(sim), slot) % sizeof(double) != 0)
         return PyErr_Format(PyExc_ValueError, "slot '%s' does not hold doubles",
                             m->slots[slot].name);
     pl_py_view *v = PyObject_New(pl_py_view, &pl_py_view_type);
@@ -43,7 +43,7 @@ static int view_getbuffer(pl_py_view *v, Py_buffer *b, int flags)
         b->obj = NULL;
         return -1;
     }
-    pl_data *d = pl_sim_data(v->sim->sim);
+    pl_data *d = pl_py_data(v->sim);
     size_t bytes = pl_data_slot_bytes(d, v->slot);
     b->buf = pl_data_slot(d, v->slot);
     b->obj = Py_NewRef((PyObject *)v);

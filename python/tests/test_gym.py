@@ -53,3 +53,16 @@ def test_vector_env_steps_independent_fingers():
         obs, r, term, trunc, _ = envs.step(np.array([[0.05], [0.0]], dtype=np.float32))
     assert obs[0, 1] > obs[1, 1] + 1e-3              # the pulled finger's tip is higher
     envs.close()
+
+
+def test_a_forked_env_follows_the_same_trajectory():
+    env = pliant.gym.CableFingerEnv(**SMALL)
+    twin = env.fork()
+    a, _ = env.reset(seed=5)
+    b, _ = twin.reset(seed=5)
+    np.testing.assert_array_equal(a, b)
+    for k in range(8):
+        action = [0.05 if k < 5 else -0.02]
+        a = env.step(action)[0]
+        b = twin.step(action)[0]
+    np.testing.assert_array_equal(a, b)

@@ -132,3 +132,45 @@ def test_sofa_scn_loads(tmp_path):
     sim = pliant.Simulation(path)
     sim.step(5)
     assert sim.velocities()[:, 1].mean() == pytest.approx(G * 5 * sim.dt, rel=1e-9)
+
+
+def test_forks_share_the_model_and_step_independently():
+    base = pliant.Simulation(xml=finger_xml(False), name="base.xml")
+    alone = pliant.Simulation(xml=finger_xml(False), name="alone.xml")
+    pulled = base.fork()
+    free = base.fork()
+    pulled["finger/cable.value"] = 0.008               # an input: this fork only
+    assert free["finger/cable.value"] == 0.0 and base["finger/cable.value"] == 0.0
+    calls = []
+    free.add_controller(type("C", (), {"onAnimateBeginEvent":
+                                       lambda self, e: calls.append(e["time"])})())
+    for _ in range(15):                                  # interleaved
+        pulled.step()
+        free.step()
+    alone.step(15)
+    assert len(calls) == 15                              # only free's steps call its controller
+    np.testing.assert_array_equal(free.positions("finger/dofs"), alone.positions("finger/dofs"))
+    assert pulled.positions("finger/dofs")[:, 1].max() > free.positions("finger/dofs")[:, 1].max()
+    assert base.steps == 0 and free.steps == 15 and pulled.time == pytest.approx(0.15)
+    x = free.positions("finger/dofs")
+    del base                                             # the forks keep the model alive
+    gc.collect()
+    free.step(1)
+    assert free.steps == 16 and np.isfinite(x).all()
+
+
+def test_fork_save_restore_reset(tmp_path):
+    base = pliant.Simulation(xml=finger_xml(False), name="base.xml")
+    f = base.fork()
+    f["finger/cable.value"] = 0.006
+    f.step(5)
+    f.save(tmp_path / "f.state")
+    f.step(5)
+    after = f.positions("finger/dofs").copy()
+    f.restore(tmp_path / "f.state")
+    assert f.steps == 5
+    f.step(5)
+    np.testing.assert_array_equal(f.positions("finger/dofs"), after)
+    f.reset()
+    assert f.steps == 0 and f["finger/cable.value"] == 0.0
+    np.testing.assert_array_equal(f.positions("finger/dofs"), base.positions("finger/dofs"))

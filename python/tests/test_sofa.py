@@ -124,3 +124,19 @@ def test_the_c_cli_without_the_package_says_how_to_install_it():
                        capture_output=True, text=True, env=dict(os.environ, PLIANT_PYTHON=base))
     assert r.returncode == 2
     assert "needs the Python package pliant" in r.stderr and "pip install ." in r.stderr
+
+
+def test_unsupported_calls_raise_with_the_closest_supported_one():
+    root = Sofa.Core.Node("root")
+    with pytest.raises(Sofa.UnsupportedError, match=r"createObject is not supported.*addObject"):
+        root.createObject("MechanicalObject")
+    with pytest.raises(Sofa.UnsupportedError, match=r"Sofa.Core.ForceField is not supported"):
+        Sofa.Core.ForceField
+    body = root.addChild("body")
+    dofs = body.addObject("MechanicalObject", name="dofs", position=[[0, 0, 0], [1, 0, 0]])
+    with pytest.raises(Sofa.UnsupportedError, match=r"closest supported: Data.value"):
+        dofs.position.valeu
+    assert root.body.dofs is dofs and root.getChild("body") is body
+    assert dofs.position.value == [[0, 0, 0], [1, 0, 0]]          # before init: as given
+    assert dofs.position.getLinkPath() == "@/body/dofs.position"
+    assert body.getPathName() == "/body" and dofs.getPathName() == "/body/dofs"

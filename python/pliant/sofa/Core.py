@@ -18,8 +18,14 @@ class UnsupportedError(AttributeError):
     """A SofaPython3 call that pliant.sofa does not provide."""
 
 
+# SofaPython2 and older SofaPython3 names -> today's
+_RENAMED = {"createObject": "addObject", "createChild": "addChild", "getChildren": "children",
+            "getObjects": "objects", "findData": "getData", "getContext": "getRoot"}
+
+
 def _unsupported(owner, name, supported):
-    close = difflib.get_close_matches(name, supported, n=1, cutoff=0.5)
+    close = [_RENAMED[name]] if _RENAMED.get(name) in supported else \
+        difflib.get_close_matches(name, supported, n=1, cutoff=0.5)
     hint = f"; closest supported: {owner}.{close[0]}" if close else \
         f"; supported: {', '.join(sorted(supported))}"
     return UnsupportedError(f"{owner}.{name} is not supported by pliant.sofa (docs/python.md)"
