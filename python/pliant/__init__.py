@@ -18,7 +18,20 @@ _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 from ._core import Error, InputError  # noqa: E402
 from .simulation import Simulation, Controller, scene
 
-__all__ = ["Simulation", "Controller", "Error", "InputError", "scene"]
+__all__ = ["Simulation", "Controller", "Error", "InputError", "scene", "load", "set_log_level"]
+
+
+def load(path, **kw):
+    """A Simulation of a scene file: Pliant XML, SOFA .scn, or a SofaPython3
+    createScene script (.py, built through pliant.sofa; its controllers run)."""
+    if str(path).endswith(".py"):
+        from .sofa import Simulation as _S, load_script
+        if kw:
+            raise TypeError("load(script.py) takes no options")
+        root = load_script(path)
+        _S.init(root)
+        return root.simulation
+    return Simulation(path, **kw)
 __version__ = "0.1.0"
 
 _LEVELS = {"error": 0, "warning": 1, "info": 2, "debug": 3}

@@ -8,19 +8,14 @@ Exit codes as the pliant CLI: 0 ok, 1 internal error, 2 bad input.
 """
 import argparse
 import os
-import runpy
 import sys
 import time
 import traceback
 
 
 def _install_sofa():
-    from . import sofa
-    from .sofa import Core, Simulation, constants
-    sys.modules.setdefault("Sofa", sofa)
-    sys.modules.setdefault("Sofa.Core", Core)
-    sys.modules.setdefault("Sofa.Simulation", Simulation)
-    sys.modules.setdefault("Sofa.constants", constants)
+    from .sofa import install_as_sofa
+    install_as_sofa()
 
 
 def run(argv):
@@ -33,24 +28,16 @@ def run(argv):
     ap.add_argument("-q", "--quiet", action="store_true", help="warnings and errors only")
     a = ap.parse_args(argv)
     import pliant
-    from .sofa import Core, Simulation
+    from .sofa import Simulation, load_script
     if a.quiet:
         pliant.set_log_level("warning")
     script = os.path.abspath(a.script)
     if not os.path.isfile(script):
         print(f"pliant run: {a.script}: no such file", file=sys.stderr)
         return 2
-    _install_sofa()
-    sys.path.insert(0, os.path.dirname(script))
     sys.argv = [script]
     try:
-        module = runpy.run_path(script, run_name=os.path.splitext(os.path.basename(script))[0])
-        create = module.get("createScene")
-        if create is None:
-            print(f"pliant run: {a.script} defines no createScene(rootNode)", file=sys.stderr)
-            return 2
-        root = Core.Node("root")
-        create(root)
+        root = load_script(script)
     except Exception:
         traceback.print_exc()
         print(f"pliant run: {a.script}: the script failed; the scene was not run",

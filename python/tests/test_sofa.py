@@ -140,3 +140,11 @@ def test_unsupported_calls_raise_with_the_closest_supported_one():
     assert dofs.position.value == [[0, 0, 0], [1, 0, 0]]          # before init: as given
     assert dofs.position.getLinkPath() == "@/body/dofs.position"
     assert body.getPathName() == "/body" and dofs.getPathName() == "/body/dofs"
+
+
+def test_pliant_load_takes_xml_scn_and_scripts():
+    sim = pliant.load(os.path.join(SCRIPTS, "cable_finger.py"))
+    sim.step(2)
+    assert sim.steps == 2 and sim.time == pytest.approx(0.02)
+    assert sim.positions("finger/tetras").shape == (158, 3)
+    assert isinstance(pliant.load(pliant.scene("cable_finger_small.xml")), pliant.Simulation)

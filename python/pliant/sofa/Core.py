@@ -213,7 +213,7 @@ class Object:
         voc = vocabulary().attributes
         for key in ((self._type, name), ("*", name)):
             rule = voc.get(key)
-            if rule and rule[0] == "rename" and rule[1]:
+            if rule and rule[0] == "renamed" and rule[1]:
                 return rule[1]
         return name
 

@@ -1,6 +1,7 @@
 """SOFA's vocabulary as libpliant reads it: the one table of the XML loader
-(pl_sofa_write_vocabulary, TSV), not a copy."""
-import difflib
+(pl_sofa_write_vocabulary, TSV), not a copy.  pliant.sofa reads its
+attribute renames, to find the Pliant field of a SOFA attribute after init;
+which components exist, are refused or are moved is the loader's business."""
 import functools
 
 from .. import _core
@@ -16,18 +17,6 @@ class _Vocabulary:
                 self.components[cells[1]] = tuple(cells[2:6])
             elif cells[0] == "attribute" and len(cells) >= 6:
                 self.attributes[(cells[1], cells[2])] = tuple(cells[3:6])
-
-    def refusal(self, sofa_type):
-        """The table's reason when SOFA component sofa_type is refused, else None."""
-        entry = self.components.get(sofa_type)
-        if entry and entry[0] == "refused":
-            return entry[3]
-        return None
-
-    def closest(self, name):
-        """The SOFA names of the table closest to name (for did-you-mean)."""
-        known = [n for n, e in self.components.items() if e[0] != "refused"]
-        return difflib.get_close_matches(name, known, n=1, cutoff=0.6)
 
 
 @functools.lru_cache(maxsize=1)
