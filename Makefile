@@ -74,11 +74,14 @@ test-doc:
 	    echo "test-doc: FAIL: pliant doc differs between $(BUILD) and $(ASAN_BUILD)"; exit 1; }
 	@echo "test-doc: ok, $(BUILD) and $(ASAN_BUILD) document the same components"
 
-$(PY_BUILD)/venv/bin/python: | deps
+# (the stamp is written last: a venv whose pip install failed is made again)
+$(PY_BUILD)/venv/ready: | deps
+	rm -rf $(PY_BUILD)/venv
 	$(PYTHON) -m venv $(PY_BUILD)/venv
 	$(PY_BUILD)/venv/bin/pip install -q "scikit-build-core>=0.10" "numpy>=1.22" pytest "gymnasium>=0.29"
+	touch $@
 
-python: $(PY_BUILD)/venv/bin/python
+python: $(PY_BUILD)/venv/ready
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY_BUILD)/venv/bin/pip install -q --no-build-isolation \
 	  --no-deps -Cbuild-dir=$(PY_BUILD)/cmake .
 
