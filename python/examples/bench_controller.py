@@ -59,17 +59,23 @@ class Reading(pliant.Controller):
         self.y = self.x[0, 1]
 
 
-def per_step(make_controller, steps, runs, scene=SCENE):
-    sim = pliant.Simulation(xml=scene, name="bench.xml")
-    if make_controller:
-        sim.add_controller(make_controller(sim))
-    sim.step(100)                                  # warm up
-    times = []
+def per_step(cases, steps, runs, scene):
+    """Median seconds a step for each (label, make_controller) of cases; the
+    cases take turns within each run, so that a busy machine slows all alike."""
+    sims = []
+    for _, make in cases:
+        sim = pliant.Simulation(xml=scene, name="bench.xml")
+        if make:
+            sim.add_controller(make(sim))
+        sim.step(100)                              # warm up
+        sims.append(sim)
+    times = [[] for _ in cases]
     for _ in range(runs):
-        t0 = time.perf_counter()
-        sim.step(steps)
-        times.append((time.perf_counter() - t0) / steps)
-    return statistics.median(times)
+        for k, sim in enumerate(sims):
+            t0 = time.perf_counter()
+            sim.step(steps)
+            times[k].append((time.perf_counter() - t0) / steps)
+    return [statistics.median(t) for t in times]
 
 
 def main():
@@ -78,19 +84,13 @@ def main():
     ap.add_argument("--runs", type=int, default=9)
     a = ap.parse_args()
     rows = []
-    for scene, name, cases in ((EMPTY, "empty", (("none", None),
-                                                 ("two empty events", lambda sim: Empty()),
-                                                 ("get a field / read a view", Reading))),
-                               (SCENE, "one tetrahedron", (("none", None),
-                                                           ("two empty events",
-                                                            lambda sim: Empty()),
-                                                           ("set an input / read the state",
-                                                            Working)))):
-        base = None
-        for label, make in cases:
-            t = per_step(make, a.steps * (20 if scene is EMPTY else 1), a.runs, scene)
-            base = t if base is None else base
-            call = "" if make is None else f"{(t - base) / 2 * 1e6:.2f}"
+    for scene, name, nsteps, work, work_label in (
+            (EMPTY, "empty", 20 * a.steps, Reading, "get a field / read a view"),
+            (SCENE, "one tetrahedron", a.steps, Working, "set an input / read the state")):
+        cases = [("none", None), ("two empty events", lambda sim: Empty()), (work_label, work)]
+        medians = per_step(cases, nsteps, a.runs, scene)
+        for (label, make), t in zip(cases, medians):
+            call = "" if make is None else f"{(t - medians[0]) / 2 * 1e6:.2f}"
             rows.append(f"| {name} | {label} | {t * 1e6:.2f} | {call} |")
     print("| scene | controller | step [us] | per call [us] |")
     print("|---|---|---|---|")
