@@ -1,5 +1,5 @@
-"""SoftRobots' own scripts (../shared/reference/softrobots, not part of the
-project) run unmodified by `python3 -m pliant run`, when that folder exists;
+"""SoftRobots' own scripts ($PLIANT_REFERENCE_DIR/reference/softrobots, not part of the
+project; .ci/run sets PLIANT_REFERENCE_DIR) run unmodified by `python3 -m pliant run`, when that folder exists;
 skipped (and reported as skipped) otherwise.
 
 Each of the three is refused today by libpliant's SOFA loader, with the
@@ -13,8 +13,9 @@ import sys
 
 import pytest
 
-REF = os.environ.get("PLIANT_SOFTROBOTS_REFERENCE") or os.path.normpath(
-    os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "reference", "softrobots"))
+_ROOT = os.environ.get("PLIANT_REFERENCE_DIR", "")
+REF = os.environ.get("PLIANT_SOFTROBOTS_REFERENCE") or (
+    os.path.join(_ROOT, "reference", "softrobots") if _ROOT else "")
 
 # script -> what the loader refuses today (issue 17's work)
 KNOWN = {

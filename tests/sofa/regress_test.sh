@@ -9,19 +9,21 @@
 #           SOFA's counting and compared with Pliant's says which step is
 #           missing.
 #   shared: SOFA's liver.scn against SOFA's stored references
-#           (../shared/data/sofa_scenes/regression_refs): the error at the
+#           ($PLIANT_REFERENCE_DIR/data/sofa_scenes/regression_refs): the error at the
 #           last stored time over the rest diagonal (printed; below 1e-5,
 #           the goal is 1e-3) and SOFA's measure within SOFA's
 #           tolerance 1e-4; mapped 1 is refused naming the mapped
 #           state's reference; fallingBeamLagrangianCollision.scn is an
-#           ERROR row naming what is refused.  Exits 77 (ctest: skipped) without ../shared.
+#           ERROR row naming what is refused.  Exits 77 (ctest: skipped) without PLIANT_REFERENCE_DIR
+#           (the reference data are not part of the project; .ci/run sets it).
 set -u
 PLIANT=$1
 SRC=$2
 MODE=$3
-SHARED="$SRC/../shared/data/sofa_scenes"
+SHARED="${PLIANT_REFERENCE_DIR:-/nonexistent}/data/sofa_scenes"
+MESHES="${PLIANT_REFERENCE_DIR:-/nonexistent}/data/meshes"
 if [ "$MODE" = shared ] && [ ! -r "$SHARED/liver.scn" ]; then
-    echo "SKIPPED: $SHARED not found (the shared SOFA scenes are not in the project; CI has them)"
+    echo "SKIPPED: no SOFA reference scenes at $SHARED (set PLIANT_REFERENCE_DIR; they are not part of the project)"
     exit 77
 fi
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/pliant_sofa_regress.XXXXXX")
@@ -57,7 +59,7 @@ if [ "$MODE" = own ]; then
 else
     REFS="$SHARED/regression_refs"
     echo "$SHARED/liver.scn 100 1e-4 0 1" > "$TMP/list"
-    PLIANT_DATA_PATH="$SRC/../shared/data/meshes" "$PLIANT" regress "$TMP/list" --sofa-steps \
+    PLIANT_DATA_PATH="$MESHES" "$PLIANT" regress "$TMP/list" --sofa-steps \
         --refs "$REFS" -q > "$TMP/out" 2>&1
     cat "$TMP/out"
     rel=$(awk '$1 ~ /liver.scn$/ {print $5}' "$TMP/out")
@@ -66,13 +68,13 @@ else
     check "liver.scn within 1e-5 of the rest diagonal at SOFA's last stored time (goal 1e-3)" \
         "awk -v r='$rel' 'BEGIN { exit !(r + 0 > 0 && r + 0 < 1e-5) }'"
     echo "$SHARED/liver.scn 100 1e-4 1 1" > "$TMP/list1"
-    PLIANT_DATA_PATH="$SRC/../shared/data/meshes" "$PLIANT" regress "$TMP/list1" --sofa-steps \
+    PLIANT_DATA_PATH="$MESHES" "$PLIANT" regress "$TMP/list1" --sofa-steps \
         --refs "$REFS" -q > "$TMP/out" 2>&1
     check "mapped 1: SOFA's mapped state (the spheres) is refused by name" \
         "[ $? -eq 2 ] && grep -q 'reference_1_spheres_mstate.txt.gz: a reference state (1)' '$TMP/out'"
     # fallingBeam: refused, and the row says where and why
     echo "$SHARED/fallingBeamLagrangianCollision.scn 45 1e-4 0 1" > "$TMP/list2"
-    PLIANT_DATA_PATH="$SRC/../shared/data/meshes" "$PLIANT" regress "$TMP/list2" --sofa-steps \
+    PLIANT_DATA_PATH="$MESHES" "$PLIANT" regress "$TMP/list2" --sofa-steps \
         --refs "$REFS" -q > "$TMP/out" 2> "$TMP/err"
     code=$?
     cat "$TMP/out"

@@ -1,6 +1,6 @@
 /* test_sofa_scenes.c - the project's own SOFA-style scene files
  * (tests/sofa/scenes/, written for Pliant; SOFA's and SoftRobots' scenes
- * stay in ../shared), so that the SOFA path is tested without ../shared:
+ * are not part of the project), so that the SOFA path is tested without them:
  *  - liver_falling.scn: a liver falling freely under SOFA's implicit Euler
  *    (no damping, nothing holding it): a uniform translation has no elastic
  *    force and K v = 0, so every vertex moves by g h^2 n (n + 1) / 2 after n
