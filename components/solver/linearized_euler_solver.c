@@ -25,6 +25,7 @@ typedef struct linearized_euler {
     double rayleigh_mass, rayleigh_stiffness;
     int first_order;
     int linear_solver; /* 0 cg, 1 direct */
+    int stiffness;     /* 0 projected, 1 fixedRotation */
     int iterations;
     double tolerance, threshold;
     pl_dynamics dyn;
@@ -36,10 +37,12 @@ typedef struct le_ws {
     int ready;
     pl_dyn_work w;
     double *f, *kv, *b, *x, *r, *p, *ap; /* 3n (f, kv) or 3 nfree */
+    int warned_threshold;                 /* the CG threshold warning was given */
     cholmod_common cm;
 } le_ws;
 
 static const char *const SOLVERS[] = {"cg", "direct", NULL};
+static const char *const STIFFNESS[] = {"projected", "fixedRotation", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(linearized_euler, rayleigh_mass, "rayleighMass", PL_F_DOUBLE, "0",
@@ -55,6 +58,12 @@ static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(linearized_euler, linear_solver, "linearSolver", SOLVERS, "cg",
                   "how the step's linear system is solved: cg (conjugate gradients, as SOFA's "
                   "CGLinearSolver) or direct (Cholesky, as SparseLDLSolver)",
+                  0),
+    PL_FIELD_ENUM(linearized_euler, stiffness, "stiffness", STIFFNESS, "projected",
+                  "K: projected (each element's Hessian, rotation's derivative included, "
+                  "projected to PSD) or fixedRotation (corotational elements with their rotation "
+                  "held fixed, R K0 R^T: SOFA's TetrahedronFEMForceField stiffness; other terms "
+                  "projected)",
                   0),
     PL_FIELD(linearized_euler, iterations, "iterations", PL_F_INT, "25",
              "cg: iterations at most [count] (SOFA's CGLinearSolver iterations)", PL_FIELD_RUNTIME),
@@ -124,7 +133,7 @@ static le_ws *workspace(const linearized_euler *s, pl_data *d)
 
 /* f <- M g - grad psi(x_t) (3n); K (3n x 3n, PSD blocks) at x_t into H. */
 static int forces_and_stiffness(const pl_dynamics *d, le_ws *w, const pl_data *data,
-                                pl_triplets *H, pl_error *err)
+                                int psd, pl_triplets *H, pl_error *err)
 {
     memset(w->f, 0, (size_t)d->n * 3 * sizeof(double));
     pl_buffer qb = pl_buffer_host_f64(w->w.q_t, (size_t)d->n, 3);
@@ -132,7 +141,7 @@ static int forces_and_stiffness(const pl_dynamics *d, le_ws *w, const pl_data *d
     for (int t = 0; t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         int rc = ops->add_gradient(d->terms[t], data, d->term_offset[t], &qb, &gb, err);
-        if (!rc) rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, 1, H, err);
+        if (!rc) rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, psd, H, err);
         if (rc) return rc;
     }
     for (int i = 0; i < 3 * d->n; ++i) w->f[i] = d->mass[i / 3] * d->gravity[i] - w->f[i];
@@ -155,13 +164,15 @@ static double dot(const double *a, const double *b, int n)
 }
 
 /* SOFA's CGLinearSolver: x = 0; stops at `iterations`, |r|/|b| <= tolerance
- * or p.Ap < threshold.  Returns the iterations done. */
-static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n)
+ * or p.Ap < threshold.  Returns the iterations done; *short_stop is set when
+ * the threshold stopped it with |r|/|b| still above the tolerance. */
+static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n, double *short_stop)
 {
     memset(w->x, 0, (size_t)n * sizeof(double));
     memcpy(w->r, w->b, (size_t)n * sizeof(double));
     double normb = sqrt(dot(w->b, w->b, n)), rho_old = 0;
     int it;
+    *short_stop = 0.0;
     for (it = 0; it < s->iterations; ++it) {
         double rho = dot(w->r, w->r, n);
         if (normb == 0 || sqrt(rho) / normb <= s->tolerance) break;
@@ -171,7 +182,10 @@ static int solve_cg(const linearized_euler *s, const pl_csc *A, le_ws *w, int n)
             for (int i = 0; i < n; ++i) w->p[i] = w->r[i] + rho / rho_old * w->p[i];
         csc_mul(A, w->p, w->ap);
         double den = dot(w->p, w->ap, n);
-        if (fabs(den) < s->threshold) break;
+        if (fabs(den) < s->threshold) {
+            *short_stop = sqrt(rho) / normb;
+            break;
+        }
         double alpha = rho / den;
         for (int i = 0; i < n; ++i) w->x[i] += alpha * w->p[i], w->r[i] -= alpha * w->ap[i];
         rho_old = rho;
@@ -260,7 +274,8 @@ static int le_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     pl_triplets H;
     if (pl_triplets_init(&H, n3, n3, 64 * d->n + 16) != PL_OK)
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    rc = forces_and_stiffness(d, w, ctx->data, &H, err);
+    rc = forces_and_stiffness(d, w, ctx->data, s->stiffness ? PL_HESSIAN_FIXED_ROTATION : 1, &H,
+                              err);
     /* the unknown: dv (second order) or v (first order); on prescribed
      * vertices it is known from their motion (kept in w->p as scratch) */
     double *u = w->p;
@@ -285,8 +300,23 @@ static int le_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         if (s->linear_solver == 1) {
             rc = solve_direct(&A, w, nf3, err);
         } else {
-            int it = solve_cg(s, &A, w, nf3);
+            double short_stop;
+            int it = solve_cg(s, &A, w, nf3, &short_stop);
             pl_stat_set(ctx->timers, "cg iterations", it);
+            /* threshold is SOFA's absolute bound on p.Ap: in SI units a light
+             * body's p.Ap can be below the default 1e-5 from the first
+             * iteration, and the step then leaves the velocity as it was.
+             * SOFA does the same; Pliant says so (once). */
+            if (short_stop > 0.0 && !w->warned_threshold) {
+                char path[192];
+                pl_log_warn("%s: CG stopped by threshold = %g (p.Ap below it) after %d iterations "
+                            "with |r|/|b| = %.3g above tolerance = %g at t = %g s: the step is "
+                            "inexact; lower threshold (p.Ap scales with the masses and h^2) or "
+                            "use linearSolver=\"direct\"",
+                            pl_component_path(c, path, sizeof path), s->threshold, it, short_stop,
+                            s->tolerance, ctx->data->time);
+                w->warned_threshold = 1;
+            }
         }
     }
     pl_csc_free(&A);

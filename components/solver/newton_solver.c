@@ -257,12 +257,16 @@ static int ns_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
         memcpy(q, w->trial, (size_t)d->n * 3 * sizeof(double));
         /* round-off floor: once a step changes the energy only in its last
          * digits, the line search accepts noise and no step tolerance can be met */
-        if (getenv("PL_NEWTON_DEBUG"))
-            fprintf(stderr, "newton %d: e %.17g -> %.17g alpha %g step %g slope %g\n", it, e, e_new,
-                    alpha, step_max, slope);
         int stalled = e - e_new <= 1e-14 * fabs(e_new);
         e = e_new;
         if (stalled) break;
+    }
+    /* the reference solver says when it stopped short of its tolerance (the
+     * round-off and no-descent exits above are convergence, not this) */
+    if (it == s->max_iterations && s->max_iterations > 0) {
+        char path[192];
+        pl_log_warn("%s: stopped at maxIterations = %d before its tolerance (t = %g s)",
+                    pl_component_path(c, path, sizeof path), s->max_iterations, ctx->data->time);
     }
     pl_stat_set(ctx->timers, "newton iterations", it);
     pl_stat_set(ctx->timers, "newton energy", e);

@@ -200,10 +200,12 @@ static int mapped_harmless(const xmlNode *e)
 {
     const char *tag = (const char *)e->name;
     const pl_sofa_component *c = pl_sofa_find(tag);
-    /* topology containers describe the mapped surface: the component using it is the reason */
+    /* topology containers and the topological mappings that fill them
+     * (Tetra2TriangleTopologicalMapping: a body's surface for drawing)
+     * describe the mapped surface: the component using it is the reason */
     return (c && (c->kind == PL_SOFA_VISUAL || c->kind == PL_SOFA_NOTED)) ||
            strstr(tag, "Loader") || strstr(tag, "TopologyContainer") ||
-           !strcmp(tag, "MeshTopology");
+           strstr(tag, "TopologicalMapping") || !strcmp(tag, "MeshTopology");
 }
 
 /* A child node driven by `map`: cable points, or drawing only. */
@@ -382,6 +384,31 @@ static void rois_link(sofa_lower *L, xmlNode *node)
     }
 }
 
+/* BoxROI position="@dofs.rest_position" (SoftRobots' idiom): the rest
+ * positions of its node's MechanicalObject, or the positions of a loader of
+ * its node, are what Pliant's boxes select from anyway; any other points
+ * would select other vertices: refused. */
+static void roi_position(sofa_lower *L, xmlNode *roi)
+{
+    char *v = sofa_get(roi, "position");
+    if (!v) return;
+    const char *field = NULL;
+    xmlNode *src = sofa_data_link(roi->parent, v, &field);
+    int same_node = src && src->parent == roi->parent;
+    int ok = same_node && ((sofa_tag_is(src, "MechanicalObject") &&
+                            (!strcmp(field, "rest_position") || !strcmp(field, "position"))) ||
+                           (strstr((const char *)src->name, "Loader") && !strcmp(field, "position")));
+    if (ok)
+        sofa_note(L, "roi-position", roi,
+                  "position=\"%s\": the rest positions of this node's body, which BoxROI selects "
+                  "from in Pliant", v);
+    else
+        sofa_error(L, roi, "position=\"%s\": BoxROI selects from the rest positions of its "
+                           "node's MechanicalObject in Pliant (position=\"@dofs.rest_position\" "
+                           "or a loader of this node); other points are not mapped", v);
+    xmlFree(v);
+}
+
 static void rois_drop(sofa_lower *L, xmlNode *node)
 {
     xmlNode *next;
@@ -397,6 +424,7 @@ static void rois_drop(sofa_lower *L, xmlNode *node)
             if (r && r->kind == PL_SOFA_A_REFUSE)
                 sofa_error(L, e, "'%s' is not supported: %s", (const char *)a->name, r->note);
         }
+        roi_position(L, e);
         char *used = sofa_get(e, "pliant-used");
         if (!used)
             sofa_note(L, "roi-unused", e, "no component links to this BoxROI's indices: ignored");

@@ -130,6 +130,8 @@ static const pl_sofa_component COMPONENTS[] = {
                                "(collision plugin), a contact without penetration"),
     REFUSED("SpringForceField", "springs between points are not mapped"),
     REFUSED("StiffSpringForceField", "springs between points are not mapped"),
+    REFUSED("RigidMapping", "it maps a rigid body (Rigid3 state), which Pliant does not have "
+                            "yet; closest: a soft body with BarycentricMapping"),
     /* constraints */
     SAME("FixedConstraint", NULL, "FixedConstraint (indices, fixAll)"),
     RENAME("FixedProjectiveConstraint", "FixedConstraint", NULL,
@@ -357,8 +359,8 @@ static const pl_sofa_attr ATTRS[] = {
     A_IGN("BoxROI", "computeQuad", "only vertex indices are linked"),
     A_IGN("BoxROI", "strict", "only vertex indices are linked"),
     A_REF("BoxROI", "orientedBox", "oriented boxes are not mapped; use axis-aligned boxes"),
-    A_REF("BoxROI", "position", "BoxROI selects from the rest positions of its node's "
-                                "MechanicalObject in Pliant; other inputs are not mapped"),
+    A_LOW("BoxROI", "position", "@dofs.rest_position (or a loader of the node): the rest "
+                                "positions Pliant's boxes select from; other points refused"),
     /* mappings */
     A_LOW("BarycentricMapping", "input", "the parent's MechanicalObject"),
     A_LOW("BarycentricMapping", "output", "the child node's MechanicalObject"),

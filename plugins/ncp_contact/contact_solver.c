@@ -160,12 +160,20 @@ static int solver_init(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
+/* The step's structures (rows, W, the NCP work) are rebuilt every step. */
 static void free_step(ncpc_ws *w)
 {
     ncp_work_destroy(w->work);
     w->work = NULL;
     ncpc_delassus_free(&w->D);
     ncpc_rows_free(&w->rows);
+}
+
+/* The step's arrays keep their capacity from step to step: a workspace
+ * allocates when the row count (or nfree, nall) grows past what it has held,
+ * not at every step of a contact scene. */
+static void free_arrays(ncpc_ws *w)
+{
     double **arrays[] = {&w->r, &w->diag_mass, &w->lambda, &w->dlambda, &w->scale, &w->delta,
                          &w->delta_free, &w->force, &w->ls0, &w->ls1, &w->q_free, &w->corr, &w->lambda_all};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
@@ -174,6 +182,7 @@ static void free_step(ncpc_ws *w)
     }
     free(w->keys);
     w->keys = NULL;
+    w->cap_m = w->cap_f3 = w->cap_all = 0;
 }
 
 /* A model field changed somewhere (the factor may have too): the core
@@ -187,31 +196,48 @@ static void solver_workspace_free(const pl_component *c, void *ws)
     w->gpu = NULL;
 #endif
     free_step(w);
+    free_arrays(w);
     free(w->inv_diag);
     w->inv_diag = NULL;
 }
 
+/* *p resized to n doubles (its contents kept); 0 or -1 (out of memory). */
+static int grow_f64(double **p, size_t n)
+{
+    double *q = realloc(*p, n * sizeof(double));
+    if (!q) return -1;
+    *p = q;
+    return 0;
+}
+
 static int alloc_step(const ncp_contact_solver *s, ncpc_ws *w, int m, pl_error *err)
 {
-    size_t m1 = (size_t)(m > 0 ? m : 1), f3 = 3 * (size_t)(w->nfree > 0 ? w->nfree : 1);
-    w->r = malloc(sizeof(double) * m1);
-    w->diag_mass = malloc(sizeof(double) * m1);
-    w->lambda = calloc(m1, sizeof(double));
-    w->dlambda = malloc(sizeof(double) * m1);
-    w->scale = malloc(sizeof(double) * m1);
-    w->delta = malloc(sizeof(double) * m1);
-    w->delta_free = malloc(sizeof(double) * m1);
-    w->force = malloc(sizeof(double) * m1);
-    w->ls0 = malloc(sizeof(double) * m1);
-    w->ls1 = malloc(sizeof(double) * m1);
-    w->keys = calloc(m1, sizeof *w->keys);
-    w->q_free = malloc(sizeof(double) * f3);
-    w->corr = malloc(sizeof(double) * f3);
-    w->lambda_all = calloc((size_t)(w->nall > 0 ? w->nall : 1), sizeof(double));
-    if (!w->r || !w->diag_mass || !w->lambda || !w->dlambda || !w->scale || !w->delta ||
-        !w->delta_free || !w->force || !w->ls0 || !w->ls1 || !w->keys || !w->q_free || !w->corr || !w->lambda_all)
-        return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
+    size_t m1 = (size_t)(m > 0 ? m : 1), f3 = 3 * (size_t)(w->nfree > 0 ? w->nfree : 1),
+           all = (size_t)(w->nall > 0 ? w->nall : 1);
+    if (m1 > w->cap_m) {
+        double **rows_arrays[] = {&w->r, &w->diag_mass, &w->lambda, &w->dlambda, &w->scale,
+                                  &w->delta, &w->delta_free, &w->force, &w->ls0, &w->ls1};
+        for (size_t k = 0; k < sizeof rows_arrays / sizeof rows_arrays[0]; ++k)
+            if (grow_f64(rows_arrays[k], m1)) goto oom;
+        pl_ncpc_key *keys = realloc(w->keys, m1 * sizeof *keys);
+        if (!keys) goto oom;
+        w->keys = keys;
+        w->cap_m = m1;
+    }
+    if (f3 > w->cap_f3) {
+        if (grow_f64(&w->q_free, f3) || grow_f64(&w->corr, f3)) goto oom;
+        w->cap_f3 = f3;
+    }
+    if (all > w->cap_all) {
+        if (grow_f64(&w->lambda_all, all)) goto oom;
+        w->cap_all = all;
+    }
+    memset(w->lambda, 0, sizeof(double) * m1);
+    memset(w->keys, 0, sizeof *w->keys * m1);
+    memset(w->lambda_all, 0, sizeof(double) * all);
     return PL_OK;
+oom:
+    return pl_component_fail(&s->base, err, PL_EINTERNAL, "out of memory");
 }
 
 static int solver_begin(const pl_component *c, pl_ctx *ctx, const pl_system *sys,

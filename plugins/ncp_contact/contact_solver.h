@@ -52,6 +52,7 @@ typedef struct ncpc_ws {
     double *r, *diag_mass, *lambda, *dlambda, *scale, *delta, *delta_free, *force, *ls0, *ls1;
     double *q_free, *corr;    /* nfree x 3 */
     double *lambda_all;       /* nall: the multipliers handed back */
+    size_t cap_m, cap_f3, cap_all; /* capacities of the arrays above (grow-only) */
     int t_global, t_schur, t_assembly, t_solve, t_corr, t_cglobal;
 #ifdef PLIANT_HAVE_CUDA
     pl_ncpc_device *gpu;      /* the device path, made on the first device iterate */

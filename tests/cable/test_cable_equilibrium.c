@@ -83,6 +83,45 @@ START_TEST(force_tolerance_stops_the_iterations_below_it)
 }
 END_TEST
 
+/* A closed form: 8 vertices of mass m, each on a spring k to its rest
+ * position (PositionTarget, a quadratic energy: ADMM-PD's first iteration is
+ * the exact minimiser), one step from rest under gravity g.  The step solves
+ * m (q - s) / h^2 + k (q - q0) = 0 with s = q0 + h^2 g, so every vertex moves
+ * by m g / (m / h^2 + k), and there the force residual is zero: a residual
+ * that scaled the inertia or the spring force differently from the step's
+ * own equations would not be (0.049 N per spring here). */
+START_TEST(the_residual_vanishes_at_the_closed_form_step)
+{
+    const double m = 0.01, k = 100.0, h = 0.01, g = -9.81;
+    pl_sim *s = ct_load("<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+                        "<RequiredPlugin name=\"hyperelastic\"/><RequiredPlugin name=\"sparse_inverse\"/>\n"
+                        "<LocalGlobalSolver name=\"solver\" iterations=\"1\" computeResidual=\"on\"/>\n"
+                        "<SparseInverseSolver/>\n"
+                        "<Node name=\"box\">\n"
+                        "<RegularGridTetrahedra name=\"grid\" min=\"0 0 0\" max=\"0.1 0.1 0.1\" n=\"2 2 2\"/>\n"
+                        "<MechanicalObject name=\"dofs\" src=\"@grid\"/>\n"
+                        "<UniformMass vertexMass=\"0.01\"/>\n"
+                        "<PositionTarget indices=\"0 1 2 3 4 5 6 7\" stiffness=\"100\"/>\n"
+                        "</Node></Node>\n");
+    int n;
+    const double *q = ct_positions(s, "dofs", 0, &n), *q0 = ct_positions(s, "dofs", 1, &n);
+    ck_assert_int_eq(n, 8);
+    ct_step(s, 1);
+    double expect = m * g / (m / (h * h) + k), worst = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c)
+            worst = fmax(worst, fabs(q[3 * i + c] - q0[3 * i + c] - (c == 1 ? expect : 0.0)));
+    int count;
+    double r = last(s, "force residual", &count);
+    fprintf(stderr, "springs: moved %.6g m (closed form %.6g m, worst error %.2g m), residual %.2g N\n",
+            q[1] - q0[1], expect, worst, r);
+    ck_assert_int_eq(count, 1);
+    ck_assert_double_lt(worst, 1e-12);
+    ck_assert_double_lt(r, 1e-9 * k * fabs(expect));
+    pl_sim_free(s);
+}
+END_TEST
+
 /* A 0.1 m Neo-Hookean bar (E 1e5 Pa) clamped at x = 0, hanging under
  * gravity, with a cable along its top edge pulled from behind the clamp
  * (test_cable_scene.c's bar), held at `value` (displacement [m] or force
@@ -159,6 +198,7 @@ int main(void)
     TCase *tc = tcase_create("residual");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, the_residual_goes_to_zero_with_the_iterations);
+    tcase_add_test(tc, the_residual_vanishes_at_the_closed_form_step);
     tcase_add_test(tc, force_tolerance_stops_the_iterations_below_it);
     tcase_add_test(tc, force_and_displacement_modes_agree_at_equilibrium);
     tcase_add_test(tc, a_negative_force_tolerance_is_refused);
