@@ -6,7 +6,9 @@
  * points (inline positions with `triangles`), or the node's loader, moved
  * beside the body's as <node>_<loader> and named by `surface`; each point
  * follows the tetrahedron containing it (cable plugin, surface_pressure.c).
- * Under an IdentityMapping `triangles` index the body's vertices.  Part of
+ * `triangles` linking the loader's (directly or through a MeshTopology filled
+ * from it) mean the loader's.  Under an IdentityMapping `triangles` index the
+ * body's vertices.  Part of
  * the lowering (sofa_structure.c calls it for each such constraint). */
 #include "sofa_lower.h"
 
@@ -43,6 +45,41 @@ static char *move_loader(sofa_lower *L, xmlNode *node, xmlNode *e)
     return strdup(name);
 }
 
+static xmlNode *topological_mapping(xmlNode *node)
+{
+    for (xmlNode *e = node->children; e; e = e->next)
+        if (sofa_is_element(e) && strstr((const char *)e->name, "TopologicalMapping")) return e;
+    return NULL;
+}
+
+/* 1 when e's triangles/quads link the node's own loader's (triangles="@topo.triangles"
+ * with <MeshTopology name="topo" src="@loader"/>, or "@loader.triangles"): SoftRobots'
+ * scripts write them out, and they are what the loader path takes anyway. */
+static int links_to_loader(xmlNode *node, xmlNode *e, xmlNode *loader)
+{
+    static const char *const ATTRS[] = {"triangles", "quads"};
+    int any = 0;
+    for (int k = 0; k < 2; ++k) {
+        char *v = sofa_get(e, ATTRS[k]);
+        if (!v) continue;
+        const char *field = NULL;
+        xmlNode *t = loader ? sofa_data_link(node, v, &field) : NULL;
+        int ok = t && t->parent == node && !strcmp(field, ATTRS[k]);
+        if (ok && t != loader) { /* a topology: filled from the loader, nothing of its own */
+            char *src = sofa_get(t, "src");
+            ok = src && src[0] == '@' && sofa_find(node, src + 1) == loader &&
+                 !xmlHasProp(t, (const xmlChar *)"triangles") &&
+                 !xmlHasProp(t, (const xmlChar *)"quads") &&
+                 !xmlHasProp(t, (const xmlChar *)"position");
+            xmlFree(src);
+        }
+        xmlFree(v);
+        if (!ok) return 0;
+        any = 1;
+    }
+    return any;
+}
+
 void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity)
 {
     xmlNode *parent = node->parent;
@@ -56,6 +93,23 @@ void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, in
     }
     moved->line = e->line;
     xmlAddPrevSibling(node, moved);
+    xmlNode *tmap = topological_mapping(node);
+    if (tmap) {
+        /* SoftRobots would take the cavity from the topology that mapping fills
+         * (the body's surface), not from a loader: refused, never misread */
+        sofa_error(L, tmap, "%s in the cavity's node: Pliant takes a cavity from a loader, "
+                            "triangles or box, not from a topological mapping; give the "
+                            "cavity's surface by a loader (MeshOBJLoader) in this node",
+                   (const char *)tmap->name);
+        sofa_remove(moved);
+        xmlFree(pos);
+        return;
+    }
+    if (tris && !identity && !inline_points && links_to_loader(node, e, node_loader(node))) {
+        sofa_unset(moved, "triangles"); /* the loader's, taken through `surface` below */
+        sofa_unset(moved, "quads");
+        tris = 0;
+    }
     if (identity && inline_points) {
         sofa_error(L, mo, "under an IdentityMapping the points are the parent's vertices: remove "
                           "position");
