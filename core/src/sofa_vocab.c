@@ -380,7 +380,9 @@ static const pl_sofa_attr ATTRS[] = {
     A_REF("CableConstraint", "surfaceTopology", "geodesic cables are not in Pliant"),
     A_IGN("CableConstraint", "hasDisplacementVariation", "Pliant reads the bounds given"),
     /* SurfacePressureConstraint */
-    A_LOW("SurfacePressureConstraint", "triangles", "in a mapped child node: over the mapped points"),
+    A_LOW("SurfacePressureConstraint", "triangles",
+          "in a mapped child node: over the mapped points; a link to the node's loader's "
+          "triangles (@topo.triangles) means the loader's"),
     A_IGN("SurfacePressureConstraint", "drawPressure", "drawing"),
     A_IGN("SurfacePressureConstraint", "drawScale", "drawing"),
     A_IGN("SurfacePressureConstraint", "visualization", "drawing (deprecated name)"),

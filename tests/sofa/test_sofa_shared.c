@@ -10,7 +10,9 @@
  *    T = 1.98 (measured 1.13e-6);
  *  - the cable finger, with its one refused idiom replaced (firstOrder ->
  *    rayleighMass damping) and the cable pulled by 10 mm, bends its tip by
- *    about as much as SoftRobots' finger (24 mm here). */
+ *    about as much as SoftRobots' finger (24 mm here);
+ *  - SurfacePressureConstraint.scn's bunny grows its cavity by the commanded
+ *    volume under an inflating pressure (check_bunny). */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
