@@ -185,7 +185,8 @@ START_TEST(cavity_from_a_mapping_refused)
     refused("<MechanicalObject name=\"cavity\"/>",
             "<Tetra2TriangleTopologicalMapping name=\"t2t\" input=\"@../container\" "
             "output=\"@topo\"/><MechanicalObject name=\"cavity\"/>",
-            "<MechanicalObject name=\"cavity\"/>", "not from a topological mapping", "Tetra2TriangleTopologicalMapping");
+            "<MechanicalObject name=\"cavity\"/>", "not from a topological mapping",
+            "Tetra2TriangleTopologicalMapping");
     refused("<MeshTopology name=\"topo\" src=\"@loader\"/>",
             "<MeshTopology name=\"topo\" triangles=\"0 1 2\"/>", "<SurfacePressureConstraint",
             "triangles of points that the node's loader gives", "pressure");
