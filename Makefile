@@ -3,7 +3,8 @@
 #   make test   build, run the whole suite, then again under ASan+UBSan (that
 #               build has no CUDA and no MPI: the MPI tests run in the first pass),
 #               then check that both builds document the same scene format
-#               (`pliant doc`, byte for byte)
+#               (`pliant doc`, byte for byte); the Python package's tests
+#               run between the two passes (make test-python)
 # make test and CI turn warnings into errors (PLIANT_WERROR=ON); a plain
 # build (make build, cmake) does not, so a newer compiler never stops it.
 BUILD ?= build
@@ -13,6 +14,12 @@ CMAKE_FLAGS ?=
 DEMO_SCENE ?= scenes/twisting_bar_small.xml
 DEMO_OUT ?= out/demo
 
+# the Python package (docs/python.md): a venv with NumPy, pytest, gymnasium and
+# scikit-build-core from PyPI; pip builds the package from the checkout into
+# $(PY_BUILD)/cmake (kept: later builds are incremental)
+PY_BUILD ?= build-python
+PYTHON ?= python3
+
 FUZZ_BUILD ?= build-fuzz
 FUZZ_COV_BUILD ?= build-fuzz-cov
 # seconds each fuzz target runs (make fuzz FUZZ_SECONDS=600 for the 10-minute runs of docs/fuzzing.md)
@@ -21,6 +28,7 @@ FUZZ_SECONDS ?= 180
 FUZZ_TARGETS ?=
 
 .PHONY: all deps deps-fuzz configure build demo test test-fast test-asan test-doc bench docs pictures \
+	python test-python \
 	clean fuzz fuzz-build fuzz-coverage
 
 all: build
@@ -66,7 +74,23 @@ test-doc:
 	    echo "test-doc: FAIL: pliant doc differs between $(BUILD) and $(ASAN_BUILD)"; exit 1; }
 	@echo "test-doc: ok, $(BUILD) and $(ASAN_BUILD) document the same components"
 
-test: test-fast test-asan test-doc
+# (the stamp is written last: a venv whose pip install failed is made again)
+$(PY_BUILD)/venv/ready: | deps
+	rm -rf $(PY_BUILD)/venv
+	$(PYTHON) -m venv $(PY_BUILD)/venv
+	$(PY_BUILD)/venv/bin/pip install -q "scikit-build-core>=0.10" "numpy>=1.22" pytest "gymnasium>=0.29"
+	touch $@
+
+python: $(PY_BUILD)/venv/ready
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY_BUILD)/venv/bin/pip install -q --no-build-isolation \
+	  --no-deps -Cbuild-dir=$(PY_BUILD)/cmake .
+
+# pytest in the venv; PLIANT_CLI lets the tests check `pliant run script.py`
+test-python: python
+	cd python/tests && PLIANT_CLI=$(abspath $(BUILD))/bin/pliant \
+	  $(abspath $(PY_BUILD))/venv/bin/python -m pytest -q -rsx -p no:cacheprovider .
+
+test: test-fast test-python test-asan test-doc
 
 # Fuzzing (tests/fuzz, docs/fuzzing.md): clang + libFuzzer, not part of `make test`
 # (which replays the seeds and the regression inputs).  Runs under nice -n 19.
@@ -104,4 +128,4 @@ pictures: build
 	sh docs/make_pictures.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(FUZZ_COV_BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(FUZZ_COV_BUILD) $(PY_BUILD) out

@@ -6,10 +6,13 @@
 set -eu
 # The viewer (pliant view, pliant render, make pictures): OpenGL, EGL with
 # Mesa's software renderer for machines without a GPU, GLFW, libpng, ffmpeg;
-# xvfb and xauth run the window tests without a screen.
+# xvfb and xauth run the window tests without a screen.  The Python package
+# (make test-python, docs/python.md): Python's headers and venv; NumPy, pytest,
+# gymnasium and scikit-build-core come from PyPI into the venv.
 PKGS="build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libxml2-dev check \
 zlib1g-dev libsiconos-numerics-dev libopenmpi-dev openmpi-bin \
-libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth"
+libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libpng-dev ffmpeg xvfb xauth \
+python3-dev python3-venv python3-pip"
 # `install-deps.sh fuzz` (make fuzz): clang with libFuzzer, LLVM's coverage
 # tools and clang's OpenMP runtime, only for the fuzz targets.
 if [ "${1:-}" = fuzz ]; then

@@ -25,6 +25,7 @@ typedef struct linearized_euler {
     double rayleigh_mass, rayleigh_stiffness;
     int first_order;
     int linear_solver; /* 0 cg, 1 direct */
+    int stiffness;     /* 0 projected, 1 fixedRotation */
     int iterations;
     double tolerance, threshold;
     pl_dynamics dyn;
@@ -41,6 +42,7 @@ typedef struct le_ws {
 } le_ws;
 
 static const char *const SOLVERS[] = {"cg", "direct", NULL};
+static const char *const STIFFNESS[] = {"projected", "fixedRotation", NULL};
 
 static const pl_field FIELDS[] = {
     PL_FIELD(linearized_euler, rayleigh_mass, "rayleighMass", PL_F_DOUBLE, "0",
@@ -56,6 +58,12 @@ static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(linearized_euler, linear_solver, "linearSolver", SOLVERS, "cg",
                   "how the step's linear system is solved: cg (conjugate gradients, as SOFA's "
                   "CGLinearSolver) or direct (Cholesky, as SparseLDLSolver)",
+                  0),
+    PL_FIELD_ENUM(linearized_euler, stiffness, "stiffness", STIFFNESS, "projected",
+                  "K: projected (each element's Hessian, rotation's derivative included, "
+                  "projected to PSD) or fixedRotation (corotational elements with their rotation "
+                  "held fixed, R K0 R^T: SOFA's TetrahedronFEMForceField stiffness; other terms "
+                  "projected)",
                   0),
     PL_FIELD(linearized_euler, iterations, "iterations", PL_F_INT, "25",
              "cg: iterations at most [count] (SOFA's CGLinearSolver iterations)", PL_FIELD_RUNTIME),
@@ -125,7 +133,7 @@ static le_ws *workspace(const linearized_euler *s, pl_data *d)
 
 /* f <- M g - grad psi(x_t) (3n); K (3n x 3n, PSD blocks) at x_t into H. */
 static int forces_and_stiffness(const pl_dynamics *d, le_ws *w, const pl_data *data,
-                                pl_triplets *H, pl_error *err)
+                                int psd, pl_triplets *H, pl_error *err)
 {
     memset(w->f, 0, (size_t)d->n * 3 * sizeof(double));
     pl_buffer qb = pl_buffer_host_f64(w->w.q_t, (size_t)d->n, 3);
@@ -133,7 +141,7 @@ static int forces_and_stiffness(const pl_dynamics *d, le_ws *w, const pl_data *d
     for (int t = 0; t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         int rc = ops->add_gradient(d->terms[t], data, d->term_offset[t], &qb, &gb, err);
-        if (!rc) rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, 1, H, err);
+        if (!rc) rc = ops->add_hessian(d->terms[t], data, d->term_offset[t], &qb, psd, H, err);
         if (rc) return rc;
     }
     for (int i = 0; i < 3 * d->n; ++i) w->f[i] = d->mass[i / 3] * d->gravity[i] - w->f[i];
@@ -266,7 +274,8 @@ static int le_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     pl_triplets H;
     if (pl_triplets_init(&H, n3, n3, 64 * d->n + 16) != PL_OK)
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    rc = forces_and_stiffness(d, w, ctx->data, &H, err);
+    rc = forces_and_stiffness(d, w, ctx->data, s->stiffness ? PL_HESSIAN_FIXED_ROTATION : 1, &H,
+                              err);
     /* the unknown: dv (second order) or v (first order); on prescribed
      * vertices it is known from their motion (kept in w->p as scratch) */
     double *u = w->p;

@@ -9,6 +9,9 @@
 /* Exit codes: 0 ok, 1 internal error (or a failed regression), 2 bad input
  * (scene, arguments). */
 int cli_run(int argc, char **argv);
+/* pliant run script.py: hands the arguments to python3 -m pliant run (cmd_run_python.c). */
+int cli_is_python_script(int argc, char **argv);
+int cli_run_python(int argc, char **argv);
 int cli_list(int argc, char **argv);
 int cli_doc(int argc, char **argv);
 int cli_regress(int argc, char **argv);

@@ -1,4 +1,4 @@
-/* cmd_regress.c - `pliant regress LIST [--update] [--refs DIR]`: SOFA's
+/* cmd_regress.c - `pliant regress LIST [--update] [--sofa-steps] [--refs DIR]`: SOFA's
  * state regression.  Each line of LIST ("scene steps epsilon [mapped]
  * [lastonly]") runs a scene and compares every MechanicalObject's positions
  * with the stored reference files <refs>/<scene>.reference_<k>_<name>_mstate.txt.gz
@@ -33,10 +33,13 @@ static void dir_of(const char *path, char *out, size_t size)
 static const char USAGE[] =
     "usage: pliant regress LIST [OPTIONS]\n"
     "Runs every scene of LIST (lines \"scene steps epsilon [mapped] [lastonly]\", paths\n"
-    "relative to LIST) and compares each MechanicalObject's positions with the stored\n"
+    "relative to LIST or absolute) and compares each MechanicalObject's positions with the stored\n"
     "references (SOFA's measure: per compared step ||x - x_ref|| / nDoF, against epsilon).\n"
     "Each scene runs in its own process; under mpirun the scenes are spread over the ranks.\n\n"
     "  -u, --update        rewrite the references instead of comparing\n"
+    "  -s, --sofa-steps    SOFA's step counting: \"N steps\" records t = 0 ... (N-1) h\n"
+    "                      (SOFA's WriteState records before each step; without it\n"
+    "                      Pliant records t = 0 and after each step, up to N h)\n"
     "  -r, --refs DIR      reference folder (default: as LIST says, else LIST's folder/references)\n"
     "  -j, --threads N     OpenMP threads per scene\n"
     "  -t, --timeout S     stop a scene that runs longer than S seconds (default: no limit)\n"
@@ -47,7 +50,7 @@ static const char USAGE[] =
 
 typedef struct regress_opts {
     const char *list_path, *refs;
-    int update, threads, quiet;
+    int update, sofa_steps, threads, quiet;
     double timeout;
 } regress_opts;
 
@@ -55,15 +58,17 @@ typedef struct regress_opts {
 static int parse_args(int argc, char **argv, regress_opts *o)
 {
     static const struct option opts[] = {
-        {"update", no_argument, NULL, 'u'}, {"refs", required_argument, NULL, 'r'},
+        {"update", no_argument, NULL, 'u'}, {"sofa-steps", no_argument, NULL, 's'},
+        {"refs", required_argument, NULL, 'r'},
         {"threads", required_argument, NULL, 'j'}, {"timeout", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     int c, rc = 0;
     opterr = 0;
-    while (!rc && (c = getopt_long(argc, argv, "ur:j:t:qh", opts, NULL)) != -1) {
+    while (!rc && (c = getopt_long(argc, argv, "usr:j:t:qh", opts, NULL)) != -1) {
         switch (c) {
         case 'u': o->update = 1; break;
+        case 's': o->sofa_steps = 1; break;
         case 'r': o->refs = optarg; break;
         case 'j': rc = cli_parse_int("regress", "--threads", optarg, 1, &o->threads); break;
         case 't': rc = cli_parse_double("regress", "--timeout", optarg, &o->timeout); break;
@@ -90,14 +95,19 @@ typedef struct table {
 static char *format_row(table *t, const cli_job_result *r)
 {
     const pl_regression_entry *e = &t->x->list->items[r->job];
-    char result[32], val[1600], cell[1700];
+    char result[32], val[1600], cell[3200];
     const char *res = cli_report_get(r->text, "result", result, sizeof result);
     if (res && (!strcmp(res, "pass") || !strcmp(res, "FAIL"))) {
         double err = atof(cli_report_get(r->text, "error", val, sizeof val) ? val : "nan");
-        snprintf(cell, sizeof cell, "%12.3e  %s", err, res);
+        double last = atof(cli_report_get(r->text, "last", val, sizeof val) ? val : "nan");
+        char why[1400];
+        if (cli_report_get(r->text, "why", why, sizeof why))
+            snprintf(cell, sizeof cell, "%12.3e %10.3e  %s: %s", err, last, res, why);
+        else
+            snprintf(cell, sizeof cell, "%12.3e %10.3e  %s", err, last, res);
         t->failed += !strcmp(res, "FAIL");
     } else if (res && !strcmp(res, "written")) {
-        snprintf(cell, sizeof cell, "%12s  reference written (%s states)", "-",
+        snprintf(cell, sizeof cell, "%12s %10s  reference written (%s states)", "-", "-",
                  cli_report_get(r->text, "states", val, sizeof val) ? val : "?");
     } else {
         /* the child reported an error (msg), or ended without a report */
@@ -108,10 +118,10 @@ static char *format_row(table *t, const cli_job_result *r)
             snprintf(val, sizeof val, "the run %s", how);
             fprintf(stderr, "pliant regress: %s: the run %s (%s)\n", e->scene, how, where);
         }
-        snprintf(cell, sizeof cell, "%12s  ERROR: %s", "-", val);
+        snprintf(cell, sizeof cell, "%12s %10s  ERROR: %s", "-", "-", val);
         t->bad++;
     }
-    char line[2048];
+    char line[4096];
     snprintf(line, sizeof line, "%-52s %6d %10.3g %s", e->scene, e->steps, e->epsilon, cell);
     return strdup(line);
 }
@@ -131,6 +141,8 @@ static void refs_dir(const regress_opts *o, const pl_regression_list *list, cons
 {
     if (o->refs)
         snprintf(refs, size, "%s", o->refs);
+    else if (list->ref_dir && list->ref_dir[0] == '/')
+        snprintf(refs, size, "%s", list->ref_dir);
     else if (list->ref_dir)
         snprintf(refs, size, "%s/%s", list_dir, list->ref_dir);
     else
@@ -150,14 +162,17 @@ static int run_list(const regress_opts *o, const pl_regression_list *list)
         return 1;
     }
     regress_ctx x = {.list = list, .list_path = o->list_path, .list_dir = list_dir, .refs = refs,
-                     .out_dir = out_dir, .update = o->update, .quiet = o->quiet};
+                     .out_dir = out_dir, .update = o->update, .sofa_steps = o->sofa_steps,
+                     .quiet = o->quiet};
     table t = {&x, o->timeout, calloc((size_t)list->count + 1, sizeof(char *)), 0, 0, 0};
     int *todo = malloc(((size_t)list->count + 1) * sizeof *todo);
     int root = cli_dispatch_rank() == 0;
     for (int i = 0; todo && i < list->count; ++i) todo[i] = i;
     cli_dispatch d = {"regress", todo, todo && t.rows ? list->count : 0, regress_entry_job, &x,
                       o->timeout, row_done, &t};
-    if (root) printf("%-52s %6s %10s %12s  %s\n", "scene", "steps", "epsilon", "error/DoF", "result");
+    if (root)
+        printf("%-52s %6s %10s %12s %10s  %s\n", "scene", "steps", "epsilon", "error/DoF",
+               "last/diag", "result");
     cli_dispatch_run(&d);
     if (root)
         printf("%d scenes: %d passed, %d failed, %d errors\n", list->count,

@@ -10,6 +10,8 @@
 
 static const char USAGE[] =
     "usage: pliant run SCENE.xml [OPTIONS]\n"
+    "       pliant run SCRIPT.py [-n STEPS] [--set PATH=VALUE]  (a createScene script:\n"
+    "       python3 -m pliant run, docs/python.md)\n"
     "Runs a scene headless and writes what its exporters write.\n\n"
     "  -n, --steps N          time steps to run (default 100)\n"
     "  -o, --out DIR          folder for the outputs (default out/<scene name>/)\n"
@@ -155,6 +157,7 @@ static int step_all(pl_sim *sim, const run_args *a, int *done, double *run_s)
 
 int cli_run(int argc, char **argv)
 {
+    if (cli_is_python_script(argc, argv)) return cli_run_python(argc, argv);
     run_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc) {

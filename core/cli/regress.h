@@ -14,11 +14,13 @@ typedef struct regress_ctx {
     const char *refs;         /* reference folder */
     const char *out_dir;      /* this rank's temporary folder for the scenes' outputs */
     int update;               /* rewrite the references instead of comparing */
+    int sofa_steps;           /* SOFA's counting: N steps record t = 0 .. (N-1) h */
     int quiet;
 } regress_ctx;
 
 /* cli_job_fn: runs entry i; its report lines are "result pass|FAIL|written|
- * error", then "error E" (pass/FAIL), "states N" (written) or "msg TEXT". */
+ * error", then "error E" and "last R" (pass/FAIL; "why TEXT" on FAIL),
+ * "states N" (written) or "msg TEXT". */
 int regress_entry_job(int i, void *ctx, FILE *out);
 
 #endif

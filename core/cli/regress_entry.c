@@ -5,6 +5,7 @@
  * line, goes back to the parent (cmd_regress.c), which prints the row. */
 #include <pliant/pliant.h>
 
+#include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,8 +73,9 @@ static int check_cost(pl_sim *sim, const states *st, const pl_regression_entry *
 
 /* Runs one entry and returns the sim (the caller frees it: the state
  * components' names are needed for the reference files), NULL on error. */
-static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const char *list,
-                         const char *out_dir, states *st, pl_state_records *rec, pl_error *err)
+static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, int sofa_steps,
+                         const char *list, const char *out_dir, states *st, pl_state_records *rec,
+                         pl_error *err)
 {
     pl_diag diag;
     pl_diag_init(&diag);
@@ -81,9 +83,17 @@ static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const 
     pl_sim_options opt = {.out_dir = out_dir, .device = "cpu"};
     pl_sim *sim = pl_sim_load_file(scene, &opt, &diag);
     if (!sim) {
+        /* the row names the first error; all of them went to stderr */
         pl_diag_print(&diag, stderr);
+        const pl_error *first = NULL;
+        for (int k = 0; k < diag.count && !first; ++k)
+            if (diag.items[k].code != PL_OK) first = &diag.items[k];
+        char why[1400] = "";
+        if (first) pl_error_format(first, why, sizeof why);
+        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load%s%s%s",
+                     first ? ": " : "", why,
+                     diag.nerrors > 1 ? " (and more errors on stderr)" : "");
         pl_diag_free(&diag);
-        pl_error_set(err, PL_EINPUT, scene, 0, NULL, "the scene does not load");
         return NULL;
     }
     pl_diag_free(&diag);
@@ -92,9 +102,13 @@ static pl_sim *run_entry(const char *scene, const pl_regression_entry *e, const 
     for (int k = 0; k < st->n; ++k) pl_state_records_init(&rec[k]);
     int rc = check_cost(sim, st, e, list, err);
     if (rc == PL_OK) rc = record(sim, st, rec, err);
-    for (int s = 0; rc == PL_OK && s < e->steps; ++s) {
+    /* Pliant: records t = 0 and after each step, t = h ... N h.  SOFA's
+     * WriteState records before each step, t = 0 ... (N-1) h: its last step
+     * is never recorded, so it is not run. */
+    int run = sofa_steps ? e->steps - 1 : e->steps;
+    for (int s = 0; rc == PL_OK && s < run; ++s) {
         rc = pl_sim_step(sim, 1, err);
-        if (rc == PL_OK && (!e->last_only || s == e->steps - 1)) rc = record(sim, st, rec, err);
+        if (rc == PL_OK && (!e->last_only || s == run - 1)) rc = record(sim, st, rec, err);
     }
     if (rc != PL_OK) {
         pl_sim_free(sim);
@@ -131,9 +145,33 @@ static int write_refs(const char *refs, const char *scene, const states *st,
     return PL_OK;
 }
 
+/* A reference of a state this run does not have (the next index, n): SOFA
+ * records mapped MechanicalObjects too when the entry says mapped 1 (the
+ * liver's sphere centres), Pliant keeps no mapped states yet.  With mapped 1
+ * that is an error naming the file; with mapped 0 SOFA would not compare it. */
+static int extra_reference(const char *refs, const char *scene, int n, int mapped,
+                           pl_error *err)
+{
+    char pattern[2048];
+    snprintf(pattern, sizeof pattern, "%s/%s.reference_%d_*_mstate.txt.gz", refs,
+             base_of(scene), n);
+    glob_t g;
+    int found = glob(pattern, 0, NULL, &g) == 0 && g.gl_pathc > 0;
+    int rc = PL_OK;
+    if (found && mapped)
+        rc = pl_error_set(err, PL_EINPUT, g.gl_pathv[0], 0, NULL,
+                          "a reference state (%d) that this run does not have: with 'mapped 1' "
+                          "SOFA also records the states of mapped nodes, which Pliant does not "
+                          "keep yet (it drops a mapped node that only follows its body); give "
+                          "'mapped 0' to compare the simulated states only",
+                          n);
+    globfree(&g);
+    return rc;
+}
+
 static int compare_refs(const char *refs, const char *scene, const states *st,
-                        const pl_state_records *rec, double dt, double epsilon,
-                        pl_regression_result *res, pl_error *err)
+                        const pl_state_records *rec, double dt, double epsilon, int mapped,
+                        pl_regression_result *res, pl_regression_detail *why, pl_error *err)
 {
     pl_state_records ref[64];
     int rc = PL_OK;
@@ -148,9 +186,32 @@ static int compare_refs(const char *refs, const char *scene, const states *st,
         else
             rc = pl_state_file_read(path, &ref[k], err);
     }
-    if (rc == PL_OK) rc = pl_regression_compare(ref, rec, st->n, 0.5 * dt, epsilon, res, err);
+    if (rc == PL_OK) rc = extra_reference(refs, scene, st->n, mapped, err);
+    if (rc == PL_OK)
+        rc = pl_regression_compare_detail(ref, rec, st->n, 0.5 * dt, epsilon, res, why, err);
     for (int k = 0; k < st->n; ++k) pl_state_records_free(&ref[k]);
     return rc;
+}
+
+/* Why an entry failed, on one line: which state, which vertex, how far,
+ * against which tolerance. */
+static void write_why(FILE *out, const pl_regression_result *res, const pl_regression_detail *r,
+                      const states *st, double eps)
+{
+    if (res->missing) {
+        fprintf(out, "why state %d '%s': %d reference step%s not recorded by this run (the first "
+                     "at T= %g; SOFA's step counting needs --sofa-steps)\n",
+                r->missing_state, st->items[r->missing_state]->name, res->missing,
+                res->missing == 1 ? "" : "s", r->missing_time);
+    } else if (r->worst_state < 0) {
+        fprintf(out, "why nothing compared (the reference states are empty)\n");
+    } else {
+        fprintf(out, "why state %d '%s': error/DoF %.3e > epsilon %.3g (mean over %d state%s "
+                     "%.3e); its vertex %d is %.4g from the reference at T= %g\n",
+                r->worst_state, st->items[r->worst_state]->name, r->worst_state_error, eps,
+                st->n, st->n == 1 ? "" : "s", res->error_by_dof, r->worst_vertex,
+                r->worst_distance, r->worst_time);
+    }
 }
 
 /* The run of entry i in its child; writes the report, returns the exit code. */
@@ -159,18 +220,23 @@ int regress_entry_job(int i, void *user, FILE *out)
     const regress_ctx *x = user;
     const pl_regression_entry *e = &x->list->items[i];
     char scene[2048];
-    snprintf(scene, sizeof scene, "%s/%s", x->list_dir, e->scene);
+    if (e->scene[0] == '/') /* an absolute path stays as it is */
+        snprintf(scene, sizeof scene, "%s", e->scene);
+    else
+        snprintf(scene, sizeof scene, "%s/%s", x->list_dir, e->scene);
     if (x->quiet) pl_log_set_level(PL_LOG_WARN);
     states st = {{0}, 0};
     pl_state_records rec[64];
     pl_error err;
     pl_regression_result res = {0};
-    pl_sim *sim = run_entry(scene, e, x->list_path, x->out_dir, &st, rec, &err);
+    pl_regression_detail why = {0};
+    pl_sim *sim = run_entry(scene, e, x->sofa_steps, x->list_path, x->out_dir, &st, rec, &err);
     int rc = sim ? PL_OK : err.code;
     double dt = sim ? pl_node_dt(pl_sim_model(sim)->root) : 0.01;
     if (rc == PL_OK)
         rc = x->update ? write_refs(x->refs, e->scene, &st, rec, &err)
-                       : compare_refs(x->refs, e->scene, &st, rec, dt, e->epsilon, &res, &err);
+                       : compare_refs(x->refs, e->scene, &st, rec, dt, e->epsilon, e->mapped,
+                                       &res, &why, &err);
     if (rc != PL_OK) {
         char msg[1600];
         pl_error_format(&err, msg, sizeof msg);
@@ -180,7 +246,9 @@ int regress_entry_job(int i, void *user, FILE *out)
     } else if (x->update) {
         fprintf(out, "result written\nstates %d\n", st.n);
     } else {
-        fprintf(out, "result %s\nerror %.17g\n", res.passed ? "pass" : "FAIL", res.error_by_dof);
+        fprintf(out, "result %s\nerror %.17g\nlast %.17g\n", res.passed ? "pass" : "FAIL",
+                res.error_by_dof, why.last_relative);
+        if (!res.passed) write_why(out, &res, &why, &st, e->epsilon);
     }
     for (int k = 0; k < st.n; ++k) pl_state_records_free(&rec[k]);
     pl_sim_free(sim);

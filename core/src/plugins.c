@@ -259,3 +259,24 @@ int pl_registry_load_all(pl_registry *r, pl_diag *diag)
 int pl_registry_plugin_count(const pl_registry *r) { return r->nplugins; }
 const char *pl_registry_plugin_name(const pl_registry *r, int i) { return r->plugins[i].name; }
 const char *pl_registry_plugin_path(const pl_registry *r, int i) { return r->plugins[i].path; }
+
+int pl_registry_plugin_providing(const pl_registry *r, const char *type, char *buf, size_t size)
+{
+    /* a scratch registry over the same folders: the scene's stays as it is */
+    pl_registry *probe = pl_registry_create();
+    if (!probe || !type) {
+        pl_registry_free(probe);
+        return 0;
+    }
+    for (int k = 0; k < r->ndirs; ++k) pl_registry_add_plugin_dir(probe, r->dirs[k]);
+    pl_diag d;
+    pl_diag_init(&d);
+    pl_registry_load_all(probe, &d);
+    pl_diag_free(&d);
+    const pl_type *t = pl_registry_find(probe, type);
+    const char *p = t ? pl_registry_type_plugin(probe, t) : NULL;
+    int found = p && strcmp(p, "builtin") != 0;
+    if (found) snprintf(buf, size, "%s", p);
+    pl_registry_free(probe);
+    return found;
+}

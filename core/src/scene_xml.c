@@ -326,7 +326,13 @@ static void build_node(pl_node *n, xmlNode *x, const scene_build *b)
         const pl_type *t = pl_registry_find(b->reg, tag);
         if (!t) {
             const char *s = pl_registry_suggest(b->reg, tag);
-            if (s)
+            char plugin[128];
+            if (pl_registry_plugin_providing(b->reg, tag, plugin, sizeof plugin))
+                pl_diag_error(diag, PL_EINPUT, file, line_of(k), np,
+                              "unknown component type '%s': the plugin '%s' provides it; add "
+                              "<RequiredPlugin name=\"%s\"/>",
+                              tag, plugin, plugin);
+            else if (s)
                 pl_diag_error(diag, PL_EINPUT, file, line_of(k), np,
                               "unknown component type '%s' (did you mean %s?)", tag, s);
             else

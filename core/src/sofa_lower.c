@@ -254,12 +254,16 @@ static void lower_fem(sofa_lower *L, xmlNode *e, const char *tag)
                            ? "linear FEM without rotations is not in Pliant (it is wrong under "
                              "rotation anyway)"
                            : "an unknown method");
-        else if (!strcmp(m, "large") || !strcmp(m, "qr"))
-            sofa_note(L, "fem-large", e,
-                      "method=\"%s\": Pliant's Corotational takes each element's rotation from "
-                      "the polar decomposition (SOFA's 'polar'); SOFA's '%s' frame differs under "
-                      "large shear",
+        else if ((!strcmp(m, "large") || !strcmp(m, "qr")) &&
+                 !strcmp(tag, "TriangleFEMForceField"))
+            sofa_note(L, "fem-large-tri", e,
+                      "method=\"%s\": Pliant's Corotational takes each triangle's rotation from "
+                      "the polar decomposition (SOFA's 'polar'); SOFA's '%s' frame on the edges "
+                      "differs under large shear",
                       m, m);
+        else if ((!strcmp(m, "large") || !strcmp(m, "qr")) && L->nlarge < 64 &&
+                 !xmlHasProp(e, (const xmlChar *)"rotation"))
+            L->large_fem[L->nlarge++] = e; /* the solvers decide (sofa_solvers.c) */
         sofa_unset(e, "method");
         xmlFree(m);
     }
@@ -432,7 +436,8 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         L->need |= plugin_bit(c->plugin);
         lower_component_attrs(L, e, tag);
         apply_attr_rules(L, e, tag);
-        if (!strcmp(c->pliant, "CableConstraint")) {
+        if (!strcmp(c->pliant, "CableConstraint") ||
+            !strcmp(c->pliant, "SurfacePressureConstraint")) {
             if (!L->nconstraints++) L->constraint_line = sofa_line(e);
         }
         if (c->kind == PL_SOFA_RENAME) xmlNodeSetName(e, (const xmlChar *)c->pliant);

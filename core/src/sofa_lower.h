@@ -37,6 +37,8 @@ typedef struct sofa_lower {
     int free_motion;          /* the loop is FreeMotionAnimationLoop */
     int nconstraints;         /* Lagrangian constraints (cables) of the scene */
     int constraint_line;      /* the first one's line */
+    xmlNode *large_fem[64];   /* FEM with method large/qr: rotation from the edges (solvers) */
+    int nlarge;
 } sofa_lower;
 
 int sofa_line(xmlNode *e);
@@ -77,5 +79,8 @@ void sofa_lower_container(sofa_lower *L, xmlNode *e);
 void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry);
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
+/* sofa_cavity.c: moves the SurfacePressureConstraint e of the mapped node
+ * (its MechanicalObject mo) into the body's node. */
+void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity);
 
 #endif

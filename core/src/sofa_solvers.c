@@ -212,6 +212,26 @@ static void emit_linearized(sofa_lower *L, int line)
     if (L->cg_thr) sofa_set(e, "threshold", L->cg_thr);
 }
 
+/* SOFA's 'large' method: the rotation from a frame on the element's edges.
+ * Corotational rotation="edges" is that, but has no energy: only
+ * LinearizedEulerSolver can use it; under LocalGlobalSolver (constraints)
+ * the polar rotation stays, and a note says so. */
+static void lower_large_fem(sofa_lower *L, int linearized)
+{
+    for (int k = 0; k < L->nlarge; ++k) {
+        xmlNode *e = L->large_fem[k];
+        if (linearized)
+            sofa_set(e, "rotation", "edges");
+        else
+            sofa_note(L, "fem-large", e,
+                      "method=\"large\": Pliant's Corotational takes each element's rotation "
+                      "from the polar decomposition here (SOFA's 'polar': the solver, "
+                      "LocalGlobalSolver with a cable, needs an energy); SOFA's frame on the "
+                      "edges (rotation=\"edges\", LinearizedEulerSolver only) differs under "
+                      "large shear");
+    }
+}
+
 void sofa_emit_solvers(sofa_lower *L)
 {
     int line = L->ode_line ? L->ode_line : sofa_line(L->root);
@@ -228,5 +248,6 @@ void sofa_emit_solvers(sofa_lower *L)
         emit_constrained(L, line);
     else if (L->ode)
         emit_linearized(L, line);
+    lower_large_fem(L, L->ode && !L->nconstraints && !has_loop);
     emit_plugins(L);
 }

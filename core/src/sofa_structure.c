@@ -27,7 +27,8 @@ static void lower_required(sofa_lower *L, xmlNode *e, int *nmodules, char *first
         } else if (kind == 2) {
             L->need |= NEED_CABLE;
             sofa_note(L, "softrobots", e,
-                      "SoftRobots: Pliant's cable plugin stands in for it (CableConstraint); "
+                      "SoftRobots: Pliant's cable plugin stands in for it (CableConstraint, "
+                      "SurfacePressureConstraint); "
                       "its other components are listed in docs/sofa.md");
         } else if (kind < 0) {
             sofa_error(L, e, "plugin '%s': %s", p, why);
@@ -199,10 +200,12 @@ static int mapped_harmless(const xmlNode *e)
 {
     const char *tag = (const char *)e->name;
     const pl_sofa_component *c = pl_sofa_find(tag);
-    /* topology containers describe the mapped surface: the component using it is the reason */
+    /* topology containers and the topological mappings that fill them
+     * (Tetra2TriangleTopologicalMapping: a body's surface for drawing)
+     * describe the mapped surface: the component using it is the reason */
     return (c && (c->kind == PL_SOFA_VISUAL || c->kind == PL_SOFA_NOTED)) ||
            strstr(tag, "Loader") || strstr(tag, "TopologyContainer") ||
-           !strcmp(tag, "MeshTopology");
+           strstr(tag, "TopologicalMapping") || !strcmp(tag, "MeshTopology");
 }
 
 /* A child node driven by `map`: cable points, or drawing only. */
@@ -214,7 +217,7 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         if (!sofa_is_element(e) || e == map) continue;
         if (sofa_tag_is(e, "MechanicalObject") && !mo)
             mo = e;
-        else if (sofa_tag_is(e, "CableConstraint"))
+        else if (sofa_tag_is(e, "CableConstraint") || sofa_tag_is(e, "SurfacePressureConstraint"))
             ++ncables;
         else if (!mapped_harmless(e) && !other)
             other = e;
@@ -223,8 +226,8 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
     sofa_node_path(node, where, sizeof where);
     if (other) {
         sofa_error(L, other, "%s in the node '%s', which %s maps from its parent: Pliant maps "
-                             "the points of cables only so far (a pressure cavity or a collision "
-                             "surface in a mapped node is not supported yet)",
+                             "the points of cables and pressure cavities only so far (a "
+                             "collision surface in a mapped node is not supported yet)",
                    (const char *)other->name, where, (const char *)map->name);
         sofa_remove(node);
         return;
@@ -247,8 +250,11 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         sofa_remove(node);
         return;
     }
-    int n = 0;
-    double *x = identity ? NULL : read_points(L, mo, &n);
+    for (xmlNode *e = node->children; e; e = e->next)
+        if (sofa_tag_is(e, "SurfacePressureConstraint")) sofa_lower_cavity(L, node, mo, e, identity);
+    int n = 0, cables = 0;
+    for (xmlNode *e = node->children; e; e = e->next) cables += sofa_tag_is(e, "CableConstraint");
+    double *x = identity || !cables ? NULL : read_points(L, mo, &n);
     if (identity && xmlHasProp(mo, (const xmlChar *)"position"))
         sofa_error(L, mo, "under an IdentityMapping the points are the parent's vertices: remove "
                           "position");
@@ -378,6 +384,31 @@ static void rois_link(sofa_lower *L, xmlNode *node)
     }
 }
 
+/* BoxROI position="@dofs.rest_position" (SoftRobots' idiom): the rest
+ * positions of its node's MechanicalObject, or the positions of a loader of
+ * its node, are what Pliant's boxes select from anyway; any other points
+ * would select other vertices: refused. */
+static void roi_position(sofa_lower *L, xmlNode *roi)
+{
+    char *v = sofa_get(roi, "position");
+    if (!v) return;
+    const char *field = NULL;
+    xmlNode *src = sofa_data_link(roi->parent, v, &field);
+    int same_node = src && src->parent == roi->parent;
+    int ok = same_node && ((sofa_tag_is(src, "MechanicalObject") &&
+                            (!strcmp(field, "rest_position") || !strcmp(field, "position"))) ||
+                           (strstr((const char *)src->name, "Loader") && !strcmp(field, "position")));
+    if (ok)
+        sofa_note(L, "roi-position", roi,
+                  "position=\"%s\": the rest positions of this node's body, which BoxROI selects "
+                  "from in Pliant", v);
+    else
+        sofa_error(L, roi, "position=\"%s\": BoxROI selects from the rest positions of its "
+                           "node's MechanicalObject in Pliant (position=\"@dofs.rest_position\" "
+                           "or a loader of this node); other points are not mapped", v);
+    xmlFree(v);
+}
+
 static void rois_drop(sofa_lower *L, xmlNode *node)
 {
     xmlNode *next;
@@ -393,6 +424,7 @@ static void rois_drop(sofa_lower *L, xmlNode *node)
             if (r && r->kind == PL_SOFA_A_REFUSE)
                 sofa_error(L, e, "'%s' is not supported: %s", (const char *)a->name, r->note);
         }
+        roi_position(L, e);
         char *used = sofa_get(e, "pliant-used");
         if (!used)
             sofa_note(L, "roi-unused", e, "no component links to this BoxROI's indices: ignored");

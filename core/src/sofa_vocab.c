@@ -130,6 +130,8 @@ static const pl_sofa_component COMPONENTS[] = {
                                "(collision plugin), a contact without penetration"),
     REFUSED("SpringForceField", "springs between points are not mapped"),
     REFUSED("StiffSpringForceField", "springs between points are not mapped"),
+    REFUSED("RigidMapping", "it maps a rigid body (Rigid3 state), which Pliant does not have "
+                            "yet; closest: a soft body with BarycentricMapping"),
     /* constraints */
     SAME("FixedConstraint", NULL, "FixedConstraint (indices, fixAll)"),
     RENAME("FixedProjectiveConstraint", "FixedConstraint", NULL,
@@ -181,10 +183,13 @@ static const pl_sofa_component COMPONENTS[] = {
          "CableConstraint (cable plugin): indices, pullPoint, value, valueType, "
          "minForce, maxForce, maxPositiveDisp, maxNegativeDisp, maxDispVariation, "
          "hasPullPoint, cableInitialLength, centers; method=\"geodesic\" and radii are refused"),
-    REFUSED("SurfacePressureConstraint", "pneumatic actuation is not in Pliant yet (issue 17 "
-                                         "item 3); closest: CableConstraint"),
-    REFUSED("VolumeFromTriangles", "an engine of pneumatic actuation (SurfacePressureConstraint), "
-                                   "which is not in Pliant yet"),
+    SAME("SurfacePressureConstraint", "cable",
+         "SurfacePressureConstraint (cable plugin): triangles, quads, value, valueIndex, "
+         "valueType (pressure|volumeGrowth), minPressure, maxPressure, eqPressure, "
+         "minVolumeGrowth, maxVolumeGrowth, the variation limits, flipNormal; outputs pressure, "
+         "volumeGrowth, cavityVolume; in a mapped node it moves to the body's node"),
+    NOTED("VolumeFromTriangles", "the cavity's volume is SurfacePressureConstraint's output "
+                                 "cavityVolume"),
     REFUSED("PositionEffector", "inverse problems (SoftRobots.Inverse) are not in Pliant"),
     REFUSED("QPInverseProblemSolver", "inverse problems (SoftRobots.Inverse) are not in Pliant"),
     /* visual and GUI */
@@ -354,8 +359,8 @@ static const pl_sofa_attr ATTRS[] = {
     A_IGN("BoxROI", "computeQuad", "only vertex indices are linked"),
     A_IGN("BoxROI", "strict", "only vertex indices are linked"),
     A_REF("BoxROI", "orientedBox", "oriented boxes are not mapped; use axis-aligned boxes"),
-    A_REF("BoxROI", "position", "BoxROI selects from the rest positions of its node's "
-                                "MechanicalObject in Pliant; other inputs are not mapped"),
+    A_LOW("BoxROI", "position", "@dofs.rest_position (or a loader of the node): the rest "
+                                "positions Pliant's boxes select from; other points refused"),
     /* mappings */
     A_LOW("BarycentricMapping", "input", "the parent's MechanicalObject"),
     A_LOW("BarycentricMapping", "output", "the child node's MechanicalObject"),
@@ -374,6 +379,14 @@ static const pl_sofa_attr ATTRS[] = {
                                       "give centers alone (nearest vertex) or indices"),
     A_REF("CableConstraint", "surfaceTopology", "geodesic cables are not in Pliant"),
     A_IGN("CableConstraint", "hasDisplacementVariation", "Pliant reads the bounds given"),
+    /* SurfacePressureConstraint */
+    A_LOW("SurfacePressureConstraint", "triangles",
+          "in a mapped child node: over the mapped points; a link to the node's loader's "
+          "triangles (@topo.triangles) means the loader's"),
+    A_IGN("SurfacePressureConstraint", "drawPressure", "drawing"),
+    A_IGN("SurfacePressureConstraint", "drawScale", "drawing"),
+    A_IGN("SurfacePressureConstraint", "visualization", "drawing (deprecated name)"),
+    A_IGN("SurfacePressureConstraint", "showVisuScale", "drawing (deprecated name)"),
     /* InteractiveCamera places the viewer's camera (position, lookAt,
      * orientation, fieldOfView); SOFA's clipping and projection settings
      * have no counterpart there */

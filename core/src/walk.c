@@ -241,7 +241,16 @@ int pl_walk_get(pl_node *root, const pl_data *d, const char *path, char *buf, si
     }
     pl_component *c = component_or_node_hint(root, obj, field, err);
     if (!c) return PL_EINPUT;
-    if (c->type->ops.get && d && c->type->ops.get(c, d, field, buf, size) == PL_OK) return PL_OK;
+    if (c->type->ops.get && d) {
+        /* PL_EINPUT: not a field it serves; anything else: it serves it but the
+         * text did not fit (falling through would give the scene's value, not
+         * the state: a MechanicalObject's position read as "" for a mesh) */
+        int grc = c->type->ops.get(c, d, field, buf, size);
+        if (grc == PL_OK) return PL_OK;
+        if (grc != PL_EINPUT)
+            return pl_error_set(err, PL_EINPUT, NULL, 0, path,
+                                "the value does not fit in %zu bytes", size);
+    }
     const pl_field *f = pl_component_field(c, field);
     if (!f)
         return pl_error_set(err, PL_EINPUT, NULL, 0, path, "%s has no field '%s'", c->type->name,

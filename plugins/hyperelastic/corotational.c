@@ -4,8 +4,16 @@
  * machinery is in fem_term.c, the math in hyperelastic_core. */
 #include "fem_term.h"
 
-static const pl_field FIELDS[] = {HYPER_FEM_FIELDS};
-_Static_assert(sizeof FIELDS / sizeof FIELDS[0] == HYPER_FEM_NFIELDS, "field count");
+static const pl_field FIELDS[] = {
+    HYPER_FEM_FIELDS,
+    PL_FIELD_ENUM(hyper_fem, rotation, "rotation", hyper_fem_rotation_choices, "polar",
+                  "each element's rotation R: polar (the polar decomposition of F; forces are "
+                  "the energy's gradient) or edges (SOFA's 'large' method: a frame on the "
+                  "element's edges, linear elasticity in it; no energy, so only "
+                  "LinearizedEulerSolver uses it, with SOFA's stiffness R K0 R^T)",
+                  0),
+};
+_Static_assert(sizeof FIELDS / sizeof FIELDS[0] == HYPER_FEM_NFIELDS + 1, "field count");
 
 static int corotational_init(pl_component *c, pl_ctx *ctx)
 {
@@ -20,7 +28,7 @@ const pl_type hyper_corotational_type = {
     .size = sizeof(hyper_fem),
     .workspace_size = sizeof(hyper_term_ws),
     .fields = FIELDS,
-    .nfields = HYPER_FEM_NFIELDS,
+    .nfields = HYPER_FEM_NFIELDS + 1,
     .ops = {.init = corotational_init,
             .bind = hyper_fem_bind,
             .reinit = hyper_fem_reinit,

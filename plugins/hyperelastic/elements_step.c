@@ -121,7 +121,10 @@ int hyper_elements_add_gradient(const pl_hyper_elements *e, int offset, const do
         double F[9], P[9];
         deformation_gradient(e, i, offset, q, F);
         pl_hyper_law law = hyper_elements_law(e, i);
-        hyper_piola(&law, F, P);
+        if (e->edge_rotation)
+            hyper_edge_piola(&law, F, e->D + (size_t)i * k * e->d, P);
+        else
+            hyper_piola(&law, F, P);
         spread(e, i, e->volume[i], P, slots + (size_t)i * 3 * k); /* dE/dx_c = V P D^T */
     }
     hyper_incidence_gather(e->nverts, e->vptr, e->vinc, slots, offset, grad);
@@ -138,7 +141,10 @@ static void element_hessian(const pl_hyper_elements *e, int i, int offset, const
     double F[9], H[81];
     deformation_gradient(e, i, offset, q, F);
     pl_hyper_law law = hyper_elements_law(e, i);
-    pl_hyper_dPdF(&law, F, psd, H);
+    if (e->edge_rotation) /* SOFA's R K0 R^T, whatever psd asks: there is no energy */
+        hyper_edge_dPdF(&law, F, D, H);
+    else
+        pl_hyper_dPdF(&law, F, psd, H);
     for (int c = 0; c < k; ++c)
         for (int a = 0; a < 3; ++a)
             for (int c2 = 0; c2 < k; ++c2)

@@ -12,6 +12,7 @@
 #include "fem_term.h"
 
 const char *const hyper_fem_element_choices[] = {"auto", "tetrahedra", "triangles", NULL};
+const char *const hyper_fem_rotation_choices[] = {"polar", "edges", NULL};
 
 double *hyper_term_block(const pl_component *c, const pl_buffer *b, int offset, int nverts,
                          const char *what, pl_error *err)
@@ -99,6 +100,10 @@ int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
                                      f->young.v, f->young.n, f->poisson.v, f->poisson.n,
                                      f->thickness, &err);
     if (rc != PL_OK) return pl_component_error(c, ctx, rc, "%s", err.msg);
+    if (f->rotation && f->k != 4)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "rotation=\"edges\" (SOFA's 'large') needs tetrahedra");
+    f->el.edge_rotation = f->rotation;
     double wsum = 0.0;
     for (int i = 0; i < f->el.n; ++i) wsum += f->el.w[i];
     pl_log_info("%s: %d %s, %s, mean weight w = %g N m", c->name, f->el.n,
@@ -155,6 +160,11 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
                        pl_buffer *rhs, pl_error *err)
 {
     const hyper_fem *f = (const hyper_fem *)c;
+    if (f->el.edge_rotation) /* its force is not the gradient of an energy */
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "rotation=\"edges\" (SOFA's 'large' method) has no energy to "
+                                 "project on: only LinearizedEulerSolver (forces and stiffness) "
+                                 "uses it; with this solver use rotation=\"polar\"");
     if (q->location == PL_DEVICE || rhs->location == PL_DEVICE) {
 #ifdef PLIANT_HAVE_CUDA
         return hyper_fem_project_device(f, d, offset, h2, q, rhs, err);
@@ -192,6 +202,7 @@ static double fem_energy(const pl_component *c, const pl_data *d, int offset, co
     (void)d;
     const double *x = pl_buffer_f64(q);
     if (!x || q->rows < (size_t)offset + (size_t)f->el.nverts) return NAN;
+    if (f->el.edge_rotation) return NAN; /* no energy (edge_rotation.c) */
     return hyper_elements_energy(&f->el, offset, x);
 }
 

@@ -17,6 +17,7 @@ typedef struct hyper_fem {
     pl_link src;            /* topology (default: the node's first) */
     double thickness;       /* [m] membranes */
     int warm_start;         /* keep ADMM duals across steps */
+    int rotation;           /* Corotational only: 0 polar, 1 edges (SOFA's 'large') */
     /* model */
     pl_hyper_material material;
     const pl_mesh *mesh;
@@ -28,6 +29,7 @@ typedef struct hyper_fem {
 } hyper_fem;
 
 extern const char *const hyper_fem_element_choices[];
+extern const char *const hyper_fem_rotation_choices[];
 
 #define HYPER_FEM_FIELDS                                                                          \
     PL_FIELD(hyper_fem, young, "youngModulus", PL_F_DOUBLES, "5000",                              \

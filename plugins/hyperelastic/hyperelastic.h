@@ -130,7 +130,17 @@ typedef struct pl_hyper_elements {
     double *mu, *lambda;/* n Lame parameters [Pa] (lambda plane-stress for triangles) */
     double *w;          /* n PD weights [N m] = hyper_law_weight * volume */
     int *vptr, *vinc;   /* vertex -> (element*k + corner) incidence, for gathers */
+    int edge_rotation;  /* 1: SOFA's 'large' rotation from the edges (edge_rotation.c) */
 } pl_hyper_elements;
+
+/* SOFA's 'large' corotational method (edge_rotation.c), tetrahedra: the
+ * rotation from a frame on the element's edges (D: its 4 x 3 shape matrix),
+ * the first Piola stress of linear elasticity in that frame, and its
+ * stiffness with the rotation held fixed (9 x 9, dP_ab / dF_cd at
+ * (3a + b, 3c + d)). */
+void hyper_edge_rotation(const double *F, const double *D, double *R);
+void hyper_edge_piola(const pl_hyper_law *m, const double *F, const double *D, double *P);
+void hyper_edge_dPdF(const pl_hyper_law *m, const double *F, const double *D, double *H);
 
 /* Builds the element set.  elems: nelem x k local vertex indices (k = 4
  * tetrahedra, 3 triangles); rest: nverts x 3 rest positions.  E, nu: one

@@ -1,5 +1,8 @@
 /* material_hessian.c - dP/dF of an isotropic law, optionally projected to
- * PSD.
+ * PSD, or (ARAP and corotational, psd == PL_HESSIAN_FIXED_ROTATION) with the
+ * element's rotation held fixed: SOFA's corotational stiffness R K0 R^T
+ * with K0 linear elasticity, dP/dF = R (mu (I + T) + lambda vec(I) vec(I)^T)
+ * R^T (T: transposition), PSD by construction.
  *
  * In the singular frame, F^ = U^T F V (U the full 3x3 left rotation), the
  * Hessian of psi(F^) at F^ = diag(s) is block-diagonal (Irving et al. 2004,
@@ -14,6 +17,8 @@
  * block's eigenvalues at zero is exactly the PSD projection of H. */
 #include <math.h>
 #include <string.h>
+
+#include <pliant/roles.h>
 
 #include "hyperelastic.h"
 #include "material_internal.h"
@@ -44,6 +49,10 @@ void pl_hyper_dPdF(const pl_hyper_law *m, const double *F, int psd, double *H)
         for (int j = i + 1; j < d; ++j) {
             double c, t;
             hyper_sv_pair(m, s, g, i, j, &c, &t);
+            /* the rotation held fixed (psd == 2, the quadratic laws): R K0 R^T with K0
+             * linear elasticity (symmetric strain): pair blocks [[mu, mu], [mu, mu]],
+             * c = 2 mu, t = 0 (an infinitesimal rotation of the element costs nothing) */
+            if (psd == PL_HESSIAN_FIXED_ROTATION && m->material != PL_HYPER_NEOHOOKEAN) t = 0.0;
             double A = 0.5 * (c + t), B = 0.5 * (c - t);
             if (psd) clamp_pair(&A, &B);
             int p = i * d + j, q = j * d + i;

@@ -100,6 +100,49 @@ START_TEST(metric_equals_hand_computed_value_on_exact_perturbation)
 }
 END_TEST
 
+/* pl_regression_compare_detail: which state and vertex is worst, how far,
+ * when; the relative error at the last reference time; a missing step. */
+START_TEST(detail_names_state_vertex_distance_and_relative_error)
+{
+    double r0[6] = {0, 0, 0, 3, 4, 0}, c0[6] = {0, 0, 0, 3, 4, 0}, c1[6] = {0, 0, 0, 3, 4, 0.5};
+    double r1[3] = {1, 1, 1}, c2[3] = {1, 1, 1.1};
+    pl_state_records ref[2], cur[2];
+    pl_error err;
+    for (int k = 0; k < 2; ++k) {
+        pl_state_records_init(&ref[k]);
+        pl_state_records_init(&cur[k]);
+    }
+    pl_state_records_add(&ref[0], 0.0, r0, 6, NULL, 0, &err);
+    pl_state_records_add(&ref[0], 1.0, r0, 6, NULL, 0, &err);
+    pl_state_records_add(&cur[0], 0.0, c0, 6, NULL, 0, &err);
+    pl_state_records_add(&cur[0], 1.0, c1, 6, NULL, 0, &err);
+    pl_state_records_add(&ref[1], 1.0, r1, 3, NULL, 0, &err); /* one point: no box */
+    pl_state_records_add(&cur[1], 1.0, c2, 3, NULL, 0, &err);
+    pl_regression_result res;
+    pl_regression_detail why;
+    ck_assert_int_eq(pl_regression_compare_detail(ref, cur, 2, 0.1, 1e-3, &res, &why, &err), PL_OK);
+    ck_assert_int_eq(res.passed, 0);
+    ck_assert_int_eq(why.worst_state, 0); /* 0.5 / 6 against 0.1 / 3 */
+    ck_assert_int_eq(why.worst_vertex, 1);
+    ck_assert_double_eq_tol(why.worst_distance, 0.5, 1e-15);
+    ck_assert_double_eq(why.worst_time, 1.0);
+    ck_assert_double_eq_tol(why.last_relative, 0.5 / 5.0, 1e-15); /* the box of (0,0,0)-(3,4,0) */
+    ck_assert_double_eq(why.last_time, 1.0);
+    ck_assert_int_eq(why.missing_state, -1);
+    /* a reference step the run did not record */
+    pl_state_records_add(&ref[1], 2.0, r1, 3, NULL, 0, &err);
+    ck_assert_int_eq(pl_regression_compare_detail(ref, cur, 2, 0.1, 1.0, &res, &why, &err), PL_OK);
+    ck_assert_int_eq(res.passed, 0);
+    ck_assert_int_eq(res.missing, 1);
+    ck_assert_int_eq(why.missing_state, 1);
+    ck_assert_double_eq(why.missing_time, 2.0);
+    for (int k = 0; k < 2; ++k) {
+        pl_state_records_free(&ref[k]);
+        pl_state_records_free(&cur[k]);
+    }
+}
+END_TEST
+
 START_TEST(metric_on_perturbed_liver_matches_formula)
 {
     pl_state_records ref[2], cur[2];
@@ -312,6 +355,7 @@ int main(void)
     tcase_add_test(tm, metric_is_zero_on_identical_records);
     tcase_add_test(tm, metric_equals_hand_computed_value_on_exact_perturbation);
     tcase_add_test(tm, metric_on_perturbed_liver_matches_formula);
+    tcase_add_test(tm, detail_names_state_vertex_distance_and_relative_error);
     tcase_add_test(tm, metric_reports_missing_steps_and_size_mismatch);
     suite_add_tcase(s, tm);
     TCase *tl = tcase_create("list");

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <pliant/roles.h>
+
 #include "hyper_test_util.h"
 #include "hyperelastic.h"
 
@@ -150,6 +152,109 @@ END_TEST
 
 /* Element-level: gradient = FD of energy; vertex Hessian = FD of gradient;
  * projected vertex Hessian PSD (tetrahedron and triangle). */
+/* psd == PL_HESSIAN_FIXED_ROTATION (ARAP, corotational): the stiffness with
+ * the element's rotation held fixed, SOFA's R K0 R^T with K0 linear
+ * elasticity: dP = R [mu (G + G^T) + lambda tr(G) I], G = R^T dF (R the
+ * polar rotation of F; ARAP has lambda = 0); it differs from the projected
+ * Hessian away from rest, which carries the rotation's derivative. */
+START_TEST(fixed_rotation_stiffness_is_sofas_corotational_stiffness)
+{
+    unsigned long long st = 11;
+    for (int mat = 0; mat < 2; ++mat) {
+        pl_hyper_law m = make_law((pl_hyper_material)mat, 3);
+        double la = mat == PL_HYPER_COROTATIONAL ? m.lambda : 0.0, differs = 0.0;
+        for (int t = 0; t < 20; ++t) {
+            double F[9], H[81], Hp[81], U[9], sv[3], V[9], R[9];
+            random_F(&st, 3, 0.35, F);
+            hyper_svd3(F, U, sv, V);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    R[a * 3 + b] = 0.0;
+                    for (int i = 0; i < 3; ++i) R[a * 3 + b] += U[a * 3 + i] * V[b * 3 + i];
+                }
+            pl_hyper_dPdF(&m, F, PL_HESSIAN_FIXED_ROTATION, H);
+            pl_hyper_dPdF(&m, F, 1, Hp);
+            double hmax = 0.0, err = 0.0;
+            for (int i = 0; i < 81; ++i) hmax = fmax(hmax, fabs(H[i]));
+            for (int j = 0; j < 9; ++j) { /* column j: dF = e_j */
+                double G[9], S[9], dP[9];
+                for (int a = 0; a < 3; ++a) /* G = R^T dF: row a of G = R[j/3][a] e_(j%3) */
+                    for (int b = 0; b < 3; ++b) G[a * 3 + b] = b == j % 3 ? R[(j / 3) * 3 + a] : 0.0;
+                double tr = G[0] + G[4] + G[8];
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b)
+                        S[a * 3 + b] = m.mu * (G[a * 3 + b] + G[b * 3 + a]) + (a == b ? la * tr : 0.0);
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) {
+                        dP[a * 3 + b] = 0.0;
+                        for (int k = 0; k < 3; ++k) dP[a * 3 + b] += R[a * 3 + k] * S[k * 3 + b];
+                    }
+                for (int i = 0; i < 9; ++i) {
+                    err = fmax(err, fabs(dP[i] - H[i * 9 + j]));
+                    differs = fmax(differs, fabs(Hp[i * 9 + j] - H[i * 9 + j]) / hmax);
+                }
+            }
+            ck_assert_msg(err <= 1e-9 * hmax, "material %d: |H - R K0 R^T| = %g, |H| = %g", mat,
+                          err, hmax);
+        }
+        ck_assert_double_gt(differs, 1e-2); /* the option changes K */
+    }
+}
+END_TEST
+
+/* SOFA's 'large' rotation (edge_rotation.c): for any rest tetrahedron
+ * (shape matrix D) and any rotation Q, the deformation F = Q has R = Q and
+ * no stress; at F = Q its stiffness is the exact Hessian there (both are
+ * R K0 R^T at a rotated rest shape); a small symmetric stretch in the frame
+ * gives linear elasticity's stress, rotated. */
+START_TEST(edge_rotation_is_rigid_invariant_and_linear_elastic)
+{
+    unsigned long long st = 5;
+    pl_hyper_law m = make_law(PL_HYPER_COROTATIONAL, 3);
+    for (int t = 0; t < 20; ++t) {
+        double Dm[9], D[12], Q[9], R[9], P[9], He[81], Hx[81];
+        for (int i = 0; i < 9; ++i) Dm[i] = (i % 4 == 0 ? 1.0 : 0.0) + 0.3 * ht_rand(&st);
+        double det = Dm[0] * (Dm[4] * Dm[8] - Dm[5] * Dm[7]) - Dm[1] * (Dm[3] * Dm[8] - Dm[5] * Dm[6]) +
+                     Dm[2] * (Dm[3] * Dm[7] - Dm[4] * Dm[6]);
+        double *G = D + 3; /* rows 1..3 of D: Dm^-1 */
+        G[0] = (Dm[4] * Dm[8] - Dm[5] * Dm[7]) / det;
+        G[1] = (Dm[2] * Dm[7] - Dm[1] * Dm[8]) / det;
+        G[2] = (Dm[1] * Dm[5] - Dm[2] * Dm[4]) / det;
+        G[3] = (Dm[5] * Dm[6] - Dm[3] * Dm[8]) / det;
+        G[4] = (Dm[0] * Dm[8] - Dm[2] * Dm[6]) / det;
+        G[5] = (Dm[2] * Dm[3] - Dm[0] * Dm[5]) / det;
+        G[6] = (Dm[3] * Dm[7] - Dm[4] * Dm[6]) / det;
+        G[7] = (Dm[1] * Dm[6] - Dm[0] * Dm[7]) / det;
+        G[8] = (Dm[0] * Dm[4] - Dm[1] * Dm[3]) / det;
+        for (int b = 0; b < 3; ++b) D[b] = -(G[b] + G[3 + b] + G[6 + b]);
+        ht_random_rotation(&st, Q);
+        hyper_edge_rotation(Q, D, R);
+        for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(R[i], Q[i], 1e-12);
+        hyper_edge_piola(&m, Q, D, P);
+        for (int i = 0; i < 9; ++i) ck_assert_double_eq_tol(P[i], 0.0, 1e-9 * m.mu);
+        hyper_edge_dPdF(&m, Q, D, He);
+        pl_hyper_dPdF(&m, Q, 0, Hx);
+        for (int i = 0; i < 81; ++i) ck_assert_double_eq_tol(He[i], Hx[i], 1e-9 * m.lambda);
+        /* F = Q (I + e E) with E symmetric: P = Q sigma(e E) to first order in e */
+        double E[9] = {0.3, 0.1, -0.2, 0.1, -0.4, 0.25, -0.2, 0.25, 0.5}, e = 1e-6, F[9];
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                F[a * 3 + b] = 0.0;
+                for (int k = 0; k < 3; ++k) F[a * 3 + b] += Q[a * 3 + k] * ((k == b ? 1.0 : 0.0) + e * E[k * 3 + b]);
+            }
+        hyper_edge_piola(&m, F, D, P);
+        double tr = E[0] + E[4] + E[8];
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                double want = 0.0;
+                for (int k = 0; k < 3; ++k)
+                    want += Q[a * 3 + k] * e * (2 * m.mu * E[k * 3 + b] + (k == b ? m.lambda * tr : 0.0));
+                ck_assert_double_eq_tol(P[a * 3 + b], want, 1e-4 * e * m.lambda);
+            }
+    }
+}
+END_TEST
+
 START_TEST(element_gradient_and_hessian_match_finite_differences)
 {
     unsigned long long st = 4;
@@ -316,6 +421,8 @@ int main(void)
     tcase_add_test(tc, energy_zero_at_rest_and_rotation_invariant);
     tcase_add_test(tc, piola_matches_finite_differences);
     tcase_add_test(tc, hessian_matches_finite_differences_and_projection_is_psd);
+    tcase_add_test(tc, fixed_rotation_stiffness_is_sofas_corotational_stiffness);
+    tcase_add_test(tc, edge_rotation_is_rigid_invariant_and_linear_elastic);
     tcase_add_test(tc, element_gradient_and_hessian_match_finite_differences);
     tcase_add_test(tc, admm_local_solve_satisfies_optimality);
     tcase_add_test(tc, arap_projection_of_rotated_rest_element_is_the_rotation);

@@ -102,11 +102,11 @@ static const bad_case CASES[] = {
      CABLE_NODE("position=\"-17.5 12.5 2.5\"",
                 "<CableConstraint indices=\"0\" method=\"geodesic\"/>", "<BarycentricMapping/>"),
      "geodesic", 10, "CableConstraint"},
-    /* a mapped node Pliant cannot carry yet: the component that needs it is named */
+    /* a mapped cavity with neither a loader nor triangles: no surface to inflate */
     {FREE_MOTION, "", "",
      CABLE_NODE("", "<SurfacePressureConstraint name=\"spc\" value=\"40\"/>",
                 "<BarycentricMapping/>"),
-     "SurfacePressureConstraint in the node 'root/finger/cable'", 10, "spc"},
+     "the cavity has no triangles", 10, "spc"},
     /* BoxROI and links */
     {"", "", "",
      "<BoxROI name=\"ROI\" box=\"-15 0 0 5 10 15\"/>\n"
@@ -117,6 +117,11 @@ static const bad_case CASES[] = {
      "6 numbers per box", 8, "ROI"},
     {"", "", "", "<BoxROI name=\"ROI\" box=\"-15 0 0 5 10 15\" orientedBox=\"1 2 3\"/>\n",
      "oriented boxes", 8, "ROI"},
+    /* a BoxROI over other points than the body's rest positions */
+    {"", "", "", "<Node name=\"o\"><MechanicalObject name=\"pts\" position=\"0 0 0\"/></Node>\n"
+                 "<BoxROI name=\"ROI\" box=\"-15 0 0 5 10 15\" position=\"@o/pts.position\"/>\n"
+                 "<FixedConstraint indices=\"@ROI.indices\"/>\n",
+     "other points are not mapped", 9, "ROI"},
     {"", "", "", "<BoxROI name=\"ROI\" box=\"-15 0 0 5 10 15\"/>\n"
                  "<RestShapeSpringsForceField name=\"rs\" points=\"@ROI.indices\" "
                  "stiffness=\"100\"/>\n",
@@ -131,6 +136,10 @@ static const bad_case CASES[] = {
     {"", "", "", "<PointCollisionModel name=\"pc\"/>\n<Node name=\"sub\">"
                  "<TriangleCollisionModel/></Node>\n",
      "collision models are not mapped yet", 8, "pc"},
+    /* a rigid body's mapping: a known SOFA component, refused with the reason */
+    {"", "", "", "<Node name=\"v\"><MechanicalObject name=\"m\" position=\"0 0 0\"/>"
+                 "<RigidMapping name=\"rm\"/></Node>\n",
+     "rigid body", 8, "rm"},
     /* an old SOFA scene format */
     {"", "", "", "<include href=\"x.xml\"/>\n", "<include>", 8, ""},
 };

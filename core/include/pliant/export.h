@@ -183,6 +183,33 @@ PL_API int pl_regression_compare(const pl_state_records *ref, const pl_state_rec
                                  int nstates, double time_tol, double epsilon,
                                  pl_regression_result *res, pl_error *err);
 
+#if PL_ABI_TARGET_MINOR >= 4 /* since 5.4 */
+/* Why an entry fails, and how far a SOFA scene is from SOFA. */
+typedef struct pl_regression_detail {
+    /* the state with the largest error by DoF, and in it the largest vertex
+     * distance over the compared steps */
+    int worst_state;          /* -1: nothing compared */
+    double worst_state_error; /* its sum over compared steps of ||x - x_ref||_2 / nDoF */
+    int worst_vertex;
+    double worst_distance;
+    double worst_time;        /* the reference time where it is */
+    int missing_state;        /* a state with a missing reference step (-1: none) */
+    double missing_time;      /* the first such reference time */
+    /* at the last reference time, the largest vertex distance divided by the
+     * diagonal of the bounding box of the first reference record (the rest
+     * shape), the largest over the states; NaN if nothing was compared */
+    double last_relative;
+    double last_time;
+} pl_regression_detail;
+
+/* pl_regression_compare, and what went wrong where into *why (may be NULL). */
+PL_API int pl_regression_compare_detail(const pl_state_records *ref,
+                                        const pl_state_records *cur, int nstates,
+                                        double time_tol, double epsilon,
+                                        pl_regression_result *res, pl_regression_detail *why,
+                                        pl_error *err);
+#endif
+
 #ifdef __cplusplus
 }
 #endif

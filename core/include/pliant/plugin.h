@@ -41,7 +41,10 @@
  * role (PL_ROLE_EVENT, pl_event_ops, pl_sim_send_event) in free role slots;
  * pl_node_add_component, pl_sim_load_file_prepared / _string_prepared,
  * pl_vtu_write_cells, pl_pvd_append_part.
- * 5.3: pl_sofa_write_vocabulary (sofa.h). */
+ * 5.3: pl_sofa_write_vocabulary (sofa.h).
+ * 5.4: pl_registry_plugin_providing, pl_regression_compare_detail and
+ * pl_regression_detail, PL_HESSIAN_FIXED_ROTATION (add_hessian's psd = 2;
+ * a term built for an older minor reads it as psd != 0: projected). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

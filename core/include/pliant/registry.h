@@ -48,6 +48,13 @@ PL_API int pl_registry_load_plugin(pl_registry *r, const char *name_or_path, pl_
  * failures are errors in diag and do not stop the others; a folder that is
  * missing or holds no plugin is a warning in diag. */
 PL_API int pl_registry_load_all(pl_registry *r, pl_diag *diag);
+#if PL_ABI_TARGET_MINOR >= 4 /* since 5.4 */
+/* The plugin of r's plugin folders that provides `type` (found by loading
+ * them all into a scratch registry; r is unchanged): 1 and its name in buf,
+ * or 0.  For the error on an unknown type: which plugin to require. */
+PL_API int pl_registry_plugin_providing(const pl_registry *r, const char *type, char *buf,
+                                        size_t size);
+#endif
 PL_API int pl_registry_plugin_count(const pl_registry *r);
 PL_API const char *pl_registry_plugin_name(const pl_registry *r, int i);
 PL_API const char *pl_registry_plugin_path(const pl_registry *r, int i);

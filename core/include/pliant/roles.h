@@ -80,6 +80,11 @@ typedef struct pl_prescribed_ops {
 
 /* ---- pl_local_term: a projective term w ||G q - p||^2 (elements, targets) */
 #define PL_LOCAL_TERM_OPS_VERSION 2 /* 2: accepts */
+#if PL_ABI_TARGET_MINOR >= 4 /* since 5.4; older terms read it as psd != 0 */
+/* add_hessian's psd argument: the stiffness without the rotation's derivative */
+#define PL_HESSIAN_FIXED_ROTATION 2
+#endif
+
 typedef struct pl_local_term_ops {
     int version;
     /* the state its vertices belong to */
@@ -98,7 +103,10 @@ typedef struct pl_local_term_ops {
     int (*add_gradient)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
                         pl_buffer *grad, pl_error *err);
     /* optional (Newton reference): H += d2 psi / dq2 over 3n x 3n DOFs (index 3*v+k),
-     * each element block projected to positive semi-definite when psd != 0 */
+     * each element block projected to positive semi-definite when psd != 0;
+     * psd == PL_HESSIAN_FIXED_ROTATION: terms with a per-element rotation
+     * (corotational, ARAP) may instead hold it fixed (SOFA's R K0 R^T, PSD),
+     * others treat it as 1 */
     int (*add_hessian)(const pl_component *c, const pl_data *d, int offset, const pl_buffer *q,
                        int psd, pl_triplets *H, pl_error *err);
     /* optional: the term changes A when this returns non-zero (refactor) */

@@ -1,0 +1,3 @@
+def createScene(rootNode):
+    rootNode.addChild("body")
+    return 1 / 0

@@ -1,0 +1,3 @@
+def createScene(rootNode):
+    body = rootNode.addChild("body")
+    body.addObjet("MechanicalObject")
