@@ -80,4 +80,7 @@ void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entr
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
 
+/* sofa_values.c: IndexValueMapper and BoxROI tetrahedronIndices -> per-element values */
+void sofa_lower_value_mappers(sofa_lower *L);
+
 #endif

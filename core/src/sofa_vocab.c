@@ -126,8 +126,9 @@ static const pl_sofa_component COMPONENTS[] = {
             "(hyperelastic plugin) on explicit indices"),
     SAME("ConstantForceField", NULL,
          "ConstantForceField (indices, forces, force, totalForce; without indices every point)"),
-    REFUSED("PlaneForceField", "a penalty plane is not in Pliant; closest: PlaneObstacle "
-                               "(collision plugin), a contact without penetration"),
+    SAME("PlaneForceField", NULL,
+         "PlaneForceField: SOFA's penalty plane (normal, d, stiffness, damping, bilateral), "
+         "energy stiffness/2 d^2 below the plane; the damping force is explicit, as in SOFA"),
     REFUSED("SpringForceField", "springs between points are not mapped"),
     REFUSED("StiffSpringForceField", "springs between points are not mapped"),
     REFUSED("RigidMapping", "it maps a rigid body (Rigid3 state), which Pliant does not have "
@@ -149,8 +150,11 @@ static const pl_sofa_component COMPONENTS[] = {
             "RestShapeSpringsForceField, ConstantForceField), which select the vertices whose "
             "rest positions lie inside (bounds included), as BoxROI does"),
     REFUSED("SphereROI", "not mapped yet; closest: BoxROI"),
-    REFUSED("IndexValueMapper", "per-element values from ROI selections are not mapped yet; "
-                                "give youngModulus one value per element instead"),
+    LOWERED("IndexValueMapper", NULL, NULL,
+            "per-element values of a FEM (youngModulus, poissonRatio linked to its "
+            "outputValues), from numbers or a BoxROI's tetrahedronIndices (all four vertices "
+            "in a box; strict=\"false\": the centre), evaluated at load on the rest mesh: the "
+            "FEM gets one value per element"),
     /* mappings */
     LOWERED("BarycentricMapping", NULL, NULL,
             "only in a child node that carries a cable's points (its MechanicalObject and "
@@ -298,6 +302,10 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("ConstantForceField", "indices", "numbers or @ROI.indices"),
     A_REF("ConstantForceField", "indexFromEnd", "not mapped: give the indices"),
     A_IGN("ConstantForceField", "arrowSizeCoef", "drawing"),
+    A_REF("PlaneForceField", "maxForce", "a force cap is not mapped (the force is "
+                                         "stiffness * depth); remove it"),
+    A_REF("PlaneForceField", "localRange", "not mapped: the plane acts on every point"),
+    A_IGN("PlaneForceField", "planeColor", "drawing"),
     /* constraints */
     A_LOW("FixedConstraint", "indices", "numbers or @ROI.indices"),
     A_LOW("FixedProjectiveConstraint", "indices", "numbers or @ROI.indices"),
@@ -354,7 +362,7 @@ static const pl_sofa_attr ATTRS[] = {
     A_IGN("BoxROI", "computeTetrahedra", "only vertex indices are linked"),
     A_IGN("BoxROI", "computeHexahedra", "only vertex indices are linked"),
     A_IGN("BoxROI", "computeQuad", "only vertex indices are linked"),
-    A_IGN("BoxROI", "strict", "only vertex indices are linked"),
+    A_IGN("BoxROI", "strict", "vertex indices are points; for tetrahedronIndices (IndexValueMapper) it is honoured"),
     A_REF("BoxROI", "orientedBox", "oriented boxes are not mapped; use axis-aligned boxes"),
     A_LOW("BoxROI", "position", "@dofs.rest_position (or a loader of the node): the rest "
                                 "positions Pliant's boxes select from; other points refused"),

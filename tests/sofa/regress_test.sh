@@ -7,7 +7,8 @@
 #           its own references; a perturbed reference fails with the reason
 #           (state, vertex, distance, tolerance); a reference recorded with
 #           SOFA's counting and compared with Pliant's says which step is
-#           missing.
+#           missing; broken SOFA inputs (a mapper's index past the
+#           mesh, a plane without normal) exit 2 with file:line: error.
 #   shared: SOFA's liver.scn against SOFA's stored references
 #           ($PLIANT_REFERENCE_DIR/data/sofa_scenes/regression_refs): the error at the
 #           last stored time over the rest diagonal (printed; below 1e-5,
@@ -56,6 +57,13 @@ if [ "$MODE" = own ]; then
     "$PLIANT" regress "$TMP/list" --refs "$TMP/refs" -q > "$TMP/out" 2>&1
     check "without --sofa-steps the step SOFA recorded at 9 h is missing, said so" \
         "[ $? -eq 1 ] && grep -q 'not recorded by this run (the first at T= 0.18' '$TMP/out'"
+    # broken SOFA inputs to the new lowerings: file:line: error, exit 2 (bad input)
+    for b in broken_value_mapper broken_plane_normal; do
+        (cd "$TMP" && "$PLIANT" run "$SRC/tests/sofa/scenes/$b.scn" -n 1) > "$TMP/out" 2>&1
+        code=$?
+        check "$b.scn: exit 2, file:line: error" \
+            "[ $code -eq 2 ] && grep -q '$b.scn:[0-9]*: error' '$TMP/out'"
+    done
 else
     REFS="$SHARED/regression_refs"
     echo "$SHARED/liver.scn 100 1e-4 0 1" > "$TMP/list"

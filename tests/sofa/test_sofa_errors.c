@@ -42,8 +42,23 @@ static const bad_case CASES[] = {
     {"", "", "", "<UniformMass name=\"m2\" template=\"Rigid3d\" totalMass=\"1\"/>\n", "rigid", 8,
      "m2"},
     /* known SOFA components Pliant does not do: why, and the alternative */
-    {"", "", "", "<PlaneForceField normal=\"0 1 0\"/>\n", "closest: PlaneObstacle", 8,
-     "PlaneForceField"},
+    /* SOFA's penalty plane and per-element values, given wrong */
+    {"", "", "", "<PlaneForceField name=\"plane\" normal=\"0 0 0\"/>\n", "non-zero, finite normal",
+     8, "plane"},
+    {"", "", "", "<PlaneForceField name=\"plane\" maxForce=\"5\"/>\n", "force cap", 8, "plane"},
+    {"", "", "",
+     "<IndexValueMapper name=\"ivm\" indices=\"0 1 999999\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "999999 is not an element of the node's mesh", 8, "ivm"},
+    {"", "", "",
+     "<BoxROI name=\"b\" box=\"0 0\"/>\n<IndexValueMapper name=\"ivm\" "
+     "indices=\"@b.tetrahedronIndices\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "expected 6 numbers per box", 8, "b"},
+    {"", "", "",
+     "<IndexValueMapper name=\"ivm\" indices=\"@dofs.position\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "only a BoxROI's tetrahedronIndices", 8, "ivm"},
     {"", "", "", "<SphereROI name=\"s\" centers=\"0 0 0\" radii=\"1\"/>\n", "closest: BoxROI", 8,
      "SphereROI"},
     {"", "", "", "<PartialFixedProjectiveConstraint indices=\"0\"/>\n", "some directions", 8,

@@ -44,7 +44,7 @@ static const shared_case CASES[] = {
     {"SurfacePressureConstraint.scn", "SurfacePressureConstraint in the node"}, /* item 3 */
     {"fallingBeamLagrangianCollision.scn", "RegularGridTopology"},
     {"liver.scn", NULL},
-    {"raptor-cpu.scn", "IndexValueMapper"},
+    /* raptor-cpu.scn runs in shared_raptor (200 steps, its moduli checked) */
 };
 
 static int have_shared(void)
@@ -205,6 +205,88 @@ START_TEST(shared_liver_against_sofa)
 }
 END_TEST
 
+/* Tetrahedra of m with all four vertices in the box (SOFA's strict BoxROI). */
+static int tets_in_box(const pl_mesh *m, const double b[6], char *in)
+{
+    int count = 0;
+    for (int t = 0; t < m->ntets; ++t) {
+        int all = 1;
+        for (int k = 0; k < 4; ++k)
+            for (int j = 0; j < 3; ++j) {
+                double p = m->verts[3 * m->tets[4 * t + k] + j];
+                all &= p >= b[j] && p <= b[j + 3];
+            }
+        in[t] = (char)all;
+        count += all;
+    }
+    return count;
+}
+
+/* raptor-cpu.scn: IndexValueMapper over BoxROI tetrahedronIndices gives its
+ * FEM 1e5 Pa in box0, 1e6 Pa in box1 and SOFA's defaultValue 1 elsewhere,
+ * element by element as counted here from the mesh; with SOFA's penalty
+ * plane (PlaneForceField d = -0.2) it runs 200 steps. */
+START_TEST(shared_raptor)
+{
+    if (!have_shared()) return;
+    char meshes[2048], scene[2048], mesh_path[2048];
+    setenv("PLIANT_DATA_PATH", shared(meshes, sizeof meshes, "meshes"), 1);
+    pl_diag d;
+    pl_diag_init(&d);
+    pl_sim *s = pl_sim_load_file(shared(scene, sizeof scene, "sofa_scenes/raptor-cpu.scn"), NULL, &d);
+    if (!s) pl_diag_print(&d, stderr);
+    ck_assert_ptr_nonnull(s);
+    ck_assert_str_eq(pl_sim_component(s, "M1/PlaneForceField")->type->name, "PlaneForceField");
+    pl_mesh m;
+    pl_mesh_init(&m);
+    ck_assert_int_eq(pl_mesh_load(shared(mesh_path, sizeof mesh_path, "meshes/raptorTetra_19409.vtu"),
+                                  NULL, &m, NULL),
+                     PL_OK);
+    static const double box0[6] = {-2.2, -1, -10, 2.2, 10, 10}, box1[6] = {-2.2, -1, -1, 2.2, 2.5, 1.5};
+    char *in0 = malloc((size_t)m.ntets), *in1 = malloc((size_t)m.ntets);
+    int n0 = tets_in_box(&m, box0, in0), n1 = tets_in_box(&m, box1, in1);
+    size_t cap = (size_t)m.ntets * 26 + 1;
+    char *text = malloc(cap);
+    pl_error err;
+    ck_assert_int_eq(pl_sim_get(s, "M1/FEM.youngModulus", text, cap, &err), PL_OK);
+    int t = 0, wrong = 0, stiff = 0;
+    for (char *p = text, *end;; p = end, ++t) {
+        double v = strtod(p, &end);
+        if (end == p) break;
+        double want = in1[t] ? 1e6 : in0[t] ? 1e5 : 1.0;
+        wrong += v != want;
+        stiff += v == 1e6;
+    }
+    printf("raptor-cpu.scn: %d tetrahedra, %d in box0 (1e5 Pa), %d in box1 (1e6 Pa); the FEM has "
+           "%d values, %d at 1e6 Pa, %d differ from SOFA's rule\n",
+           m.ntets, n0, n1, t, stiff, wrong);
+    ck_assert_int_eq(t, m.ntets);
+    ck_assert_int_eq(wrong, 0);
+    ck_assert_int_gt(n1, 0);
+    ct_step(s, 200);
+    int n;
+    const double *x = ct_positions(s, "M1/MechanicalObject", 0, &n);
+    const double *r = ct_positions(s, "M1/MechanicalObject", 1, &n);
+    double low = 1e300, moved = 0;
+    for (int i = 0; i < n; ++i) {
+        double d2 = 0;
+        for (int j = 0; j < 3; ++j) {
+            ck_assert(isfinite(x[3 * i + j]));
+            d2 += (x[3 * i + j] - r[3 * i + j]) * (x[3 * i + j] - r[3 * i + j]);
+        }
+        low = fmin(low, x[3 * i + 1]), moved = fmax(moved, sqrt(d2));
+    }
+    printf("raptor-cpu.scn after 200 steps: largest displacement %.4g, lowest y %.4g (plane at "
+           "y = -0.2)\n", moved, low);
+    fflush(stdout);
+    ck_assert_double_gt(moved, 1e-3);
+    free(text), free(in0), free(in1);
+    pl_mesh_free(&m);
+    pl_sim_free(s);
+    pl_diag_free(&d);
+}
+END_TEST
+
 int main(void)
 {
     if (!have_shared()) return 77; /* ctest's SKIP_RETURN_CODE: reported as skipped */
@@ -214,6 +296,7 @@ int main(void)
     tcase_add_loop_test(tc, shared_scene, 0, (int)(sizeof CASES / sizeof CASES[0]));
     tcase_add_test(tc, shared_finger_pulled);
     tcase_add_test(tc, shared_liver_against_sofa);
+    tcase_add_test(tc, shared_raptor);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
