@@ -432,8 +432,10 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         else if (strstr(tag, "Solver") || strstr(tag, "AnimationLoop") || strstr(tag, "LDLT") ||
                  strstr(tag, "LLT"))
             sofa_gather_solver(L, e, c);
-        else
+        else {
             sofa_error(L, e, "%s here: %s", tag, c->note); /* a BoxROI nobody could use */
+            sofa_remove(e);
+        }
         return;
     case PL_SOFA_SAME:
     case PL_SOFA_RENAME:
@@ -519,6 +521,8 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     if (!sofa_flavoured(&L, L.root)) return;
     sofa_lower_plugins(&L);
     sofa_lower_lonely_collision(&L);
+    sofa_lower_grids(&L);
+    sofa_lower_collision(&L);
     sofa_lower_mapped_nodes(&L, L.root);
     sofa_lower_value_mappers(&L);
     sofa_lower_rois(&L, L.root);

@@ -78,9 +78,15 @@ void sofa_lower_rois(sofa_lower *L, xmlNode *node);
 void sofa_lower_container(sofa_lower *L, xmlNode *e);
 void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry);
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
+/* A SOFA collision model (not a Pliant type of that name)? */
+int sofa_is_collision_model(sofa_lower *L, const xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
 
 /* sofa_values.c: IndexValueMapper and BoxROI tetrahedronIndices -> per-element values */
 void sofa_lower_value_mappers(sofa_lower *L);
+/* sofa_grid.c: RegularGridTopology + Hexa2TetraTopologicalMapping -> RegularGridTetrahedra */
+void sofa_lower_grids(sofa_lower *L);
+/* sofa_collision.c: collision models and pipeline -> the collision plugin */
+void sofa_lower_collision(sofa_lower *L);
 
 #endif

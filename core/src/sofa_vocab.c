@@ -18,12 +18,20 @@
 
 static const char CORR[] = "a constraint correction: Pliant's contact solver works with the "
                            "global solver's factor itself";
-static const char PIPE[] = "a part of SOFA's collision pipeline: it acts only through "
-                           "collision models, which are refused where they could touch "
-                           "something and ignored where they cannot";
+static const char PIPE[] = "a part of SOFA's collision pipeline: with collision models that "
+                           "can touch, one CollisionPipeline (collision plugin) takes the "
+                           "intersection's alarmDistance and contactDistance and the "
+                           "response's mu (penalty responses refused); without, ignored";
 static const char COLL[] = "SOFA's collision models are not mapped yet (ignored when all "
                            "sit in one node without selfCollision: nothing to touch); closest: "
                            "SurfaceCollisionModel and the obstacles of Pliant's collision plugin";
+static const char COLLMAP[] = "on a body (its node, or a child node with its surface by "
+                              "Tetra2TriangleTopologicalMapping and IdentityMapping): "
+                              "SurfaceCollisionModel; in a node no ODE solver moves: "
+                              "MeshObstacle of its triangles (inline or a loader); the "
+                              "pipeline becomes CollisionPipeline (collision plugin), "
+                              "FrictionContactConstraint's mu its mu; elsewhere (a "
+                              "BarycentricMapping surface) refused";
 static const char LINSOLVE[] = "the linear solver of the step: LinearizedEulerSolver "
                                "linearSolver=\"direct\" (a Cholesky factor); with constraints "
                                "SparseInverseSolver at the root";
@@ -90,10 +98,15 @@ static const pl_sofa_component COMPONENTS[] = {
            "MeshLoader (the format is read from the content)"),
     REFUSED("SphereLoader", "sphere collision models are not mapped; closest: "
                             "SurfaceCollisionModel (collision plugin)"),
-    REFUSED("RegularGridTopology", "not mapped yet; closest: RegularGridTetrahedra (min, max, n)"),
-    REFUSED("Hexa2TetraTopologicalMapping", "not mapped yet; closest: RegularGridTetrahedra"),
-    REFUSED("Tetra2TriangleTopologicalMapping",
-            "not mapped yet; SurfaceCollisionModel finds the boundary of the tetrahedra itself"),
+    LOWERED("RegularGridTopology", "RegularGridTetrahedra", NULL,
+            "with a Hexa2TetraTopologicalMapping into a body's TetrahedronSetTopologyContainer: "
+            "RegularGridTetrahedra (n, min, max: the same vertices in SOFA's order; 6 "
+            "tetrahedra per cell split along the main diagonal, where SOFA alternates)"),
+    LOWERED("Hexa2TetraTopologicalMapping", "RegularGridTetrahedra", NULL,
+            "from a RegularGridTopology: RegularGridTetrahedra in the body's node"),
+    LOWERED("Tetra2TriangleTopologicalMapping", NULL, NULL,
+            "a body's surface: for drawing (dropped with its node) or for collision models "
+            "under an IdentityMapping (SurfaceCollisionModel, the same boundary)"),
     LOWERED("TetrahedronSetTopologyContainer", NULL, NULL, TOPO),
     LOWERED("TriangleSetTopologyContainer", NULL, NULL, TOPO),
     LOWERED("MeshTopology", NULL, NULL, TOPO),
@@ -175,9 +188,9 @@ static const pl_sofa_component COMPONENTS[] = {
     NOTED("CollisionResponse", PIPE),
     NOTED("DefaultContactManager", PIPE),
     NOTED("RuleBasedContactManager", PIPE),
-    REFUSED("TriangleCollisionModel", COLL),
-    REFUSED("LineCollisionModel", COLL),
-    REFUSED("PointCollisionModel", COLL),
+    LOWERED("TriangleCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
+    LOWERED("LineCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
+    LOWERED("PointCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
     REFUSED("SphereCollisionModel", COLL),
     REFUSED("TriangleModel", COLL),
     REFUSED("LineModel", COLL),

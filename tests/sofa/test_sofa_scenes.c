@@ -206,6 +206,47 @@ START_TEST(block_rests_on_penalty_plane)
 }
 END_TEST
 
+/* grid_on_floor.scn: SOFA's grid split into tetrahedra is Pliant's
+ * RegularGridTetrahedra with SOFA's vertex numbering (x fastest, then y, then
+ * z); the still inline floor a MeshObstacle, the surface's models a
+ * SurfaceCollisionModel, the pipeline a CollisionPipeline with the
+ * response's mu.  The beam falls 5 mm and rests contactDistance (1 mm) above
+ * the floor. */
+START_TEST(grid_falls_onto_inline_floor)
+{
+    pl_diag d;
+    pl_sim *s = load(SCENES "grid_on_floor.scn", &d);
+    ck_assert_str_eq(pl_sim_component(s, "Beam/topo")->type->name, "RegularGridTetrahedra");
+    ck_assert_str_eq(pl_sim_component(s, "Floor/floorModel")->type->name, "MeshObstacle");
+    ck_assert_str_eq(pl_sim_component(s, "Beam/surface")->type->name,
+                     "SurfaceCollisionModel");
+    ck_assert_double_eq(ct_get(s, "collisionPipeline.mu"), 0.5);
+    ck_assert_double_eq(ct_get(s, "collisionPipeline.alarmDistance"), 0.02);
+    int n;
+    const double *r = ct_positions(s, "Beam/dofs", 1, &n);
+    ck_assert_int_eq(n, 9 * 3 * 3);
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 9; ++i) {
+                const double *p = r + 3 * (i + 9 * (j + 3 * k));
+                ck_assert_double_eq_tol(p[0], 0.4 * i / 8, 1e-15);
+                ck_assert_double_eq_tol(p[1], 0.1 * j / 2, 1e-15);
+                ck_assert_double_eq_tol(p[2], 0.006 + 0.1 * k / 2, 1e-15);
+            }
+    ct_step(s, 40);
+    const double *x = ct_positions(s, "Beam/dofs", 0, &n);
+    double low = 1e300, high = -1e300;
+    for (int i = 0; i < 27; ++i) /* the bottom layer (k = 0) */
+        low = fmin(low, x[3 * i + 2]), high = fmax(high, x[3 * i + 2]);
+    printf("grid_on_floor.scn after 40 steps: bottom at z in [%.6f, %.6f] (contactDistance "
+           "0.001 above the floor z = 0)\n", low, high);
+    ck_assert_double_gt(low, 0.001 - 2e-4);
+    ck_assert_double_lt(high, 0.001 + 2e-4);
+    pl_sim_free(s);
+    pl_diag_free(&d);
+}
+END_TEST
+
 typedef struct {
     const char *file;
     int line;
@@ -277,6 +318,7 @@ int main(void)
     tcase_add_test(tc, hanging_liver_keeps_its_fixed_vertices);
     tcase_add_test(tc, bar_with_two_moduli_stretches_per_half);
     tcase_add_test(tc, block_rests_on_penalty_plane);
+    tcase_add_test(tc, grid_falls_onto_inline_floor);
     tcase_add_loop_test(tc, broken_scene_is_refused_with_file_line_component, 0,
                         (int)(sizeof BROKEN / sizeof BROKEN[0]));
     tcase_add_test(tc, unknown_type_names_its_plugin);
