@@ -246,6 +246,7 @@ static void lower_fem_values(sofa_lower *L, xmlNode *e, const char *attr)
     pl_mesh mesh;
     pl_mesh_init(&mesh);
     values out = {NULL, 0};
+    sofa_unset(e, attr); /* the values, or an error here: not the link */
     if (strcmp(field, "outputValues")) {
         sofa_error(L, e, "%s=\"%s\": an IndexValueMapper's values are its outputValues", attr, v);
     } else if (node_mesh(L, e, e->parent, &mesh) &&
