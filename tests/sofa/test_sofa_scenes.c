@@ -206,6 +206,44 @@ START_TEST(block_rests_on_penalty_plane)
 }
 END_TEST
 
+/* PlaneForceField's damping is SOFA's explicit force damping * d * v (d < 0
+ * below the plane), held through the step; its spring is implicit.  One
+ * point of mass m, 1 cm below the plane, sliding along it at 1 m/s, one step
+ * h without gravity: vx = 1 + h damping d0 / m, y = d0 / (1 + h^2 k / m),
+ * under NewtonSolver and LinearizedEulerSolver alike. */
+START_TEST(plane_damping_is_explicit)
+{
+    static const char *const loops[] = {"<NewtonSolver/>",
+                                        "<LinearizedEulerSolver linearSolver=\"direct\"/>"};
+    const double h = 0.01, m = 2, k = 1000, c = 50, d0 = -0.01;
+    for (int l = 0; l < 2; ++l) {
+        char xml[1024];
+        snprintf(xml, sizeof xml,
+                 "<Node name=\"root\" gravity=\"0 0 0\" dt=\"0.01\">%s\n<Node name=\"p\">\n"
+                 "<MechanicalObject name=\"dofs\" position=\"0 -0.01 0\" velocity=\"1 0 0\"/>\n"
+                 "<UniformMass totalMass=\"2\"/>\n<PlaneForceField normal=\"0 1 0\" d=\"0\" "
+                 "stiffness=\"1000\" damping=\"50\"/>\n</Node></Node>\n",
+                 loops[l]);
+        pl_diag d;
+        pl_diag_init(&d);
+        pl_sim *s = pl_sim_load_string(xml, "point.xml", NULL, &d);
+        if (!s) pl_diag_print(&d, stderr);
+        ck_assert_ptr_nonnull(s);
+        ct_step(s, 1);
+        int n;
+        const double *x = ct_positions(s, "p/dofs", 0, &n);
+        double vx = x[0] / h, y = x[1];
+        printf("PlaneForceField, one step (%s): vx %.10f (1 + h c d0 / m = %.10f), y %.10f "
+               "(d0 / (1 + h^2 k / m) = %.10f)\n", loops[l], vx, 1 + h * c * d0 / m, y,
+               d0 / (1 + h * h * k / m));
+        ck_assert_double_eq_tol(vx, 1 + h * c * d0 / m, 1e-9);
+        ck_assert_double_eq_tol(y, d0 / (1 + h * h * k / m), 1e-9);
+        pl_sim_free(s);
+        pl_diag_free(&d);
+    }
+}
+END_TEST
+
 /* grid_on_floor.scn: SOFA's grid split into tetrahedra is Pliant's
  * RegularGridTetrahedra with SOFA's vertex numbering (x fastest, then y, then
  * z); the still inline floor a MeshObstacle, the surface's models a
@@ -318,6 +356,7 @@ int main(void)
     tcase_add_test(tc, hanging_liver_keeps_its_fixed_vertices);
     tcase_add_test(tc, bar_with_two_moduli_stretches_per_half);
     tcase_add_test(tc, block_rests_on_penalty_plane);
+    tcase_add_test(tc, plane_damping_is_explicit);
     tcase_add_test(tc, grid_falls_onto_inline_floor);
     tcase_add_loop_test(tc, broken_scene_is_refused_with_file_line_component, 0,
                         (int)(sizeof BROKEN / sizeof BROKEN[0]));
