@@ -206,6 +206,32 @@ START_TEST(block_rests_on_penalty_plane)
 }
 END_TEST
 
+/* A TetrahedronFEMForceField without method is SOFA's default, "large": the
+ * rotation from the element's edges under SOFA's integrator. */
+START_TEST(fem_without_method_is_large)
+{
+    pl_diag d = {0};
+    pl_diag_init(&d);
+    pl_sim *s = pl_sim_load_string(
+        "<Node name=\"root\" dt=\"0.01\">\n"
+        "<RequiredPlugin pluginName=\"Sofa.Component.ODESolver.Backward\"/>\n"
+        "<Node name=\"b\"><EulerImplicitSolver/><SparseLDLSolver/>\n"
+        "<MeshVTKLoader name=\"loader\" filename=\"" SCENES "meshes/bar_9x2x2.vtk\"/>\n"
+        "<MechanicalObject/><UniformMass totalMass=\"1\"/>\n"
+        "<TetrahedronFEMForceField name=\"FEM\" youngModulus=\"1e5\" poissonRatio=\"0.3\"/>\n"
+        "</Node></Node>\n",
+        "fem.scn", NULL, &d);
+    if (!s) pl_diag_print(&d, stderr);
+    ck_assert_ptr_nonnull(s);
+    char rot[32];
+    pl_error err;
+    ck_assert_int_eq(pl_sim_get(s, "b/FEM.rotation", rot, sizeof rot, &err), PL_OK);
+    ck_assert_str_eq(rot, "edges");
+    pl_sim_free(s);
+    pl_diag_free(&d);
+}
+END_TEST
+
 /* PlaneForceField's damping is SOFA's explicit force damping * d * v (d < 0
  * below the plane), held through the step; its spring is implicit.  One
  * point of mass m, 1 cm below the plane, sliding along it at 1 m/s, one step
@@ -357,6 +383,7 @@ int main(void)
     tcase_add_test(tc, bar_with_two_moduli_stretches_per_half);
     tcase_add_test(tc, block_rests_on_penalty_plane);
     tcase_add_test(tc, plane_damping_is_explicit);
+    tcase_add_test(tc, fem_without_method_is_large);
     tcase_add_test(tc, grid_falls_onto_inline_floor);
     tcase_add_loop_test(tc, broken_scene_is_refused_with_file_line_component, 0,
                         (int)(sizeof BROKEN / sizeof BROKEN[0]));

@@ -279,6 +279,11 @@ START_TEST(shared_raptor)
     if (!s) pl_diag_print(&d, stderr);
     ck_assert_ptr_nonnull(s);
     ck_assert_str_eq(pl_sim_component(s, "M1/planeForceField")->type->name, "PlaneForceField");
+    char rot[32];
+    pl_error rerr;
+    /* no method given: SOFA's default, large, which is the edges' rotation */
+    ck_assert_int_eq(pl_sim_get(s, "M1/FEM.rotation", rot, sizeof rot, &rerr), PL_OK);
+    ck_assert_str_eq(rot, "edges");
     pl_mesh m;
     pl_mesh_init(&m);
     pl_diag md;
