@@ -1,3 +1,27 @@
+# Tests do not depend on the machine: every test of a folder that is not
+# labelled "gpu" runs with PLIANT_DEVICE=cpu, so that on a machine with a GPU
+# the loader adds no implicit CudaDevice and the CPU path (the reference the
+# thresholds were set on) runs, as in CI.  The gpu-labelled tests compare the
+# two paths explicitly (ctest -L gpu).  Called at the end of each folder
+# (deferred by pliant_pin_tests_to_cpu; pliant_add_test calls it).
+function(pliant_pin_device_cpu_now)
+  get_property(tests DIRECTORY PROPERTY TESTS)
+  foreach(t ${tests})
+    get_test_property(${t} LABELS labels)
+    if(NOT labels OR NOT "gpu" IN_LIST labels)
+      set_property(TEST ${t} APPEND PROPERTY ENVIRONMENT "PLIANT_DEVICE=cpu")
+    endif()
+  endforeach()
+endfunction()
+
+function(pliant_pin_tests_to_cpu)
+  get_property(pinned DIRECTORY PROPERTY PLIANT_DEVICE_PINNED)
+  if(NOT pinned)
+    set_property(DIRECTORY PROPERTY PLIANT_DEVICE_PINNED 1)
+    cmake_language(DEFER CALL pliant_pin_device_cpu_now)
+  endif()
+endfunction()
+
 # pliant_add_test(NAME SOURCES a.c ... [LIBS lib ...] [TIMEOUT s])
 # A Check test executable registered with ctest.  Tests see:
 #   PL_SOURCE_DIR  the source tree (scenes, meshes)
@@ -11,6 +35,7 @@ function(pliant_add_test name)
     PL_SOURCE_DIR="${CMAKE_SOURCE_DIR}" PL_BINARY_DIR="${CMAKE_BINARY_DIR}")
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   add_test(NAME ${name} COMMAND ${name})
+  pliant_pin_tests_to_cpu()
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
   endif()

@@ -73,6 +73,13 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
                 "in a CUDA build with device=\"auto\" has one)",
                 why[0] ? "; " : "", pl_component_path(s->contact, path, sizeof path),
                 s->contact->type->name);
+        /* its first step from rest is computed on the host only: on the
+         * device it would be skipped without a word */
+        const pl_field *st = pl_component_field(s->contact, "stickStart");
+        if (st && pl_field_format(st, s->contact, v, sizeof v) == PL_OK && strcmp(v, "0"))
+            say(why, size, "%sthe contact solver %s has stickStart=\"1\" (the first step of a "
+                "resting contact is solved on the CPU only)", why[0] ? "; " : "",
+                pl_component_path(s->contact, path, sizeof path));
     }
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (!(gs->version >= 2 && gs->accepts && gs->accepts(s->solver, PL_DEVICE, PL_F64)))

@@ -4,7 +4,12 @@ import re
 
 import pytest
 
-import pliant
+# The tests do not depend on the machine: the CPU path runs even where a GPU
+# answers (no implicit CudaDevice), as in CI and in the C tests' ctest
+# environment (cmake/PliantTesting.cmake).
+os.environ["PLIANT_DEVICE"] = "cpu"
+
+import pliant  # noqa: E402
 
 pliant.set_log_level("warning")
 

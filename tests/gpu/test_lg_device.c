@@ -81,6 +81,10 @@ static pl_sim *load(pl_registry *r, const setup *s, char *msg, size_t size)
     pl_sim_options opt = {0};
     opt.registry = r;
     opt.out_dir = test_tmp_dir();
+    /* no implicit CudaDevice: on a machine with a GPU the loader would add
+     * one to the scenes without a HostDevice, and the fake springs and
+     * solver, which read device memory as host memory, would run on it */
+    opt.device = "cpu";
     pl_sim *sim = pl_sim_load_string(xml, "lg_device.xml", &opt, &diag);
     if (msg) snprintf(msg, size, "%s", diag.count ? diag.items[0].msg : "");
     pl_diag_free(&diag);
@@ -342,6 +346,31 @@ START_TEST(cuda_refuses_what_cannot_run_on_the_device_by_name)
 }
 END_TEST
 
+/* NonSmoothNewtonContactSolver's stickStart (the first step of a resting
+ * contact) is solved on the host only: a loop that would run on the device
+ * is refused by name (cuda), or stays on the CPU (auto), never skips it. */
+START_TEST(stick_start_keeps_the_loop_on_the_cpu)
+{
+    pl_registry *r = registry();
+    char msg[1024];
+    setup s = plain("cuda");
+    s.before = "<RequiredPlugin name=\"ncp_contact\"/><HostDevice name=\"dev\"/>";
+    s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"1\"/>";
+    assert_refused(r, &s, "stickStart", "root/contact");
+    s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"0\"/>";
+    pl_sim *sim = load(r, &s, msg, sizeof msg);
+    ck_assert_msg(strstr(msg, "stickStart") == NULL, "refused for stickStart=0: %s", msg);
+    pl_sim_free(sim);
+    s.device = "auto";
+    s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"1\"/>";
+    static result cpu;
+    run(r, &s, 2, &cpu, &sim);
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 0);
+    pl_sim_free(sim);
+    pl_registry_free(r);
+}
+END_TEST
+
 int main(void)
 {
     Suite *su = suite_create("lg_device");
@@ -354,6 +383,7 @@ int main(void)
     tcase_add_test(tc, constant_force_field_on_the_device_equals_the_cpu_bitwise);
     tcase_add_test(tc, two_data_on_the_device_interleave_exactly);
     tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
+    tcase_add_test(tc, stick_start_keeps_the_loop_on_the_cpu);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);
     srunner_run_all(sr, CK_NORMAL);
