@@ -2,11 +2,11 @@
 project; .ci/run sets PLIANT_REFERENCE_DIR) run unmodified by `python3 -m pliant run`, when that folder exists;
 skipped (and reported as skipped) otherwise.
 
-Each of the three is refused today by libpliant's SOFA loader, with the
-script's line (the same refusal as the scene written as .scn): those are
-xfails only after checking that the refusal is the loader's (no Python error
-in pliant.sofa, the script's line named); the day the loader accepts one, the
-test fails until KNOWN is updated."""
+Finger.py runs (RUNS); the others are refused today by libpliant's SOFA
+loader, with the script's line (the same refusal as the scene written as
+.scn): those are xfails only after checking that the refusal is the loader's
+(no Python error in pliant.sofa, the script's line named); the day the loader
+accepts one, the test fails until KNOWN is updated."""
 import os
 import subprocess
 import sys
@@ -19,17 +19,20 @@ REF = os.environ.get("PLIANT_SOFTROBOTS_REFERENCE") or (
 
 # script -> what the loader refuses today (issue 17's work)
 KNOWN = {
-    "CableConstraint/Finger.py":
-        "EulerImplicitSolver rayleighStiffness with a cable (LocalGlobalSolver has none)",
     "CableConstraint/CableSmoothActuation.py":
-        "a surface cable (MechanicalObject without points) and Tetra2TriangleTopologicalMapping",
+        "a surface cable (MechanicalObject without points), CableConstraint method=geodesic "
+        "(centers, radii, surfaceTopology) and Tetra2TriangleTopologicalMapping",
     "SurfacePressureConstraint/SurfacePressureConstraint.py":
         "BoxROI position input and Tetra2TriangleTopologicalMapping in a mapped node",
 }
 
 
+# scripts that run (with KNOWN: every script of the folder tried)
+RUNS = ["CableConstraint/Finger.py"]
+
+
 @pytest.mark.skipif(not os.path.isdir(REF), reason=f"no SoftRobots reference folder at {REF}")
-@pytest.mark.parametrize("script", sorted(KNOWN))
+@pytest.mark.parametrize("script", sorted(KNOWN) + RUNS)
 def test_reference_script_runs_unmodified(script):
     path = os.path.join(REF, script)
     r = subprocess.run([sys.executable, "-m", "pliant", "run", path, "-n", "5", "-q"],
