@@ -48,6 +48,15 @@ int pl_generate_sphere_surface(const double center[3], double radius, int level,
 int pl_generate_sphere_tets(const double center[3], double radius, int target_verts,
                             pl_mesh *out, pl_error *err);
 
+/* Thick-walled hollow sphere (spherical shell) between radii inner < outer:
+ * the icosphere of `level` (as above) on layers + 1 concentric spheres,
+ * every triangle-by-layer prism cut into 3 tetrahedra (conforming).  Vertex
+ * i of layer l (0 = inner) has index l * (10*4^level + 2) + i; its
+ * triangles are the two boundary spheres, facing out of the material (the
+ * inner one towards the centre). 60*4^level*layers tets. */
+int pl_generate_sphere_shell(const double center[3], double inner, double outer, int level,
+                             int layers, pl_mesh *out, pl_error *err);
+
 /* Closed cylinder surface around the y axis through `center`, y in
  * [center.y - height/2, center.y + height/2]: nsides >= 3 around, nlayers
  * >= 1 along the axis, caps fanned from a centre vertex.

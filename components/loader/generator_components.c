@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "generators/generators.h"
 #include "loader.h"
@@ -15,6 +16,7 @@ typedef struct grid_tets {
     pl_mesh mesh;
     double min[3], max[3], rotation[3], translation[3];
     pl_ints n;
+    pl_doubles holes;
 } grid_tets;
 _Static_assert(offsetof(grid_tets, mesh) == sizeof(pl_component), "mesh after base");
 
@@ -28,7 +30,34 @@ static const pl_field GRID_TETS_FIELDS[] = {
              "rotation of the generated mesh [deg about x, then y, then z]", 0),
     PL_FIELD(grid_tets, translation, "translation", PL_F_VEC3, "0 0 0",
              "translation after the rotation [m]", 0),
+    PL_FIELD(grid_tets, holes, "holes", PL_F_DOUBLES, NULL,
+             "boxes (xmin ymin zmin xmax ymax zmax each, before the rotation) whose cells are "
+             "left out: cavities (SurfacePressureConstraint box) or notches",
+             0),
 };
+
+/* Leaves out the tetrahedra whose centroid lies in a hole box (all six of
+ * a cell share its centre's side for boxes on cell boundaries), then the
+ * vertices no tetrahedron uses. */
+static int cut_holes(pl_mesh *m, const pl_doubles *holes)
+{
+    int kept = 0;
+    for (int t = 0; t < m->ntets; ++t) {
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 4; ++k)
+            for (int a = 0; a < 3; ++a) c[a] += 0.25 * m->verts[3 * m->tets[4 * t + k] + a];
+        int in = 0;
+        for (int b = 0; b + 6 <= holes->n && !in; b += 6) {
+            const double *h = holes->v + b;
+            in = c[0] > h[0] && c[0] < h[3] && c[1] > h[1] && c[1] < h[4] && c[2] > h[2] &&
+                 c[2] < h[5];
+        }
+        if (!in) memmove(m->tets + 4 * kept++, m->tets + 4 * t, 4 * sizeof *m->tets);
+    }
+    m->ntets = kept;
+    m->ntris = 0; /* the generator writes none for a box */
+    return pl_mesh_drop_unused(m);
+}
 
 static int finish(pl_component *c, pl_ctx *ctx, pl_mesh *m, int rc, pl_error *err,
                   const double rot[3], const double tr[3])
@@ -60,7 +89,12 @@ static int grid_tets_init(pl_component *c, pl_ctx *ctx)
     double cells = 1;
     for (int a = 0; a < 3; ++a) cells *= g->n.v[a] >= 2 ? g->n.v[a] - 1.0 : NAN;
     if (check_size(c, ctx, 6.0 * cells)) return PL_EINPUT;
+    if (g->holes.n && pl_util_check_boxes(c, ctx, "holes", &g->holes)) return PL_EINPUT;
     int rc = pl_generate_box_tets(g->n.v, g->min, g->max, &g->mesh, &err);
+    if (rc == PL_OK && g->holes.n && cut_holes(&g->mesh, &g->holes) < 0)
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (rc == PL_OK && g->mesh.ntets == 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "holes: they leave no tetrahedron");
     return finish(c, ctx, &g->mesh, rc, &err, g->rotation, g->translation);
 }
 
@@ -136,7 +170,7 @@ const pl_type pl_grid_triangles_type = {
 typedef struct shape_mesh {
     pl_component base;
     pl_mesh mesh;
-    double center[3], radius, height;
+    double center[3], radius, height, inner;
     int volume, level, vertices, rings, layers, sides;
 } shape_mesh;
 _Static_assert(offsetof(shape_mesh, mesh) == sizeof(pl_component), "mesh after base");
@@ -149,7 +183,16 @@ static const pl_field SPHERE_FIELDS[] = {
     PL_FIELD(shape_mesh, vertices, "vertices", PL_F_INT, "1000",
              "solid ball: about this many vertices", 0),
     PL_FIELD(shape_mesh, level, "level", PL_F_INT, "3",
-             "surface: icosahedron subdivisions (10*4^level + 2 vertices)", 0),
+             "surface and hollow sphere: icosahedron subdivisions (10*4^level + 2 vertices)", 0),
+    PL_FIELD(shape_mesh, inner, "innerRadius", PL_F_DOUBLE, "0",
+             "> 0: a hollow sphere (thick-walled shell) of tetrahedra between innerRadius and "
+             "radius [m], the icosphere of `level` on layers + 1 spheres; its triangles are "
+             "both boundary spheres",
+             0),
+    PL_FIELD(shape_mesh, layers, "layers", PL_F_INT, "0",
+             "hollow sphere: layers of prisms through the wall (0: about as thick as the inner "
+             "sphere's edges)",
+             0),
 };
 
 static int sphere_init(pl_component *c, pl_ctx *ctx)
@@ -159,6 +202,18 @@ static int sphere_init(pl_component *c, pl_ctx *ctx)
     static const double zero[3] = {0, 0, 0};
     /* a ball of about `vertices` vertices has 6 tetrahedra per vertex at most;
      * an icosphere of level L has 20 4^L triangles */
+    if (s->inner != 0) {
+        /* the inner icosphere's edge is about 1.1 innerRadius / 2^level */
+        int layers = s->layers > 0 ? s->layers
+                     : (int)fmax(1.0, ceil((s->radius - s->inner) /
+                                           (1.1 * s->inner / pow(2, s->level))));
+        if (!s->volume)
+            return pl_component_error(c, ctx, PL_EINPUT, "innerRadius needs volume=\"1\"");
+        if (check_size(c, ctx, 60.0 * pow(4, s->level) * layers)) return PL_EINPUT;
+        int rc = pl_generate_sphere_shell(s->center, s->inner, s->radius, s->level, layers,
+                                          &s->mesh, &err);
+        return finish(c, ctx, &s->mesh, rc, &err, zero, zero);
+    }
     if (check_size(c, ctx, s->volume ? 6.0 * s->vertices : 20.0 * pow(4, s->level)))
         return PL_EINPUT;
     int rc = s->volume ? pl_generate_sphere_tets(s->center, s->radius, s->vertices, &s->mesh, &err)
@@ -169,7 +224,8 @@ static int sphere_init(pl_component *c, pl_ctx *ctx)
 const pl_type pl_sphere_mesh_type = {
     .abi_version = PL_ABI_VERSION,
     .name = "SphereMesh",
-    .help = "A ball of tetrahedra or a sphere surface of triangles.",
+    .help = "A ball of tetrahedra, a hollow sphere (innerRadius > 0) or a sphere surface of "
+            "triangles.",
     .size = sizeof(shape_mesh),
     .fields = SPHERE_FIELDS,
     .nfields = sizeof SPHERE_FIELDS / sizeof SPHERE_FIELDS[0],

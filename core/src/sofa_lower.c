@@ -436,7 +436,8 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         L->need |= plugin_bit(c->plugin);
         lower_component_attrs(L, e, tag);
         apply_attr_rules(L, e, tag);
-        if (!strcmp(c->pliant, "CableConstraint")) {
+        if (!strcmp(c->pliant, "CableConstraint") ||
+            !strcmp(c->pliant, "SurfacePressureConstraint")) {
             if (!L->nconstraints++) L->constraint_line = sofa_line(e);
         }
         if (c->kind == PL_SOFA_RENAME) xmlNodeSetName(e, (const xmlChar *)c->pliant);

@@ -79,5 +79,8 @@ void sofa_lower_container(sofa_lower *L, xmlNode *e);
 void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry);
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
+/* sofa_cavity.c: moves the SurfacePressureConstraint e of the mapped node
+ * (its MechanicalObject mo) into the body's node. */
+void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity);
 
 #endif

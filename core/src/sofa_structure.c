@@ -27,7 +27,8 @@ static void lower_required(sofa_lower *L, xmlNode *e, int *nmodules, char *first
         } else if (kind == 2) {
             L->need |= NEED_CABLE;
             sofa_note(L, "softrobots", e,
-                      "SoftRobots: Pliant's cable plugin stands in for it (CableConstraint); "
+                      "SoftRobots: Pliant's cable plugin stands in for it (CableConstraint, "
+                      "SurfacePressureConstraint); "
                       "its other components are listed in docs/sofa.md");
         } else if (kind < 0) {
             sofa_error(L, e, "plugin '%s': %s", p, why);
@@ -216,7 +217,7 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         if (!sofa_is_element(e) || e == map) continue;
         if (sofa_tag_is(e, "MechanicalObject") && !mo)
             mo = e;
-        else if (sofa_tag_is(e, "CableConstraint"))
+        else if (sofa_tag_is(e, "CableConstraint") || sofa_tag_is(e, "SurfacePressureConstraint"))
             ++ncables;
         else if (!mapped_harmless(e) && !other)
             other = e;
@@ -225,8 +226,8 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
     sofa_node_path(node, where, sizeof where);
     if (other) {
         sofa_error(L, other, "%s in the node '%s', which %s maps from its parent: Pliant maps "
-                             "the points of cables only so far (a pressure cavity or a collision "
-                             "surface in a mapped node is not supported yet)",
+                             "the points of cables and pressure cavities only so far (a "
+                             "collision surface in a mapped node is not supported yet)",
                    (const char *)other->name, where, (const char *)map->name);
         sofa_remove(node);
         return;
@@ -249,8 +250,11 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         sofa_remove(node);
         return;
     }
-    int n = 0;
-    double *x = identity ? NULL : read_points(L, mo, &n);
+    for (xmlNode *e = node->children; e; e = e->next)
+        if (sofa_tag_is(e, "SurfacePressureConstraint")) sofa_lower_cavity(L, node, mo, e, identity);
+    int n = 0, cables = 0;
+    for (xmlNode *e = node->children; e; e = e->next) cables += sofa_tag_is(e, "CableConstraint");
+    double *x = identity || !cables ? NULL : read_points(L, mo, &n);
     if (identity && xmlHasProp(mo, (const xmlChar *)"position"))
         sofa_error(L, mo, "under an IdentityMapping the points are the parent's vertices: remove "
                           "position");

@@ -184,10 +184,13 @@ static const pl_sofa_component COMPONENTS[] = {
          "CableConstraint (cable plugin): indices, pullPoint, value, valueType, "
          "minForce, maxForce, maxPositiveDisp, maxNegativeDisp, maxDispVariation, "
          "hasPullPoint, cableInitialLength, centers; method=\"geodesic\" and radii are refused"),
-    REFUSED("SurfacePressureConstraint", "pneumatic actuation is not in Pliant yet (issue 17 "
-                                         "item 3); closest: CableConstraint"),
-    REFUSED("VolumeFromTriangles", "an engine of pneumatic actuation (SurfacePressureConstraint), "
-                                   "which is not in Pliant yet"),
+    SAME("SurfacePressureConstraint", "cable",
+         "SurfacePressureConstraint (cable plugin): triangles, quads, value, valueIndex, "
+         "valueType (pressure|volumeGrowth), minPressure, maxPressure, eqPressure, "
+         "minVolumeGrowth, maxVolumeGrowth, the variation limits, flipNormal; outputs pressure, "
+         "volumeGrowth, cavityVolume; in a mapped node it moves to the body's node"),
+    NOTED("VolumeFromTriangles", "the cavity's volume is SurfacePressureConstraint's output "
+                                 "cavityVolume"),
     REFUSED("PositionEffector", "inverse problems (SoftRobots.Inverse) are not in Pliant"),
     REFUSED("QPInverseProblemSolver", "inverse problems (SoftRobots.Inverse) are not in Pliant"),
     /* visual and GUI */
@@ -379,6 +382,14 @@ static const pl_sofa_attr ATTRS[] = {
                                       "give centers alone (nearest vertex) or indices"),
     A_REF("CableConstraint", "surfaceTopology", "geodesic cables are not in Pliant"),
     A_IGN("CableConstraint", "hasDisplacementVariation", "Pliant reads the bounds given"),
+    /* SurfacePressureConstraint */
+    A_LOW("SurfacePressureConstraint", "triangles",
+          "in a mapped child node: over the mapped points; a link to the node's loader's "
+          "triangles (@topo.triangles) means the loader's"),
+    A_IGN("SurfacePressureConstraint", "drawPressure", "drawing"),
+    A_IGN("SurfacePressureConstraint", "drawScale", "drawing"),
+    A_IGN("SurfacePressureConstraint", "visualization", "drawing (deprecated name)"),
+    A_IGN("SurfacePressureConstraint", "showVisuScale", "drawing (deprecated name)"),
     /* InteractiveCamera places the viewer's camera (position, lookAt,
      * orientation, fieldOfView); SOFA's clipping and projection settings
      * have no counterpart there */

@@ -35,6 +35,15 @@ def load(path, **kw):
 __version__ = "0.1.0"
 
 _LEVELS = {"error": 0, "warning": 1, "info": 2, "debug": 3}
+_level = 2  # the last set_log_level (libpliant's default: info)
+
+
+def _print_warnings(text):
+    """Prints a load's warnings (Simulation.warnings) to stderr, as `pliant run`
+    does, unless set_log_level("error")."""
+    if text and _level >= 1:
+        import sys
+        print(text, file=sys.stderr)
 
 
 def set_log_level(level):
@@ -44,3 +53,5 @@ def set_log_level(level):
     if level not in _LEVELS:
         raise ValueError(f"log level '{level}': expected one of {', '.join(_LEVELS)}")
     _set(_LEVELS[level])
+    global _level
+    _level = _LEVELS[level]

@@ -66,13 +66,18 @@ class Simulation(_core.Sim):
         sim = Simulation(xml=text, name="made.scn")
         sim = Simulation(path, overrides=["finger/material.youngModulus=2e5"])
 
-    Each Simulation is independent (its own registry, model and state)."""
+    Each Simulation is independent (its own registry, model and state).  The
+    load's warnings (what was dropped or changed, as `pliant run` prints them)
+    go to stderr, unless warn=False; they stay in `warnings`."""
 
-    def __init__(self, path=None, **kw):
+    def __init__(self, path=None, warn=True, **kw):
         if path is not None:
             super().__init__(os.fspath(path), **kw)
         else:
             super().__init__(**kw)
+        if warn:
+            from . import _print_warnings
+            _print_warnings(self.warnings)
         self._controllers = []
         self._views = {}
 

@@ -24,6 +24,7 @@ typedef struct pl_py_sim {
     PyObject *begin;     /* callable(t) called at the start of every step, or NULL */
     PyObject *end;       /* callable(t) called at the end of every step, or NULL */
     int stepping;        /* owner: inside a step of it or a fork: no state may be replaced */
+    PyObject *warnings;  /* the load's warnings as `pliant run` prints them (str), or NULL */
     PyObject *weakrefs;
 } pl_py_sim;
 

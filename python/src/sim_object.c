@@ -4,19 +4,28 @@
 #include <errno.h>
 #include <string.h>
 
-/* Raises InputError with every error and warning of a failed load. */
-static void raise_diag(const pl_diag *d)
+/* Every item of d as `pliant run` prints them, without the last newline
+ * (caller frees), or NULL without memory. */
+static char *diag_text(const pl_diag *d)
 {
     char *text = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&text, &len);
-    if (!f) {
-        PyErr_NoMemory();
-        return;
-    }
+    if (!f) return NULL;
     pl_diag_print(d, f);
     fclose(f);
     while (len && text[len - 1] == '\n') text[--len] = '\0';
+    return text;
+}
+
+/* Raises InputError with every error and warning of a failed load. */
+static void raise_diag(const pl_diag *d)
+{
+    char *text = diag_text(d);
+    if (!text) {
+        PyErr_NoMemory();
+        return;
+    }
     pl_error e;
     pl_error_clear(&e);
     e.code = pl_diag_status(d) == PL_EINTERNAL ? PL_EINTERNAL : PL_EINPUT;
@@ -100,7 +109,16 @@ static int sim_init(pl_py_sim *self, PyObject *args, PyObject *kw)
         pl_diag_free(&diag);
         goto fail;
     }
+    /* the warnings of a load that succeeded (drawing components dropped, ...):
+     * the Python side prints them (pliant.Simulation, pliant.sofa) */
+    char *warnings = diag.count ? diag_text(&diag) : NULL;
     pl_diag_free(&diag);
+    Py_CLEAR(self->warnings);
+    if (warnings) {
+        self->warnings = PyUnicode_DecodeUTF8(warnings, (Py_ssize_t)strlen(warnings), "replace");
+        free(warnings);
+        if (!self->warnings) goto fail;
+    }
     Py_XDECREF(path);
     pl_sim_set_callback(self->sim, begin_hook, self);
     return 0;
@@ -121,6 +139,7 @@ static int sim_clear(pl_py_sim *self)
 {
     Py_CLEAR(self->begin);
     Py_CLEAR(self->end);
+    Py_CLEAR(self->warnings);
     return 0;
 }
 
@@ -408,10 +427,19 @@ static PyMethodDef sim_methods[] = {
      "set_hooks(begin, end): callables(t) at the start and end of every step"},
     {NULL, NULL, 0, NULL}};
 
+static PyObject *sim_get_warnings(pl_py_sim *self, void *closure)
+{
+    (void)closure;
+    if (self->warnings) return Py_NewRef(self->warnings);
+    return PyUnicode_FromString("");
+}
+
 static PyGetSetDef sim_getset[] = {
     {"time", (getter)sim_get_time, NULL, "simulated time [s]", NULL},
     {"steps", (getter)sim_get_steps, NULL, "steps taken", NULL},
     {"dt", (getter)sim_get_dt, NULL, "the root's time step [s]", NULL},
+    {"warnings", (getter)sim_get_warnings, NULL,
+     "the load's warnings, one a line as `pliant run` prints them ('' if none)", NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 PyTypeObject pl_py_sim_type = {

@@ -89,6 +89,19 @@ def test_loader_errors_name_the_script_line():
     assert "bad_component.py:3:" in r.stderr and "MechanicalObject" in r.stderr
 
 
+def test_loader_warnings_name_the_script_line():
+    # what the loader drops or changes is said, as `pliant run scene.scn` says it,
+    # at the script's call (VisualStyle: drawing, ignored)
+    with open(os.path.join(SCRIPTS, "cable_finger.py")) as f:
+        line = next(i for i, t in enumerate(f, 1) if '"VisualStyle"' in t)
+    r = run("cable_finger.py", "-n", "1")
+    assert r.returncode == 0, r.stderr
+    assert f"cable_finger.py:{line}: warning: VisualStyle" in r.stderr, r.stderr
+    sim = load("cable_finger.py")
+    Sofa.Simulation.init(sim)
+    assert "warning: VisualStyle" in sim.simulation.warnings
+
+
 def test_sofa_is_only_importable_inside_a_run():
     r = subprocess.run([sys.executable, "-c", "import Sofa"], capture_output=True, text=True)
     assert r.returncode != 0 and "No module named 'Sofa'" in r.stderr

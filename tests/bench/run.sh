@@ -11,7 +11,8 @@
 #   BENCH_CONV_SCENE   scene of the convergence study (default scenes/twisting_bar.xml)
 #   BENCH_CONV_FRAMES  run-up frames before the studied step (default 100)
 #   BENCH_CONV_JACOBI  iterations of the JacobiSolver baseline in that study (default 1000; 0: none)
-#   BENCH_SKIP         parts to skip (and their tables in the doc): scenes, convergence, contact
+#   BENCH_SKIP         parts to skip (and their tables in the doc): scenes, convergence, contact,
+#                      pressure (Lame's thick sphere at three mesh levels, finest within 2%)
 #   BENCH_CONTACT_STEPS  steps per contact scene (default 60; the pulling scenes twice that)
 #   BENCH_W_STEPS      steps of the explicit vs matrix-free W runs of the sharp corner (default 25)
 #   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
@@ -82,6 +83,13 @@ if ! skip contact; then
     done 2>"$OUT/contact_w.log" | awk 'NR <= 4 || /^\| sharp/' \
         >"$OUT/contact_w.md" || status=1
     cat "$OUT/contact_w.md"
+fi
+if ! skip pressure; then
+    # make test runs levels 1 and 2; the finest (level 3, 30720 tetrahedra) is here
+    echo "== PRESSURE_LEVELS='1 2 3' $REL_BUILD/tests/test_pressure_sphere"
+    cmake --build "$BUILD" --target test_pressure_sphere -j "$JOBS" >/dev/null
+    PRESSURE_LEVELS="1 2 3" CK_RUN_CASE=lame "$BUILD/tests/test_pressure_sphere" 2>/dev/null |
+        grep -E '^level|%' || status=1
 fi
 if ! skip scenes; then
     echo "== $SCENES_CMD"

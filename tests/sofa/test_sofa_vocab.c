@@ -225,7 +225,9 @@ START_TEST(vocabulary_as_tsv)
     fclose(f);
     ck_assert_ptr_nonnull(strstr(text, "component\tTetrahedronFEMForceField\trenamed\t"
                                        "Corotational\thyperelastic\t"));
-    ck_assert_ptr_nonnull(strstr(text, "component\tSurfacePressureConstraint\trefused\t"));
+    ck_assert_ptr_nonnull(strstr(text, "component\tPositionEffector\trefused\t"));
+    ck_assert_ptr_nonnull(strstr(text, "component\tSurfacePressureConstraint\tsame\t"
+                                       "SurfacePressureConstraint\tcable\t"));
     ck_assert_ptr_nonnull(strstr(text, "attribute\tCGLinearSolver\titerations\tlowered\t"));
     int lines = 0;
     for (char *p = text; *p; ++p) lines += *p == '\n';

@@ -436,15 +436,17 @@ class Node:
         self._xml(lines, where)
         script = next((w[0] for w in where if w[0].endswith(".py")), "createScene.py")
         name = script  # relative mesh paths resolve beside the script
-        from .. import InputError
+        from .. import InputError, _print_warnings
+
+        # the scene's lines are the script's calls: name those instead
+        def where_of(m):
+            w = where[int(m.group(1)) - 1] if 0 < int(m.group(1)) <= len(where) else None
+            return f"{w[0]}:{w[1]}:" if w else m.group(0)
         try:
-            sim = simulation.Simulation(xml="\n".join(lines) + "\n", name=name)
+            sim = simulation.Simulation(xml="\n".join(lines) + "\n", name=name, warn=False)
         except InputError as e:
-            # the scene's lines are the script's calls: name those instead
-            def where_of(m):
-                w = where[int(m.group(1)) - 1] if 0 < int(m.group(1)) <= len(where) else None
-                return f"{w[0]}:{w[1]}:" if w else m.group(0)
             raise InputError(re.sub(re.escape(name) + r":(\d+):", where_of, str(e))) from None
+        _print_warnings(re.sub(re.escape(name) + r":(\d+):", where_of, sim.warnings))
         self.__dict__["_sim"] = sim
         ctrls = self._all_controllers()
         for c in ctrls:
