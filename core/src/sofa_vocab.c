@@ -63,7 +63,8 @@ static const pl_sofa_component COMPONENTS[] = {
             "it: LinearizedEulerSolver, SOFA's scheme (one linearised step, Rayleigh damping, "
             "firstOrder); with Lagrangian constraints (cables) LocalGlobalSolver (iterations "
             "20), implicit Euler converged by local-global iterations, rayleighMass as its "
-            "damping, rayleighStiffness and firstOrder refused"),
+            "damping, its firstOrder and rayleighStiffness (with the rest stiffness for SOFA's "
+            "tangent K)"),
     REFUSED("EulerExplicitSolver", "explicit integration is not in Pliant; closest: "
                                    "EulerImplicitSolver (LocalGlobalSolver)"),
     REFUSED("RungeKutta4Solver", "explicit integration is not in Pliant; closest: "
@@ -332,10 +333,12 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("EulerImplicitSolver", "rayleighMass", "LinearizedEulerSolver rayleighMass; with "
                                                  "constraints LocalGlobalSolver damping [1/s]"),
     A_LOW("EulerImplicitSolver", "rayleighStiffness",
-          "LinearizedEulerSolver rayleighStiffness; refused with constraints unless 0"),
+          "LinearizedEulerSolver rayleighStiffness; with constraints LocalGlobalSolver "
+          "rayleighStiffness (damping matrix: the rest stiffness, not the current K)"),
     A_LOW("EulerImplicitSolver", "vdamping", "refused unless 0"),
     A_LOW("EulerImplicitSolver", "firstOrder",
-          "LinearizedEulerSolver firstOrder; refused with constraints"),
+          "LinearizedEulerSolver firstOrder; with constraints LocalGlobalSolver firstOrder "
+          "(both: Rayleigh factors unused, as in SOFA)"),
     A_IGN("EulerImplicitSolver", "trapezoidalScheme", TUNE),
     A_IGN("EulerImplicitSolver", "solveConstraint", TUNE),
     A_IGN("EulerImplicitSolver", "threadSafeVisitor", TUNE),
