@@ -78,9 +78,18 @@ void sofa_lower_rois(sofa_lower *L, xmlNode *node);
 void sofa_lower_container(sofa_lower *L, xmlNode *e);
 void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry);
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
+/* A SOFA collision model (not a Pliant type of that name)? */
+int sofa_is_collision_model(sofa_lower *L, const xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
 /* sofa_cavity.c: moves the SurfacePressureConstraint e of the mapped node
  * (its MechanicalObject mo) into the body's node. */
 void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity);
+
+/* sofa_values.c: IndexValueMapper and BoxROI tetrahedronIndices -> per-element values */
+void sofa_lower_value_mappers(sofa_lower *L);
+/* sofa_grid.c: RegularGridTopology + Hexa2TetraTopologicalMapping -> RegularGridTetrahedra */
+void sofa_lower_grids(sofa_lower *L);
+/* sofa_collision.c: collision models and pipeline -> the collision plugin */
+void sofa_lower_collision(sofa_lower *L);
 
 #endif

@@ -535,7 +535,7 @@ void sofa_lower_springs(sofa_lower *L, xmlNode *e)
 
 /* ---- collision models that cannot touch anything ------------------------- */
 
-static int is_sofa_collision_model(sofa_lower *L, const xmlNode *e)
+int sofa_is_collision_model(sofa_lower *L, const xmlNode *e)
 {
     const char *tag = (const char *)e->name;
     static const char *const old[] = {"TriangleModel", "LineModel", "PointModel", "SphereModel",
@@ -554,7 +554,7 @@ static int collision_models(sofa_lower *L, xmlNode *node, xmlNode **holder, int 
     for (xmlNode *e = node->children; e; e = e->next) {
         if (sofa_is_node(e)) {
             n += collision_models(L, e, holder, several, self);
-        } else if (sofa_is_element(e) && is_sofa_collision_model(L, e)) {
+        } else if (sofa_is_element(e) && sofa_is_collision_model(L, e)) {
             char *sc = sofa_get(e, "selfCollision");
             *self |= sofa_is_true(sc);
             xmlFree(sc);
@@ -576,7 +576,7 @@ void sofa_lower_lonely_collision(sofa_lower *L)
     sofa_node_path(holder, np, sizeof np);
     for (xmlNode *e = holder->children; e; e = next) {
         next = e->next;
-        if (!sofa_is_element(e) || !is_sofa_collision_model(L, e)) continue;
+        if (!sofa_is_element(e) || !sofa_is_collision_model(L, e)) continue;
         sofa_note(L, "lonely-collision", e,
                   "the scene's only collision models are those of '%s', which do not collide "
                   "with each other (no selfCollision): SOFA finds no contact, so they are "
