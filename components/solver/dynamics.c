@@ -271,14 +271,20 @@ void pl_dynamics_add_Lq(const pl_dynamics *d, const double *q, double scale, dou
         }
 }
 
+void pl_dynamics_motion(const pl_dynamics *d, const pl_dyn_work *w, double *out)
+{
+    double h = d->h;
+    if (d->scheme.first_order) /* M (q - q_t) / h = f: no velocity, gravity's impulse h g */
+        for (int i = 0; i < 3 * d->n; ++i) out[i] = w->q_t[i] + h * d->gravity[i];
+    else
+        for (int i = 0; i < 3 * d->n; ++i)
+            out[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
+}
+
 void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
 {
     double h = d->h, rs = d->scheme.rayleigh_stiffness;
-    if (d->scheme.first_order) /* M (q - q_t) / h = f: no velocity, gravity's impulse h g */
-        for (int i = 0; i < 3 * d->n; ++i) w->sn[i] = w->q_t[i] + h * d->gravity[i];
-    else
-        for (int i = 0; i < 3 * d->n; ++i)
-            w->sn[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
+    pl_dynamics_motion(d, w, w->sn);
     if (!(rs > 0)) return;
     /* the damping's right-hand side h rS L q_t, as sn += h rS M'^-1 L q_t
      * (vertices without mass are prescribed: their rows are not solved) */

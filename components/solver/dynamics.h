@@ -72,6 +72,9 @@ void pl_dyn_work_free(pl_dyn_work *w);
 
 /* q_t, v_t <- the states in data. */
 void pl_dynamics_gather(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data);
+/* out (n x 3) <- q_t + h v_t + h^2 g (first order: q_t + h g): where the
+ * body goes without internal forces, the iterations' natural start. */
+void pl_dynamics_motion(const pl_dynamics *d, const pl_dyn_work *w, double *out);
 /* sn <- q_t + h v_t + h^2 g (first order: q_t + h g), plus
  * h rS M'^-1 L q_t with Rayleigh stiffness damping. */
 void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w);

@@ -298,7 +298,10 @@ void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w)
 {
     const pl_dynamics *d = &s->dyn;
     if (s->initial_guess == 0) {
-        memcpy(w->q, w->sn, (size_t)d->n * 3 * sizeof(double));
+        /* not sn: with Rayleigh stiffness sn also carries the damping's
+         * right-hand side h rS M'^-1 L q_t, which is no position (L q_t is
+         * not zero at rest) and would start the iterations far away */
+        pl_dynamics_motion(d, w, w->q);
         return;
     }
     double hv = d->scheme.first_order ? 0.0 : d->h; /* first order: no velocity */

@@ -376,8 +376,7 @@ static pl_sim *beam_at_045(const char *xml, const char *scene, const pl_state_re
  * triangles, under LocalGlobalSolver with SOFA's rayleighMass and
  * rayleighStiffness and friction contact.  SOFA's state at T = 0.45 (45
  * steps) is a rigid free fall (no contact detected yet).  As written the
- * scene ends 2.34e-2 of the rest diagonal from it (rayleighStiffness: the
- * rest-stiffness damping deforms the falling beam, docs/sofa.md); with
+ * scene ends 1.19e-3 of the rest diagonal from it; with
  * rayleighStiffness 0, 1.33e-3 (rayleighMass applied after the step, and
  * the floor's look-ahead contact).  After 200 steps it rests on the floor:
  * the vertices above it at contactDistance, none below. */
@@ -420,7 +419,7 @@ START_TEST(shared_falling_beam)
            "after 200 steps the bottom above the floor (z = -1) at z in [%.5f, %.5f]\n",
            rel, rel0, low, high);
     fflush(stdout);
-    ck_assert_double_lt(rel, 3e-2);  /* 2.34e-2 measured */
+    ck_assert_double_lt(rel, 2e-3);  /* 1.19e-3 measured */
     ck_assert_double_lt(rel0, 2e-3); /* 1.33e-3 measured */
     ck_assert_double_gt(low, -1.0005);
     ck_assert_double_lt(high, -0.995);
