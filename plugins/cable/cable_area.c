@@ -9,8 +9,9 @@
  *             from the center's projection on its nearest triangle: a
  *             corner of that triangle starts at |center - projection| +
  *             |projection - corner|.  Edge paths overestimate the true
- *             surface distance (by up to ~8% on a regular grid, depending
- *             on the edge directions).
+ *             surface distance where no edge follows the direction (on a
+ *             grid split by one diagonal, up to sqrt(2) times along the
+ *             other diagonal).
  *   sphere:   d is the straight distance |point - center| over all surface
  *             points.  (SoftRobots measures from the nearest surface
  *             vertex and only through points connected to it.) */
