@@ -103,7 +103,8 @@ static const pl_field FIELDS[] = {
                    0, "positions"),
     PL_FIELD(CC, centers, "centers", PL_F_DOUBLES, NULL,
              "cable points [m], x y z each: each is replaced by the nearest vertex (as "
-             "SoftRobots' centers)",
+             "SoftRobots' centers); with method sphere / geodesic the centers of the pulled "
+             "areas",
              0),
     PL_FIELD(CC, pull_point, "pullPoint", PL_F_VEC3, "0 0 0",
              "fixed point the cable is pulled from [m]", PL_FIELD_INPUT),
