@@ -349,11 +349,8 @@ static void lower_component_attrs(sofa_lower *L, xmlNode *e, const char *tag)
         check_selection_link(L, e, "indices");
     if (!strcmp(tag, "CableConstraint")) {
         char *m = sofa_get(e, "method");
-        if (m && strcmp(m, "point"))
-            sofa_error(L, e, "method=\"%s\": only cables through points (method=\"point\") are "
-                             "in Pliant",
-                       m);
-        if (m) sofa_unset(e, "method");
+        if (m && strcmp(m, "point") && strcmp(m, "sphere") && strcmp(m, "geodesic"))
+            sofa_error(L, e, "method=\"%s\": expected point, sphere or geodesic", m);
         xmlFree(m);
     }
 }

@@ -84,6 +84,10 @@ void sofa_emit_solvers(sofa_lower *L);
 /* sofa_cavity.c: moves the SurfacePressureConstraint e of the mapped node
  * (its MechanicalObject mo) into the body's node. */
 void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity);
+/* sofa_cable_area.c: 1 when the CableConstraint e pulls areas (method
+ * sphere/geodesic); its copy `moved` in the body's node gets the surface. */
+int sofa_is_area_cable(xmlNode *e);
+void sofa_lower_area_cable(sofa_lower *L, xmlNode *node, xmlNode *e, xmlNode *moved);
 
 /* sofa_values.c: IndexValueMapper and BoxROI tetrahedronIndices -> per-element values */
 void sofa_lower_value_mappers(sofa_lower *L);

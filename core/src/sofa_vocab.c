@@ -200,7 +200,8 @@ static const pl_sofa_component COMPONENTS[] = {
     SAME("CableConstraint", "cable",
          "CableConstraint (cable plugin): indices, pullPoint, value, valueType, "
          "minForce, maxForce, maxPositiveDisp, maxNegativeDisp, maxDispVariation, "
-         "hasPullPoint, cableInitialLength, centers; method=\"geodesic\" and radii are refused"),
+         "hasPullPoint, cableInitialLength, centers; in a mapped node method=\"geodesic\" / \"sphere\" with "
+         "radii and surfaceTopology (pulled areas)"),
     SAME("SurfacePressureConstraint", "cable",
          "SurfacePressureConstraint (cable plugin): triangles, quads, value, valueIndex, "
          "valueType (pressure|volumeGrowth), minPressure, maxPressure, eqPressure, "
@@ -398,10 +399,10 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("IdentityMapping", "output", "the child node's MechanicalObject"),
     /* CableConstraint */
     A_LOW("CableConstraint", "indices", "in a mapped child node: the mapped points"),
-    A_LOW("CableConstraint", "method", "point only; geodesic refused"),
-    A_REF("CableConstraint", "radii", "averaging the vertices within a radius is not mapped: "
-                                      "give centers alone (nearest vertex) or indices"),
-    A_REF("CableConstraint", "surfaceTopology", "geodesic cables are not in Pliant"),
+    A_LOW("CableConstraint", "method", "point; sphere and geodesic pull areas of surfaceTopology"),
+    A_LOW("CableConstraint", "radii", "the radius of each center's pulled area"),
+    A_REF("CableConstraint", "surfaceTopology", "only for a surface cable (method sphere or "
+                                                "geodesic) in a mapped child node with a loader"),
     A_IGN("CableConstraint", "hasDisplacementVariation", "Pliant reads the bounds given"),
     /* SurfacePressureConstraint */
     A_LOW("SurfacePressureConstraint", "triangles",
