@@ -293,5 +293,5 @@ void sofa_lower_collision(sofa_lower *L)
               "SOFA's collision pipeline: Pliant's CollisionPipeline (collision plugin) with the "
               "intersection's alarmDistance and contactDistance and the response's mu; contacts "
               "are Lagrangian constraints solved with the implicit step");
-    if (!L->nconstraints++) L->constraint_line = line;
+    if (!L->nconstraints++) L->constraint_line = line, L->constraint_type = "CollisionPipeline";
 }

@@ -441,7 +441,8 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         apply_attr_rules(L, e, tag);
         if (!strcmp(c->pliant, "CableConstraint") ||
             !strcmp(c->pliant, "SurfacePressureConstraint")) {
-            if (!L->nconstraints++) L->constraint_line = sofa_line(e);
+            if (!L->nconstraints++)
+                L->constraint_line = sofa_line(e), L->constraint_type = c->sofa; /* static */
         }
         if (c->kind == PL_SOFA_RENAME) xmlNodeSetName(e, (const xmlChar *)c->pliant);
         return;

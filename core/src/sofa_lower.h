@@ -37,6 +37,7 @@ typedef struct sofa_lower {
     int free_motion;          /* the loop is FreeMotionAnimationLoop */
     int nconstraints;         /* Lagrangian constraints (cables) of the scene */
     int constraint_line;      /* the first one's line */
+    const char *constraint_type; /* and its type (SOFA's name), for messages */
     xmlNode *large_fem[64];   /* FEM with method large/qr: rotation from the edges (solvers) */
     int nlarge;
 } sofa_lower;

@@ -178,7 +178,8 @@ static void emit_plugins(sofa_lower *L)
 static void emit_constrained(sofa_lower *L, int line)
 {
     if (!L->free_motion || !L->consolver)
-        pl_diag_error(L->diag, PL_EINPUT, L->file, L->constraint_line, "CableConstraint",
+        pl_diag_error(L->diag, PL_EINPUT, L->file, L->constraint_line,
+                      L->constraint_type ? L->constraint_type : "constraint",
                       "a Lagrangian constraint: SOFA solves it only with FreeMotionAnimationLoop "
                       "and a constraint solver (GenericConstraintSolver, "
                       "BlockGaussSeidelConstraintSolver, ...) at the root, and ignores it "

@@ -96,6 +96,12 @@ static const bad_case CASES[] = {
      "unknown component type 'FooBarForceField': neither a Pliant component nor a SOFA", 8, ""},
     {"", "", "", "<TetrahedronFEMForceFeld/>\n", "did you mean SOFA's TetrahedronFEMForceField?",
      8, ""},
+    /* a Lagrangian constraint without FreeMotionAnimationLoop: SOFA ignores
+     * it; the message names the constraint's own type */
+    {"", "", "",
+     CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
+                "<BarycentricMapping/>"),
+     "SOFA solves it only with FreeMotionAnimationLoop", 10, "CableConstraint"},
     /* SOFA's Rayleigh factors are >= 0 (with a cable too) */
     {FREE_MOTION, "rayleighStiffness=\"-0.1\"", "",
      CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
