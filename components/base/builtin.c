@@ -21,6 +21,7 @@ static const pl_type *const BUILTIN[] = {
     &pl_fixed_constraint_type,
     &pl_prescribed_motion_type,
     &pl_constant_force_field_type,
+    &pl_plane_force_field_type,
     &pl_mesh_loader_type,
     &pl_grid_tetrahedra_type,
     &pl_grid_triangles_type,

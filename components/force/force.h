@@ -5,5 +5,6 @@
 #include "pliant/pliant.h"
 
 extern const pl_type pl_constant_force_field_type;
+extern const pl_type pl_plane_force_field_type;
 
 #endif

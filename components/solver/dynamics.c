@@ -59,9 +59,10 @@ static int number_vertices(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
     }
     if (d->n == 0) return pl_component_error(owner, ctx, PL_EINPUT, "no MechanicalObject below it");
     d->mass = calloc((size_t)d->n, sizeof *d->mass);
+    d->inertia = calloc((size_t)d->n, sizeof *d->inertia);
     d->gravity = calloc((size_t)d->n * 3, sizeof *d->gravity);
     d->free_index = malloc((size_t)d->n * sizeof *d->free_index);
-    if (!d->mass || !d->gravity || !d->free_index)
+    if (!d->mass || !d->inertia || !d->gravity || !d->free_index)
         return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
     for (int k = 0; k < d->nstates; ++k) {
         const pl_state_ops *ops = state_ops(d->states[k]);
@@ -121,27 +122,42 @@ static int mark_prescribed(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
     return PL_OK;
 }
 
-/* A = M + h^2 sum w G^T G over all vertices, then split into the
- * free x free and free x prescribed blocks. */
-static int assemble(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+/* diag (may be NULL) + scale * sum w G^T G over all vertices, as CSC. */
+static int sum_terms(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, const double *diag,
+                     double scale, pl_csc *out)
 {
-    pl_triplets full, ff, fp;
+    pl_triplets full;
     pl_error err;
     if (pl_triplets_init(&full, d->n, d->n, 16 * d->n) != PL_OK)
         return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
-    for (int i = 0; i < d->n; ++i) pl_triplets_add(&full, i, i, d->mass[i]);
+    for (int i = 0; diag && i < d->n; ++i) pl_triplets_add(&full, i, i, diag[i]);
     for (int k = 0; k < d->nterms; ++k) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
-        if (ops->add_matrix(d->terms[k], d->term_offset[k], d->h * d->h, &full, &err) != PL_OK) {
+        if (ops->add_matrix(d->terms[k], d->term_offset[k], scale, &full, &err) != PL_OK) {
             pl_diag_add(ctx->diag, &err);
             pl_triplets_free(&full);
             return err.code;
         }
     }
-    pl_csc a;
-    int rc = pl_triplets_to_csc(&full, &a);
+    int rc = pl_triplets_to_csc(&full, out);
     pl_triplets_free(&full);
-    if (rc) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
+    return rc ? pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
+}
+
+/* A = M' + (h^2 + h rS) sum w G^T G over all vertices (M' the inertia
+ * masses), then split into the free x free and free x prescribed blocks;
+ * with rS > 0 also L = sum w G^T G. */
+static int assemble(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
+{
+    pl_triplets ff, fp;
+    double rs = d->scheme.rayleigh_stiffness;
+    if (rs > 0) {
+        int rl = sum_terms(d, owner, ctx, NULL, 1.0, &d->L);
+        if (rl) return rl;
+    }
+    pl_csc a;
+    int rc = sum_terms(d, owner, ctx, d->inertia, d->h * d->h + d->h * rs, &a);
+    if (rc) return rc;
     rc = pl_triplets_init(&ff, d->nfree, d->nfree, pl_csc_nnz(&a));
     rc |= pl_triplets_init(&fp, d->nfree, d->n, 16);
     for (int j = 0; rc == PL_OK && j < d->n; ++j)
@@ -158,10 +174,12 @@ static int assemble(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
     return rc ? pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory") : PL_OK;
 }
 
-int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h, int with_matrix)
+int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h, int with_matrix,
+                      const pl_dyn_scheme *scheme)
 {
     memset(d, 0, sizeof *d);
     d->h = h;
+    if (scheme && with_matrix) d->scheme = *scheme;
     pl_node *root = owner->node;
     if (gather_role(root, PL_ROLE_STATE, &d->states, &d->nstates) ||
         gather_role(root, PL_ROLE_PRESCRIBED, &d->prescribed, &d->nprescribed) ||
@@ -171,6 +189,7 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
     if (!rc) rc = add_masses(d, owner, ctx);
     if (!rc) rc = mark_prescribed(d, owner, ctx);
     if (rc) return rc;
+    for (int i = 0; i < d->n; ++i) d->inertia[i] = (d->scheme.first_order ? h : 1.0) * d->mass[i];
     d->term_offset = malloc((size_t)(d->nterms ? d->nterms : 1) * sizeof *d->term_offset);
     if (!d->term_offset) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
     for (int k = 0; k < d->nterms; ++k) {
@@ -181,7 +200,8 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
                                       "its MechanicalObject is not below the solver %s",
                                       owner->name);
     }
-    d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL, d->mass};
+    /* the contact solver's mass scaling is of the inertia term (W's) */
+    d->sys = (pl_system){d->n, d->nfree, d->free_index, d->free_vertex, h, NULL, d->inertia};
     return with_matrix ? assemble(d, owner, ctx) : PL_OK;
 }
 
@@ -192,11 +212,13 @@ void pl_dynamics_free(pl_dynamics *d)
     free(d->term_offset);
     free(d->prescribed);
     free(d->mass);
+    free(d->inertia);
     free(d->gravity);
     free(d->free_index);
     free(d->free_vertex);
     pl_csc_free(&d->A_ff);
     pl_csc_free(&d->A_fp);
+    pl_csc_free(&d->L);
     memset(d, 0, sizeof *d);
 }
 
@@ -238,10 +260,39 @@ void pl_dynamics_gather(const pl_dynamics *d, pl_dyn_work *w, const pl_data *dat
     }
 }
 
-void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
+void pl_dynamics_add_Lq(const pl_dynamics *d, const double *q, double scale, double *out)
+{
+    const pl_csc *L = &d->L;
+    if (!L->p) return;
+    for (int j = 0; j < L->ncols; ++j)
+        for (int p = L->p[j]; p < L->p[j + 1]; ++p) {
+            double a = scale * L->x[p];
+            for (int c = 0; c < 3; ++c) out[3 * L->i[p] + c] += a * q[3 * j + c];
+        }
+}
+
+void pl_dynamics_motion(const pl_dynamics *d, const pl_dyn_work *w, double *out)
 {
     double h = d->h;
-    for (int i = 0; i < 3 * d->n; ++i) w->sn[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
+    if (d->scheme.first_order) /* M (q - q_t) / h = f: no velocity, gravity's impulse h g */
+        for (int i = 0; i < 3 * d->n; ++i) out[i] = w->q_t[i] + h * d->gravity[i];
+    else
+        for (int i = 0; i < 3 * d->n; ++i)
+            out[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
+}
+
+void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
+{
+    double h = d->h, rs = d->scheme.rayleigh_stiffness;
+    pl_dynamics_motion(d, w, w->sn);
+    if (!(rs > 0)) return;
+    /* the damping's right-hand side h rS L q_t, as sn += h rS M'^-1 L q_t
+     * (vertices without mass are prescribed: their rows are not solved) */
+    memset(w->rhs, 0, (size_t)d->n * 3 * sizeof(double));
+    pl_dynamics_add_Lq(d, w->q_t, h * rs, w->rhs);
+    for (int i = 0; i < d->n; ++i)
+        if (d->inertia[i] > 0)
+            for (int c = 0; c < 3; ++c) w->sn[3 * i + c] += w->rhs[3 * i + c] / d->inertia[i];
 }
 
 int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, double t,
@@ -287,7 +338,16 @@ double pl_dynamics_energy(const pl_dynamics *d, const pl_dyn_work *w, const pl_d
         if (d->free_index[i] < 0) continue;
         double dx = q[3 * i] - sn[3 * i], dy = q[3 * i + 1] - sn[3 * i + 1],
                dz = q[3 * i + 2] - sn[3 * i + 2];
-        e += 0.5 * d->mass[i] * (dx * dx + dy * dy + dz * dz) / h2;
+        e += 0.5 * d->inertia[i] * (dx * dx + dy * dy + dz * dz) / h2;
+    }
+    if (d->L.p) { /* (rS/(2h)) q^T L q: the dissipation potential, less a constant */
+        double qlq = 0.0;
+        for (int j = 0; j < d->L.ncols; ++j)
+            for (int p = d->L.p[j]; p < d->L.p[j + 1]; ++p) {
+                const double *a = &q[3 * d->L.i[p]], *b = &q[3 * j];
+                qlq += d->L.x[p] * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+            }
+        e += 0.5 * d->scheme.rayleigh_stiffness / d->h * qlq;
     }
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
     for (int k = 0; k < d->nterms; ++k) {

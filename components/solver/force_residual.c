@@ -47,9 +47,14 @@ int pl_force_residual_eval(pl_force_residual *r, const pl_dynamics *d, const pl_
         r->n = d->n;
     }
     double h2 = d->h * d->h, *f = r->f;
-    /* f = M (q - sn) / h^2 + grad psi(q) - H^T lambda */
+    /* f = M' (q - sn) / h^2 + grad psi(q) + (rS/h) L q - H^T lambda: M' the
+     * inertia masses (h m first order: M (q - q_t) / h - M g); sn holds the
+     * damping's - h rS M'^-1 L q_t, so the last terms make rS L (q - q_t) / h */
     for (int i = 0; i < d->n; ++i)
-        for (int k = 0; k < 3; ++k) f[3 * i + k] = d->mass[i] * (q[3 * i + k] - w->sn[3 * i + k]) / h2;
+        for (int k = 0; k < 3; ++k)
+            f[3 * i + k] = d->inertia[i] * (q[3 * i + k] - w->sn[3 * i + k]) / h2;
+    if (d->scheme.rayleigh_stiffness > 0)
+        pl_dynamics_add_Lq(d, q, d->scheme.rayleigh_stiffness / d->h, f);
     pl_buffer qb = pl_buffer_host_f64((double *)q, (size_t)d->n, 3);
     pl_buffer fb = pl_buffer_host_f64(f, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {

@@ -7,7 +7,10 @@
  * f_int = -grad psi (the local terms' add_gradient, as the Newton reference
  * uses), and the step's residual is max_i |r_i| over free vertices.  A
  * position-based tolerance cannot say that a still-looking body is in
- * equilibrium: a finger moving 1e-8 m/s carried 0.14 N of unbalanced force. */
+ * equilibrium: a finger moving 1e-8 m/s carried 0.14 N of unbalanced force.
+ * LocalGlobalSolver's firstOrder and rayleighStiffness (dynamics.h) change
+ * the inertia term to M (q - q_t) / h - M g and add the damping force
+ * rS L (q - q_t) / h. */
 #ifndef PLIANT_FORCE_RESIDUAL_H
 #define PLIANT_FORCE_RESIDUAL_H
 

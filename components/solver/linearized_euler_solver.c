@@ -88,7 +88,7 @@ static int le_reinit(pl_component *c, pl_ctx *ctx)
                             "iterations (CG, per time step)", "iterations"))
         return PL_EINPUT;
     pl_dynamics_free(&s->dyn);
-    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 0);
+    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 0, NULL);
     if (rc) return rc;
     for (int t = 0; t < s->dyn.nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(s->dyn.terms[t], PL_ROLE_LOCAL_TERM);

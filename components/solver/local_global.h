@@ -51,6 +51,8 @@ typedef struct local_global_solver {
     int report_residual;       /* the force residual of each step is recorded */
     int initial_guess;         /* 0 prediction sn, 1 inertia q_t + h v_t */
     double damping;
+    int first_order;           /* SOFA's firstOrder (dynamics.h) */
+    double rayleigh_stiffness; /* rS [s]: damping force -rS L v */
     int compute_energy;
     pl_link solver_link;
     pl_link contact_link;

@@ -3,11 +3,13 @@
  *
  * libpliant knows no CUDA: everything goes through the device service
  * found by role (pl_device_ops, plugins/cuda).  Per time step:
- *   host:   gather q_t, v_t from the states, sn = q_t + h v_t + h^2 g,
+ *   host:   gather q_t, v_t from the states, sn = q_t + h v_t + h^2 g
+ *           (with firstOrder and rayleighStiffness as on the CPU, dynamics.h:
+ *           their terms are in sn and in the inertia masses copied below),
  *           q = sn with the prescribed vertices at t + h (as on the CPU);
  *   copy:   sn and q to the device (page-locked host buffers);
  *   device: K iterations of
- *             rhs = M sn; every local term's project(q, rhs) on device
+ *             rhs = M' sn; every local term's project(q, rhs) on device
  *             buffers; b_f = rhs restricted to the unknowns - A_fp q_p;
  *             q_f = solve(b_f) by the global solver on device buffers;
  *             q[free] = q_f (and the largest change, for tolerances);
@@ -187,7 +189,7 @@ static int allocate(local_global_solver *s, pl_error *err)
     g->mass = dalloc(g->dev, g->ops, (size_t)d->n * sizeof(double), &rc, err);
     g->free_vertex =
         dalloc(g->dev, g->ops, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
-    put(g, g->mass, d->mass, (size_t)d->n * sizeof(double), &rc, err);
+    put(g, g->mass, d->inertia, (size_t)d->n * sizeof(double), &rc, err);
     put(g, g->free_vertex, d->free_vertex, (size_t)d->nfree * sizeof(int), &rc, err);
     if (rc) return rc;
     pl_csr R = {0};

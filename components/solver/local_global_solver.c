@@ -55,6 +55,17 @@ static const pl_field FIELDS[] = {
                   PL_FIELD_RUNTIME),
     PL_FIELD(local_global_solver, damping, "damping", PL_F_DOUBLE, "0",
              "Rayleigh-style mass damping [1/s]: v <- v / (1 + h damping)", PL_FIELD_INPUT),
+    PL_FIELD(local_global_solver, first_order, "firstOrder", PL_F_BOOL, "0",
+             "first-order backward Euler, SOFA's EulerImplicitSolver firstOrder: M (q - q_t) / h "
+             "= f(q), no velocity carried from step to step (the output velocity is (q - q_t) / "
+             "h); the system's mass term becomes h M",
+             0),
+    PL_FIELD(local_global_solver, rayleigh_stiffness, "rayleighStiffness", PL_F_DOUBLE, "0",
+             "Rayleigh stiffness damping rS [s]: the force -rS L v with L = sum w G^T G, the "
+             "rest stiffness of the system (SOFA damps with the current tangent K; L also "
+             "damps the rigid rotation of a body with no fixed vertex); the system becomes M + "
+             "(h^2 + h rS) L",
+             0),
     PL_FIELD(local_global_solver, compute_energy, "computeEnergy", PL_F_BOOL, "0",
              "record the incremental potential after each iteration (series \"energy\" in the "
              "timings file; \"energy0\": at the initial guess of each step; costs one energy "
@@ -91,6 +102,24 @@ static int find_first(pl_component *c, void *user)
 {
     *(pl_component **)user = c;
     return 1;
+}
+
+/* L damps rigid rotation (SOFA's tangent K does not): said once per state
+ * with no prescribed vertex. */
+static void warn_unfixed(local_global_solver *s, pl_ctx *ctx)
+{
+    const pl_dynamics *d = &s->dyn;
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = pl_component_role(d->states[k], PL_ROLE_STATE);
+        int off = ops->offset(d->states[k]), n = ops->count(d->states[k]), fixed = 0;
+        for (int i = off; i < off + n && !fixed; ++i) fixed = d->free_index[i] < 0;
+        if (!fixed)
+            pl_component_warn(&s->base, ctx,
+                              "rayleighStiffness: %s has no fixed vertex; the damping matrix "
+                              "(the rest stiffness L) also damps its rigid rotation, which "
+                              "SOFA's (the current tangent K) does not",
+                              d->states[k]->name);
+    }
 }
 
 static int lg_reinit(pl_component *c, pl_ctx *ctx)
@@ -143,8 +172,13 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
                                   "an exact global solver (SparseInverseSolver)",
                                   pl_component_path(s->solver, path, sizeof path),
                                   s->solver->type->name, s->nconstraints);
-    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 1);
+    if (!(s->rayleigh_stiffness >= 0))
+        return pl_component_error(c, ctx, PL_EINPUT, "rayleighStiffness must be >= 0 [s], got %g",
+                                  s->rayleigh_stiffness);
+    pl_dyn_scheme scheme = {s->first_order, s->rayleigh_stiffness};
+    int rc = pl_dynamics_setup(&s->dyn, c, ctx, pl_node_dt(c->node), 1, &scheme);
     if (rc) return rc;
+    if (s->rayleigh_stiffness > 0) warn_unfixed(s, ctx);
     s->dyn.sys.global_solver = s->solver;
     if (s->dyn.nfree > 0 && (rc = ops->factor(s->solver, &s->dyn.A_ff, ctx->timers, &err))) {
         pl_diag_add(ctx->diag, &err);
@@ -240,12 +274,13 @@ void pl_lg_end_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx)
     }
 }
 
-/* One local step: rhs <- M sn + h^2 sum w G^T (p - u). */
+/* One local step: rhs <- M' sn + h^2 sum w G^T (p - u) (M' the inertia
+ * masses, dynamics.h). */
 static int local_step(const local_global_solver *s, pl_dyn_work *w, pl_ctx *ctx, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
     for (int i = 0; i < d->n; ++i)
-        for (int k = 0; k < 3; ++k) w->rhs[3 * i + k] = d->mass[i] * w->sn[3 * i + k];
+        for (int k = 0; k < 3; ++k) w->rhs[3 * i + k] = d->inertia[i] * w->sn[3 * i + k];
     pl_buffer qb = pl_buffer_host_f64(w->q, (size_t)d->n, 3);
     pl_buffer rb = pl_buffer_host_f64(w->rhs, (size_t)d->n, 3);
     for (int t = 0; t < d->nterms; ++t) {
@@ -263,10 +298,14 @@ void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w)
 {
     const pl_dynamics *d = &s->dyn;
     if (s->initial_guess == 0) {
-        memcpy(w->q, w->sn, (size_t)d->n * 3 * sizeof(double));
+        /* not sn: with Rayleigh stiffness sn also carries the damping's
+         * right-hand side h rS M'^-1 L q_t, which is no position (L q_t is
+         * not zero at rest) and would start the iterations far away */
+        pl_dynamics_motion(d, w, w->q);
         return;
     }
-    for (int i = 0; i < 3 * d->n; ++i) w->q[i] = w->q_t[i] + d->h * w->v_t[i];
+    double hv = d->scheme.first_order ? 0.0 : d->h; /* first order: no velocity */
+    for (int i = 0; i < 3 * d->n; ++i) w->q[i] = w->q_t[i] + hv * w->v_t[i];
 }
 
 /* The force residual [N] at the current iterate w.q with the contact

@@ -241,6 +241,10 @@ static void lower_state(sofa_lower *L, xmlNode *e)
 static void lower_fem(sofa_lower *L, xmlNode *e, const char *tag)
 {
     char *m = sofa_get(e, "method");
+    /* SOFA's default method of the tetrahedral FEMs is "large" */
+    if (!m && (!strcmp(tag, "TetrahedronFEMForceField") ||
+               !strcmp(tag, "TetrahedralCorotationalFEMForceField")))
+        m = (char *)xmlStrdup((const xmlChar *)"large");
     if (m) {
         static const char *const ok[] = {"large", "polar", "svd", "qr", "polar2", NULL};
         int good = 0;
@@ -345,11 +349,8 @@ static void lower_component_attrs(sofa_lower *L, xmlNode *e, const char *tag)
         check_selection_link(L, e, "indices");
     if (!strcmp(tag, "CableConstraint")) {
         char *m = sofa_get(e, "method");
-        if (m && strcmp(m, "point"))
-            sofa_error(L, e, "method=\"%s\": only cables through points (method=\"point\") are "
-                             "in Pliant",
-                       m);
-        if (m) sofa_unset(e, "method");
+        if (m && strcmp(m, "point") && strcmp(m, "sphere") && strcmp(m, "geodesic"))
+            sofa_error(L, e, "method=\"%s\": expected point, sphere or geodesic", m);
         xmlFree(m);
     }
 }
@@ -428,8 +429,10 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         else if (strstr(tag, "Solver") || strstr(tag, "AnimationLoop") || strstr(tag, "LDLT") ||
                  strstr(tag, "LLT"))
             sofa_gather_solver(L, e, c);
-        else
+        else {
             sofa_error(L, e, "%s here: %s", tag, c->note); /* a BoxROI nobody could use */
+            sofa_remove(e);
+        }
         return;
     case PL_SOFA_SAME:
     case PL_SOFA_RENAME:
@@ -438,7 +441,8 @@ static void lower_element(sofa_lower *L, xmlNode *e)
         apply_attr_rules(L, e, tag);
         if (!strcmp(c->pliant, "CableConstraint") ||
             !strcmp(c->pliant, "SurfacePressureConstraint")) {
-            if (!L->nconstraints++) L->constraint_line = sofa_line(e);
+            if (!L->nconstraints++)
+                L->constraint_line = sofa_line(e), L->constraint_type = c->sofa; /* static */
         }
         if (c->kind == PL_SOFA_RENAME) xmlNodeSetName(e, (const xmlChar *)c->pliant);
         return;
@@ -516,7 +520,10 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     if (!sofa_flavoured(&L, L.root)) return;
     sofa_lower_plugins(&L);
     sofa_lower_lonely_collision(&L);
+    sofa_lower_grids(&L);
+    sofa_lower_collision(&L);
     sofa_lower_mapped_nodes(&L, L.root);
+    sofa_lower_value_mappers(&L);
     sofa_lower_rois(&L, L.root);
     lower_tree(&L, L.root);
     sofa_emit_solvers(&L);

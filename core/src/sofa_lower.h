@@ -37,6 +37,7 @@ typedef struct sofa_lower {
     int free_motion;          /* the loop is FreeMotionAnimationLoop */
     int nconstraints;         /* Lagrangian constraints (cables) of the scene */
     int constraint_line;      /* the first one's line */
+    const char *constraint_type; /* and its type (SOFA's name), for messages */
     xmlNode *large_fem[64];   /* FEM with method large/qr: rotation from the edges (solvers) */
     int nlarge;
 } sofa_lower;
@@ -78,9 +79,22 @@ void sofa_lower_rois(sofa_lower *L, xmlNode *node);
 void sofa_lower_container(sofa_lower *L, xmlNode *e);
 void sofa_gather_solver(sofa_lower *L, xmlNode *e, const pl_sofa_component *entry);
 void sofa_lower_springs(sofa_lower *L, xmlNode *e);
+/* A SOFA collision model (not a Pliant type of that name)? */
+int sofa_is_collision_model(sofa_lower *L, const xmlNode *e);
 void sofa_emit_solvers(sofa_lower *L);
 /* sofa_cavity.c: moves the SurfacePressureConstraint e of the mapped node
  * (its MechanicalObject mo) into the body's node. */
 void sofa_lower_cavity(sofa_lower *L, xmlNode *node, xmlNode *mo, xmlNode *e, int identity);
+/* sofa_cable_area.c: 1 when the CableConstraint e pulls areas (method
+ * sphere/geodesic); its copy `moved` in the body's node gets the surface. */
+int sofa_is_area_cable(xmlNode *e);
+void sofa_lower_area_cable(sofa_lower *L, xmlNode *node, xmlNode *e, xmlNode *moved);
+
+/* sofa_values.c: IndexValueMapper and BoxROI tetrahedronIndices -> per-element values */
+void sofa_lower_value_mappers(sofa_lower *L);
+/* sofa_grid.c: RegularGridTopology + Hexa2TetraTopologicalMapping -> RegularGridTetrahedra */
+void sofa_lower_grids(sofa_lower *L);
+/* sofa_collision.c: collision models and pipeline -> the collision plugin */
+void sofa_lower_collision(sofa_lower *L);
 
 #endif

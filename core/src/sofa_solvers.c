@@ -132,14 +132,15 @@ static xmlNode *first_component(sofa_lower *L)
     return NULL;
 }
 
-static void emit(sofa_lower *L, const char *tag, const char *name, int line, const char *a1,
-                 const char *v1, const char *a2, const char *v2)
+static xmlNode *emit(sofa_lower *L, const char *tag, const char *name, int line, const char *a1,
+                     const char *v1, const char *a2, const char *v2)
 {
     xmlNode *e = sofa_new_before(L, first_component(L), tag, line);
-    if (!e) return;
+    if (!e) return NULL;
     if (name) sofa_set(e, "name", name);
     if (a1) sofa_set(e, a1, v1);
     if (a2) sofa_set(e, a2, v2);
+    return e;
 }
 
 static void emit_plugins(sofa_lower *L)
@@ -169,27 +170,38 @@ static void emit_plugins(sofa_lower *L)
 }
 
 /* With Lagrangian constraints: LocalGlobalSolver, SparseInverseSolver and the
- * contact solver, which couple the constraints with the implicit step. */
+ * contact solver, which couple the constraints with the implicit step.
+ * firstOrder and rayleighStiffness become its fields (with L, the rest
+ * stiffness, for SOFA's tangent K: docs/sofa.md); under firstOrder SOFA
+ * uses neither Rayleigh factor (its system is M - h K, its right-hand side
+ * f), so neither is passed. */
 static void emit_constrained(sofa_lower *L, int line)
 {
-    if (L->rayleigh_stiffness != 0 || L->first_order)
-        pl_diag_error(L->diag, PL_EINPUT, L->file, L->ode_line, "EulerImplicitSolver",
-                      "%s with a Lagrangian constraint (line %d): the constraint is solved with "
-                      "LocalGlobalSolver, which has neither (SOFA's scheme, LinearizedEulerSolver, "
-                      "takes no constraints yet); remove it (rayleighMass becomes the damping)",
-                      L->first_order ? "firstOrder=\"true\"" : "rayleighStiffness",
-                      L->constraint_line);
     if (!L->free_motion || !L->consolver)
-        pl_diag_error(L->diag, PL_EINPUT, L->file, L->constraint_line, "CableConstraint",
+        pl_diag_error(L->diag, PL_EINPUT, L->file, L->constraint_line,
+                      L->constraint_type ? L->constraint_type : "constraint",
                       "a Lagrangian constraint: SOFA solves it only with FreeMotionAnimationLoop "
                       "and a constraint solver (GenericConstraintSolver, "
                       "BlockGaussSeidelConstraintSolver, ...) at the root, and ignores it "
                       "otherwise; add them");
-    char damping[40];
-    snprintf(damping, sizeof damping, "%.17g", L->rayleigh_mass);
+    double rm = L->rayleigh_mass, rs = L->rayleigh_stiffness;
+    if (L->first_order && (rm != 0 || rs != 0)) {
+        pl_diag_warn(L->diag, L->file, L->ode_line, "EulerImplicitSolver",
+                     "rayleighMass and rayleighStiffness are not used with firstOrder=\"true\" "
+                     "(SOFA's first-order system has no Rayleigh terms): ignored, as in SOFA");
+        rm = rs = 0;
+    }
+    char damping[40], stiff[40];
+    snprintf(damping, sizeof damping, "%.17g", rm);
+    snprintf(stiff, sizeof stiff, "%.17g", rs);
     emit(L, "NonSmoothNewtonContactSolver", L->con_name, line, NULL, NULL, NULL, NULL);
     emit(L, "SparseInverseSolver", L->lin_name, line, NULL, NULL, NULL, NULL);
-    emit(L, "LocalGlobalSolver", L->ode_name, line, "iterations", "20", "damping", damping);
+    xmlNode *lg =
+        emit(L, "LocalGlobalSolver", L->ode_name, line, "iterations", "20", "damping", damping);
+    if (lg) {
+        if (L->first_order) sofa_set(lg, "firstOrder", "1");
+        if (rs != 0) sofa_set(lg, "rayleighStiffness", stiff);
+    }
     L->need |= NEED_SPARSE_INVERSE | NEED_NCP_CONTACT;
 }
 

@@ -253,16 +253,19 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
     for (xmlNode *e = node->children; e; e = e->next)
         if (sofa_tag_is(e, "SurfacePressureConstraint")) sofa_lower_cavity(L, node, mo, e, identity);
     int n = 0, cables = 0;
-    for (xmlNode *e = node->children; e; e = e->next) cables += sofa_tag_is(e, "CableConstraint");
+    for (xmlNode *e = node->children; e; e = e->next)
+        cables += sofa_tag_is(e, "CableConstraint") && !sofa_is_area_cable(e);
     double *x = identity || !cables ? NULL : read_points(L, mo, &n);
     if (identity && xmlHasProp(mo, (const xmlChar *)"position"))
         sofa_error(L, mo, "under an IdentityMapping the points are the parent's vertices: remove "
                           "position");
     xmlNode *next;
-    for (xmlNode *e = node->children; e && (identity || x); e = next) {
+    for (xmlNode *e = node->children; e; e = next) {
         next = e->next;
         if (!sofa_tag_is(e, "CableConstraint")) continue;
-        if (xmlHasProp(e, (const xmlChar *)"centers")) {
+        int area = !identity && sofa_is_area_cable(e);
+        if (!area && !identity && !x) continue;
+        if (!area && xmlHasProp(e, (const xmlChar *)"centers")) {
             sofa_error(L, e, "centers in a mapped node: give indices of the mapped points");
             continue;
         }
@@ -270,7 +273,9 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         if (!moved) continue;
         moved->line = e->line;
         xmlAddPrevSibling(node, moved);
-        if (!identity) {
+        if (area) {
+            sofa_lower_area_cable(L, node, e, moved);
+        } else if (!identity) {
             char *pts = NULL;
             if (cable_points(L, e, x, n, &pts) < 0) {
                 sofa_remove(moved);
@@ -535,7 +540,7 @@ void sofa_lower_springs(sofa_lower *L, xmlNode *e)
 
 /* ---- collision models that cannot touch anything ------------------------- */
 
-static int is_sofa_collision_model(sofa_lower *L, const xmlNode *e)
+int sofa_is_collision_model(sofa_lower *L, const xmlNode *e)
 {
     const char *tag = (const char *)e->name;
     static const char *const old[] = {"TriangleModel", "LineModel", "PointModel", "SphereModel",
@@ -554,7 +559,7 @@ static int collision_models(sofa_lower *L, xmlNode *node, xmlNode **holder, int 
     for (xmlNode *e = node->children; e; e = e->next) {
         if (sofa_is_node(e)) {
             n += collision_models(L, e, holder, several, self);
-        } else if (sofa_is_element(e) && is_sofa_collision_model(L, e)) {
+        } else if (sofa_is_element(e) && sofa_is_collision_model(L, e)) {
             char *sc = sofa_get(e, "selfCollision");
             *self |= sofa_is_true(sc);
             xmlFree(sc);
@@ -576,7 +581,7 @@ void sofa_lower_lonely_collision(sofa_lower *L)
     sofa_node_path(holder, np, sizeof np);
     for (xmlNode *e = holder->children; e; e = next) {
         next = e->next;
-        if (!sofa_is_element(e) || !is_sofa_collision_model(L, e)) continue;
+        if (!sofa_is_element(e) || !sofa_is_collision_model(L, e)) continue;
         sofa_note(L, "lonely-collision", e,
                   "the scene's only collision models are those of '%s', which do not collide "
                   "with each other (no selfCollision): SOFA finds no contact, so they are "

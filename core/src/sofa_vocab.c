@@ -18,12 +18,20 @@
 
 static const char CORR[] = "a constraint correction: Pliant's contact solver works with the "
                            "global solver's factor itself";
-static const char PIPE[] = "a part of SOFA's collision pipeline: it acts only through "
-                           "collision models, which are refused where they could touch "
-                           "something and ignored where they cannot";
+static const char PIPE[] = "a part of SOFA's collision pipeline: with collision models that "
+                           "can touch, one CollisionPipeline (collision plugin) takes the "
+                           "intersection's alarmDistance and contactDistance and the "
+                           "response's mu (penalty responses refused); without, ignored";
 static const char COLL[] = "SOFA's collision models are not mapped yet (ignored when all "
                            "sit in one node without selfCollision: nothing to touch); closest: "
                            "SurfaceCollisionModel and the obstacles of Pliant's collision plugin";
+static const char COLLMAP[] = "on a body (its node, or a child node with its surface by "
+                              "Tetra2TriangleTopologicalMapping and IdentityMapping): "
+                              "SurfaceCollisionModel; in a node no ODE solver moves: "
+                              "MeshObstacle of its triangles (inline or a loader); the "
+                              "pipeline becomes CollisionPipeline (collision plugin), "
+                              "FrictionContactConstraint's mu its mu; elsewhere (a "
+                              "BarycentricMapping surface) refused";
 static const char LINSOLVE[] = "the linear solver of the step: LinearizedEulerSolver "
                                "linearSolver=\"direct\" (a Cholesky factor); with constraints "
                                "SparseInverseSolver at the root";
@@ -55,7 +63,8 @@ static const pl_sofa_component COMPONENTS[] = {
             "it: LinearizedEulerSolver, SOFA's scheme (one linearised step, Rayleigh damping, "
             "firstOrder); with Lagrangian constraints (cables) LocalGlobalSolver (iterations "
             "20), implicit Euler converged by local-global iterations, rayleighMass as its "
-            "damping, rayleighStiffness and firstOrder refused"),
+            "damping, its firstOrder and rayleighStiffness (with the rest stiffness for SOFA's "
+            "tangent K)"),
     REFUSED("EulerExplicitSolver", "explicit integration is not in Pliant; closest: "
                                    "EulerImplicitSolver (LocalGlobalSolver)"),
     REFUSED("RungeKutta4Solver", "explicit integration is not in Pliant; closest: "
@@ -90,10 +99,15 @@ static const pl_sofa_component COMPONENTS[] = {
            "MeshLoader (the format is read from the content)"),
     REFUSED("SphereLoader", "sphere collision models are not mapped; closest: "
                             "SurfaceCollisionModel (collision plugin)"),
-    REFUSED("RegularGridTopology", "not mapped yet; closest: RegularGridTetrahedra (min, max, n)"),
-    REFUSED("Hexa2TetraTopologicalMapping", "not mapped yet; closest: RegularGridTetrahedra"),
-    REFUSED("Tetra2TriangleTopologicalMapping",
-            "not mapped yet; SurfaceCollisionModel finds the boundary of the tetrahedra itself"),
+    LOWERED("RegularGridTopology", "RegularGridTetrahedra", NULL,
+            "with a Hexa2TetraTopologicalMapping into a body's TetrahedronSetTopologyContainer: "
+            "RegularGridTetrahedra (n, min, max: the same vertices in SOFA's order; 6 "
+            "tetrahedra per cell split along the main diagonal, where SOFA alternates)"),
+    LOWERED("Hexa2TetraTopologicalMapping", "RegularGridTetrahedra", NULL,
+            "from a RegularGridTopology: RegularGridTetrahedra in the body's node"),
+    LOWERED("Tetra2TriangleTopologicalMapping", NULL, NULL,
+            "a body's surface: for drawing (dropped with its node) or for collision models "
+            "under an IdentityMapping (SurfaceCollisionModel, the same boundary)"),
     LOWERED("TetrahedronSetTopologyContainer", NULL, NULL, TOPO),
     LOWERED("TriangleSetTopologyContainer", NULL, NULL, TOPO),
     LOWERED("MeshTopology", NULL, NULL, TOPO),
@@ -126,8 +140,9 @@ static const pl_sofa_component COMPONENTS[] = {
             "(hyperelastic plugin) on explicit indices"),
     SAME("ConstantForceField", NULL,
          "ConstantForceField (indices, forces, force, totalForce; without indices every point)"),
-    REFUSED("PlaneForceField", "a penalty plane is not in Pliant; closest: PlaneObstacle "
-                               "(collision plugin), a contact without penetration"),
+    SAME("PlaneForceField", NULL,
+         "PlaneForceField: SOFA's penalty plane (normal, d, stiffness, damping, bilateral), "
+         "energy stiffness/2 d^2 below the plane; the damping force is explicit, as in SOFA"),
     REFUSED("SpringForceField", "springs between points are not mapped"),
     REFUSED("StiffSpringForceField", "springs between points are not mapped"),
     REFUSED("RigidMapping", "it maps a rigid body (Rigid3 state), which Pliant does not have "
@@ -149,8 +164,11 @@ static const pl_sofa_component COMPONENTS[] = {
             "RestShapeSpringsForceField, ConstantForceField), which select the vertices whose "
             "rest positions lie inside (bounds included), as BoxROI does"),
     REFUSED("SphereROI", "not mapped yet; closest: BoxROI"),
-    REFUSED("IndexValueMapper", "per-element values from ROI selections are not mapped yet; "
-                                "give youngModulus one value per element instead"),
+    LOWERED("IndexValueMapper", NULL, NULL,
+            "per-element values of a FEM (youngModulus, poissonRatio linked to its "
+            "outputValues), from numbers or a BoxROI's tetrahedronIndices (all four vertices "
+            "in a box; strict=\"false\": the centre), evaluated at load on the rest mesh: the "
+            "FEM gets one value per element"),
     /* mappings */
     LOWERED("BarycentricMapping", NULL, NULL,
             "only in a child node that carries a cable's points (its MechanicalObject and "
@@ -171,9 +189,9 @@ static const pl_sofa_component COMPONENTS[] = {
     NOTED("CollisionResponse", PIPE),
     NOTED("DefaultContactManager", PIPE),
     NOTED("RuleBasedContactManager", PIPE),
-    REFUSED("TriangleCollisionModel", COLL),
-    REFUSED("LineCollisionModel", COLL),
-    REFUSED("PointCollisionModel", COLL),
+    LOWERED("TriangleCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
+    LOWERED("LineCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
+    LOWERED("PointCollisionModel", "SurfaceCollisionModel", "collision", COLLMAP),
     REFUSED("SphereCollisionModel", COLL),
     REFUSED("TriangleModel", COLL),
     REFUSED("LineModel", COLL),
@@ -182,7 +200,8 @@ static const pl_sofa_component COMPONENTS[] = {
     SAME("CableConstraint", "cable",
          "CableConstraint (cable plugin): indices, pullPoint, value, valueType, "
          "minForce, maxForce, maxPositiveDisp, maxNegativeDisp, maxDispVariation, "
-         "hasPullPoint, cableInitialLength, centers; method=\"geodesic\" and radii are refused"),
+         "hasPullPoint, cableInitialLength, centers; in a mapped node method=\"geodesic\" / \"sphere\" with "
+         "radii and surfaceTopology (pulled areas)"),
     SAME("SurfacePressureConstraint", "cable",
          "SurfacePressureConstraint (cable plugin): triangles, quads, value, valueIndex, "
          "valueType (pressure|volumeGrowth), minPressure, maxPressure, eqPressure, "
@@ -301,6 +320,10 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("ConstantForceField", "indices", "numbers or @ROI.indices"),
     A_REF("ConstantForceField", "indexFromEnd", "not mapped: give the indices"),
     A_IGN("ConstantForceField", "arrowSizeCoef", "drawing"),
+    A_REF("PlaneForceField", "maxForce", "a force cap is not mapped (the force is "
+                                         "stiffness * depth); remove it"),
+    A_REF("PlaneForceField", "localRange", "not mapped: the plane acts on every point"),
+    A_IGN("PlaneForceField", "planeColor", "drawing"),
     /* constraints */
     A_LOW("FixedConstraint", "indices", "numbers or @ROI.indices"),
     A_LOW("FixedProjectiveConstraint", "indices", "numbers or @ROI.indices"),
@@ -311,10 +334,12 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("EulerImplicitSolver", "rayleighMass", "LinearizedEulerSolver rayleighMass; with "
                                                  "constraints LocalGlobalSolver damping [1/s]"),
     A_LOW("EulerImplicitSolver", "rayleighStiffness",
-          "LinearizedEulerSolver rayleighStiffness; refused with constraints unless 0"),
+          "LinearizedEulerSolver rayleighStiffness; with constraints LocalGlobalSolver "
+          "rayleighStiffness (damping matrix: the rest stiffness, not the current K)"),
     A_LOW("EulerImplicitSolver", "vdamping", "refused unless 0"),
     A_LOW("EulerImplicitSolver", "firstOrder",
-          "LinearizedEulerSolver firstOrder; refused with constraints"),
+          "LinearizedEulerSolver firstOrder; with constraints LocalGlobalSolver firstOrder "
+          "(both: Rayleigh factors unused, as in SOFA)"),
     A_IGN("EulerImplicitSolver", "trapezoidalScheme", TUNE),
     A_IGN("EulerImplicitSolver", "solveConstraint", TUNE),
     A_IGN("EulerImplicitSolver", "threadSafeVisitor", TUNE),
@@ -357,7 +382,7 @@ static const pl_sofa_attr ATTRS[] = {
     A_IGN("BoxROI", "computeTetrahedra", "only vertex indices are linked"),
     A_IGN("BoxROI", "computeHexahedra", "only vertex indices are linked"),
     A_IGN("BoxROI", "computeQuad", "only vertex indices are linked"),
-    A_IGN("BoxROI", "strict", "only vertex indices are linked"),
+    A_IGN("BoxROI", "strict", "vertex indices are points; for tetrahedronIndices (IndexValueMapper) it is honoured"),
     A_REF("BoxROI", "orientedBox", "oriented boxes are not mapped; use axis-aligned boxes"),
     A_LOW("BoxROI", "position", "@dofs.rest_position (or a loader of the node): the rest "
                                 "positions Pliant's boxes select from; other points refused"),
@@ -374,10 +399,10 @@ static const pl_sofa_attr ATTRS[] = {
     A_LOW("IdentityMapping", "output", "the child node's MechanicalObject"),
     /* CableConstraint */
     A_LOW("CableConstraint", "indices", "in a mapped child node: the mapped points"),
-    A_LOW("CableConstraint", "method", "point only; geodesic refused"),
-    A_REF("CableConstraint", "radii", "averaging the vertices within a radius is not mapped: "
-                                      "give centers alone (nearest vertex) or indices"),
-    A_REF("CableConstraint", "surfaceTopology", "geodesic cables are not in Pliant"),
+    A_LOW("CableConstraint", "method", "point; sphere and geodesic pull areas of surfaceTopology"),
+    A_LOW("CableConstraint", "radii", "the radius of each center's pulled area"),
+    A_REF("CableConstraint", "surfaceTopology", "only for a surface cable (method sphere or "
+                                                "geodesic) in a mapped child node with a loader"),
     A_IGN("CableConstraint", "hasDisplacementVariation", "Pliant reads the bounds given"),
     /* SurfacePressureConstraint */
     A_LOW("SurfacePressureConstraint", "triangles",

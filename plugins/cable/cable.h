@@ -23,8 +23,9 @@ extern "C" {
 /* The cable's points as weighted vertices of one state. */
 typedef struct pl_cable_path {
     int npoints;
-    int *vert;            /* npoints x 4 local vertex indices, -1 = unused slot */
-    double *weight;       /* npoints x 4 barycentric weights (sum 1) */
+    int nslot;            /* vertex slots per point: 4, more for an area point */
+    int *vert;            /* npoints x nslot local vertex indices, -1 = unused slot */
+    double *weight;       /* npoints x nslot weights (sum 1) */
     int has_pull;         /* 1: the cable starts at the fixed point `pull` */
     double pull[3];       /* [m] */
 } pl_cable_path;
@@ -33,6 +34,8 @@ void cable_path_init(pl_cable_path *c);
 void cable_path_free(pl_cable_path *c);
 /* Allocates npoints points, every slot unused. PL_OK or PL_EINTERNAL. */
 int cable_path_alloc(pl_cable_path *c, int npoints);
+/* The same with nslot slots per point (an area point: many vertices). */
+int cable_path_alloc_slots(pl_cable_path *c, int npoints, int nslot);
 
 /* Point i of the cable for positions x (state-local, n x 3). */
 void cable_point(const pl_cable_path *c, const double *x, int i, double p[3]);

@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "cable.h"
+#include "cable_area.h"
 #include "pliant/util.h"
 
 enum { MODE_DISPLACEMENT = 0, MODE_FORCE = 1 };
@@ -53,6 +54,9 @@ typedef struct cable_constraint {
     pl_doubles min_force, max_force, max_positive_disp, max_negative_disp, max_disp_variation;
     double compliance;
     pl_link src;
+    int method;                   /* CABLE_AREA_*: point, or pulled areas around centers */
+    pl_doubles radii;
+    pl_link surface;              /* the triangle surface the areas lie on */
     double out_length, out_displacement, out_force;
     /* model */
     pl_component *state;
@@ -64,7 +68,7 @@ typedef struct cable_constraint {
 /* Per data (pl_data_workspace): the step's scratch. */
 typedef struct cable_ws {
     double *g;                    /* npoints x 3: dL/dP_i */
-    int *row_vert;                /* 4 npoints: merged row entries */
+    int *row_vert;                /* nslot npoints: merged row entries */
     double *row_coef;
 } cable_ws;
 
@@ -84,6 +88,7 @@ static cable_inputs inputs_of(const cable_constraint *cc, const pl_data *d)
 }
 
 static const char *const VALUE_TYPES[] = {"displacement", "force", NULL};
+static const char *const METHODS[] = {"point", "sphere", "geodesic", NULL};
 
 #define CC cable_constraint
 static const pl_field FIELDS[] = {
@@ -98,7 +103,8 @@ static const pl_field FIELDS[] = {
                    0, "positions"),
     PL_FIELD(CC, centers, "centers", PL_F_DOUBLES, NULL,
              "cable points [m], x y z each: each is replaced by the nearest vertex (as "
-             "SoftRobots' centers)",
+             "SoftRobots' centers); with method sphere / geodesic the centers of the pulled "
+             "areas",
              0),
     PL_FIELD(CC, pull_point, "pullPoint", PL_F_VEC3, "0 0 0",
              "fixed point the cable is pulled from [m]", PL_FIELD_INPUT),
@@ -143,6 +149,18 @@ static const pl_field FIELDS[] = {
     PL_FIELD(CC, src, "src", PL_F_LINK, NULL,
              "mesh whose tetrahedra carry the points of `position` (default: the node's first "
              "loader or generator)",
+             0),
+    PL_FIELD_ENUM(CC, method, "method", METHODS, "point",
+                  "point: the cable ends at its points; sphere / geodesic: each of `centers` is "
+                  "an area of `surface`, its points within radii of the center (straight / "
+                  "along the surface's edges) weighted by radius - distance, normalised "
+                  "(cable_area.c)",
+                  0),
+    PL_FIELD(CC, radii, "radii", PL_F_DOUBLES, NULL,
+             "radius [m] of each center's area (one for all; default 1)", 0),
+    PL_FIELD(CC, surface, "surface", PL_F_LINK, NULL,
+             "mesh (loader) whose triangles carry the areas; its points follow the "
+             "tetrahedra of `src` (SoftRobots' surfaceTopology in a mapped node)",
              0),
     PL_FIELD(CC, out_length, "cableLength", PL_F_DOUBLE, "0", "current cable length [m]",
              PL_FIELD_OUTPUT),
@@ -221,6 +239,23 @@ static int cc_init(pl_component *c, pl_ctx *ctx)
                                   cc->position.n ? "position" : "centers",
                                   cc->position.n ? cc->position.n : cc->centers.n);
     int npoints = cc->indices.n ? cc->indices.n : (cc->position.n + cc->centers.n) / 3;
+    if (cc->method != CABLE_AREA_POINT && (!cc->centers.n || !cc->surface.path))
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "method=\"%s\" needs centers and a surface (a loader of "
+                                  "triangles) to take the pulled areas from",
+                                  METHODS[cc->method]);
+    if (cc->method == CABLE_AREA_POINT && (cc->radii.n || cc->surface.path))
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "radii and surface mean pulled areas: set method=\"geodesic\" "
+                                  "or \"sphere\"");
+    if (cc->radii.n > 1 && cc->radii.n != npoints)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "radii: %d values for %d centers (give one, or one per center)",
+                                  cc->radii.n, npoints);
+    for (int i = 0; i < cc->radii.n; ++i)
+        if (!(cc->radii.v[i] > 0))
+            return pl_component_error(c, ctx, PL_EINPUT, "radii: entry %d is not a positive "
+                                                         "radius [m]", i);
     if (!cc->has_pull_point && npoints < 2)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "without a pull point (hasPullPoint=0) the cable needs at least "
@@ -238,12 +273,53 @@ static int cc_init(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
+/* Pulled areas (method sphere / geodesic): one weighted point per center. */
+static int build_area_path(cable_constraint *cc, pl_ctx *ctx, const double *x, int n)
+{
+    pl_component *c = &cc->base;
+    const pl_mesh *sm = pl_util_topology(c, &cc->surface, ctx, 1);
+    if (!sm) return PL_EINPUT;
+    if (sm->ntris == 0)
+        return pl_component_error(c, ctx, PL_EINPUT, "surface: '%s' has no triangles",
+                                  cc->surface.path);
+    const pl_mesh *m = pl_util_topology(c, &cc->src, ctx, 1);
+    if (!m) return PL_EINPUT;
+    if (m->ntets == 0 || m->nverts != n)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "surface: its points need a tetrahedral mesh with the state's "
+                                  "%d vertices (the mesh has %d vertices, %d tetrahedra)",
+                                  n, m->nverts, m->ntets);
+    cable_surface s = {sm->verts, sm->nverts, sm->tris, sm->ntris};
+    int bad, outside;
+    int rc = cable_area_path(&cc->path, &s, cc->centers.v, cc->centers.n / 3, cc->radii.v,
+                             cc->radii.n, cc->method, x, m->tets, m->ntets, &bad, &outside);
+    if (rc == PL_EINTERNAL) return pl_component_error(c, ctx, rc, "out of memory");
+    if (rc != PL_OK && bad >= 0)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "centers: no point of the surface '%s' lies within the radius "
+                                  "of center %d (%g %g %g)",
+                                  cc->surface.path, bad, cc->centers.v[3 * bad],
+                                  cc->centers.v[3 * bad + 1], cc->centers.v[3 * bad + 2]);
+    if (rc != PL_OK)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "the mesh has no tetrahedron of positive volume");
+    if (outside)
+        pl_component_warn(c, ctx,
+                          "surface: %d area points lie outside the body's tetrahedra; they follow "
+                          "the nearest one with extrapolated weights",
+                          outside);
+    cc->path.has_pull = cc->has_pull_point;
+    memcpy(cc->path.pull, cc->pull_point, sizeof cc->path.pull);
+    return PL_OK;
+}
+
 /* The points as weighted vertices of the state (rest positions x, n). */
 static int build_path(cable_constraint *cc, pl_ctx *ctx, const double *x, int n)
 {
     pl_component *c = &cc->base;
     pl_cable_path *p = &cc->path;
     int npoints = cc->indices.n ? cc->indices.n : (cc->position.n + cc->centers.n) / 3;
+    if (cc->method != CABLE_AREA_POINT) return build_area_path(cc, ctx, x, n);
     if (cable_path_alloc(p, npoints) != PL_OK)
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     p->has_pull = cc->has_pull_point;
@@ -336,8 +412,9 @@ static cable_ws *workspace(const cable_constraint *cc, pl_data *d)
     size_t np = (size_t)cc->path.npoints;
     if (w && !w->g) {
         w->g = malloc(np * 3 * sizeof *w->g);
-        w->row_vert = malloc(np * 4 * sizeof *w->row_vert);
-        w->row_coef = malloc(np * 12 * sizeof *w->row_coef);
+        size_t ns = (size_t)cc->path.nslot;
+        w->row_vert = malloc(np * ns * sizeof *w->row_vert);
+        w->row_coef = malloc(np * ns * 3 * sizeof *w->row_coef);
     }
     return w && w->g && w->row_vert && w->row_coef ? w : NULL;
 }

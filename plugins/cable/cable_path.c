@@ -17,28 +17,32 @@ void cable_path_free(pl_cable_path *c)
     c->npoints = 0;
 }
 
-int cable_path_alloc(pl_cable_path *c, int npoints)
+int cable_path_alloc(pl_cable_path *c, int npoints) { return cable_path_alloc_slots(c, npoints, 4); }
+
+int cable_path_alloc_slots(pl_cable_path *c, int npoints, int nslot)
 {
     cable_path_free(c);
-    if (npoints < 1) return PL_EINTERNAL;
-    c->vert = malloc((size_t)npoints * 4 * sizeof *c->vert);
-    c->weight = calloc((size_t)npoints * 4, sizeof *c->weight);
+    if (npoints < 1 || nslot < 1) return PL_EINTERNAL;
+    size_t total = (size_t)npoints * (size_t)nslot;
+    c->vert = malloc(total * sizeof *c->vert);
+    c->weight = calloc(total, sizeof *c->weight);
     if (!c->vert || !c->weight) {
         cable_path_free(c);
         return PL_EINTERNAL;
     }
-    for (int k = 0; k < 4 * npoints; ++k) c->vert[k] = -1;
+    for (size_t k = 0; k < total; ++k) c->vert[k] = -1;
     c->npoints = npoints;
+    c->nslot = nslot;
     return PL_OK;
 }
 
 void cable_point(const pl_cable_path *c, const double *x, int i, double p[3])
 {
     p[0] = p[1] = p[2] = 0.0;
-    for (int s = 0; s < 4; ++s) {
-        int v = c->vert[4 * i + s];
+    for (int s = 0; s < c->nslot; ++s) {
+        int v = c->vert[c->nslot * i + s];
         if (v < 0) continue;
-        double w = c->weight[4 * i + s];
+        double w = c->weight[c->nslot * i + s];
         for (int k = 0; k < 3; ++k) p[k] += w * x[3 * v + k];
     }
 }
@@ -99,16 +103,16 @@ int cable_row(const pl_cable_path *c, const double *g, int *vert, double *coef)
      * contact solver's warm start keys rows by their first entry) */
     int n = 0;
     for (int i = 0; i < c->npoints; ++i)
-        for (int s = 0; s < 4; ++s)
-            if (c->vert[4 * i + s] >= 0) n++;
+        for (int s = 0; s < c->nslot; ++s)
+            if (c->vert[c->nslot * i + s] >= 0) n++;
     entry *tmp = malloc((size_t)(n ? n : 1) * sizeof *tmp);
     if (!tmp) return -1;
     n = 0;
     for (int i = 0; i < c->npoints; ++i)
-        for (int s = 0; s < 4; ++s) {
-            int v = c->vert[4 * i + s];
+        for (int s = 0; s < c->nslot; ++s) {
+            int v = c->vert[c->nslot * i + s];
             if (v < 0) continue;
-            double w = c->weight[4 * i + s];
+            double w = c->weight[c->nslot * i + s];
             tmp[n].v = v;
             for (int k = 0; k < 3; ++k) tmp[n].c[k] = -w * g[3 * i + k];
             n++;

@@ -18,14 +18,10 @@ REF = os.environ.get("PLIANT_SOFTROBOTS_REFERENCE") or (
     os.path.join(_ROOT, "reference", "softrobots") if _ROOT else "")
 
 # script -> what the loader refuses today (issue 17's work)
-KNOWN = {
-    "CableConstraint/Finger.py":
-        "EulerImplicitSolver rayleighStiffness with a cable (LocalGlobalSolver has none)",
-    "CableConstraint/CableSmoothActuation.py":
-        "a surface cable (MechanicalObject without points) and Tetra2TriangleTopologicalMapping",
-}
+KNOWN = {}
 # scripts that run today (5 steps)
-RUNS = ["SurfacePressureConstraint/SurfacePressureConstraint.py"]
+RUNS = ["CableConstraint/Finger.py", "SurfacePressureConstraint/SurfacePressureConstraint.py",
+        "CableConstraint/CableSmoothActuation.py"]
 
 
 @pytest.mark.skipif(not os.path.isdir(REF), reason=f"no SoftRobots reference folder at {REF}")

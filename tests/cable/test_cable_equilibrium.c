@@ -181,6 +181,60 @@ START_TEST(force_and_displacement_modes_agree_at_equilibrium)
 }
 END_TEST
 
+/* A closed form with a cable under SOFA's schemes (LocalGlobalSolver
+ * firstOrder, rayleighStiffness): one vertex of mass m on a spring k to its
+ * rest point (0.1, 0, 0), no gravity, a cable from it to the pull point at
+ * the origin held d shorter from rest.  The vertex moves by -d along x in
+ * the first step and stays; the cable's tension is what balances it:
+ *   first order:   lambda_1 = k d + m d / h,            then k d;
+ *   second order:  lambda_1 = k d + m d / h^2 + c d / h, lambda_2 = k d - m d / h^2,
+ *                  then k d   (c = rS k).
+ * The step is quadratic along the cable, so the constrained solve is exact
+ * and the force residual, with the constraint force, zero.  A contact
+ * solve or a residual that kept M / h^2 (or left out the damping) differs
+ * by m d / h^2 or c d / h. */
+static void cable_spring_case(const char *scheme, int first_order, double rs)
+{
+    const double m = 0.2, k = 50, h = 0.01, dd = 0.002, c = rs * k;
+    char xml[4096];
+    snprintf(xml, sizeof xml,
+             "<Node name=\"root\" dt=\"0.01\" gravity=\"0 0 0\">\n"
+             "<RequiredPlugin name=\"hyperelastic\"/><RequiredPlugin name=\"sparse_inverse\"/>\n"
+             "<RequiredPlugin name=\"ncp_contact\"/><RequiredPlugin name=\"cable\"/>\n"
+             "<LocalGlobalSolver name=\"solver\" iterations=\"3\" computeResidual=\"on\" %s/>\n"
+             "<SparseInverseSolver/><NonSmoothNewtonContactSolver/>\n"
+             "<Node name=\"p\"><MechanicalObject name=\"dofs\" position=\"0.1 0 0\"/>\n"
+             "<UniformMass totalMass=\"0.2\"/><PositionTarget indices=\"0\" stiffness=\"50\"/>\n"
+             "<CableConstraint name=\"cable\" valueType=\"displacement\" value=\"0.002\" "
+             "pullPoint=\"0 0 0\" indices=\"0\"/>\n"
+             "</Node></Node>\n",
+             scheme);
+    pl_sim *s = ct_load(xml);
+    double expect[3] = {k * dd + m * dd / h + c * dd / h, k * dd, k * dd};
+    if (!first_order) expect[0] = k * dd + m * dd / (h * h) + c * dd / h, expect[1] = k * dd - m * dd / (h * h);
+    for (int step = 0; step < 3; ++step) {
+        ct_step(s, 1);
+        int n;
+        const double *q = ct_positions(s, "dofs", 0, &n);
+        double f = ct_get(s, "cable.force"), r = last(s, "force residual", NULL);
+        fprintf(stderr, "cable spring, %s, step %d: x %.9g m, tension %.9g N (closed form %.9g), "
+                        "residual %.2g N\n",
+                scheme, step + 1, q[0], f, expect[step], r);
+        ck_assert_double_lt(fabs(q[0] - (0.1 - dd)), 1e-12);
+        ck_assert_double_lt(fabs(f - expect[step]), 1e-9 * fabs(expect[step]) + 1e-12);
+        ck_assert_double_lt(r, 1e-9);
+    }
+    pl_sim_free(s);
+}
+
+START_TEST(the_cable_tension_follows_first_order_and_rayleigh_stiffness)
+{
+    cable_spring_case("", 0, 0.0); /* the plain scheme, for reference */
+    cable_spring_case("firstOrder=\"1\"", 1, 0.0);
+    cable_spring_case("rayleighStiffness=\"0.05\"", 0, 0.05);
+}
+END_TEST
+
 START_TEST(a_negative_force_tolerance_is_refused)
 {
     pl_diag d = ct_load_fail("<Node name=\"root\"><RequiredPlugin name=\"sparse_inverse\"/>"
@@ -202,6 +256,9 @@ int main(void)
     tcase_add_test(tc, force_tolerance_stops_the_iterations_below_it);
     tcase_add_test(tc, force_and_displacement_modes_agree_at_equilibrium);
     tcase_add_test(tc, a_negative_force_tolerance_is_refused);
+    TCase *sc = tcase_create("schemes"); /* SOFA's firstOrder, rayleighStiffness */
+    tcase_add_test(sc, the_cable_tension_follows_first_order_and_rayleigh_stiffness);
+    suite_add_tcase(s, sc);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

@@ -27,7 +27,7 @@ static const char *SCENE =
     "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">"
     "%s"
     "<LocalGlobalSolver name=\"solver\" iterations=\"6\" device=\"%s\" tolerance=\"%s\" "
-    "computeEnergy=\"%s\"/>"
+    "computeEnergy=\"%s\" %s/>"
     "<TestDenseSolver name=\"global\" deviceOk=\"%s\"/>"
     "%s"
     "<Node name=\"bar\">"
@@ -49,6 +49,7 @@ typedef struct setup {
     const char *after;         /* after the global solver */
     const char *solver_ok, *springs_ok;
     const char *extra;         /* more components in the bar */
+    const char *scheme;        /* more solver attributes (firstOrder, ...) */
 } setup;
 
 static pl_registry *registry(void)
@@ -65,7 +66,7 @@ static pl_registry *registry(void)
 
 static setup plain(const char *device)
 {
-    setup s = {device, "0", "0", "<HostDevice name=\"dev\"/>", "", "1", "1", ""};
+    setup s = {device, "0", "0", "<HostDevice name=\"dev\"/>", "", "1", "1", "", ""};
     return s;
 }
 
@@ -73,8 +74,8 @@ static setup plain(const char *device)
 static pl_sim *load(pl_registry *r, const setup *s, char *msg, size_t size)
 {
     char xml[4096];
-    snprintf(xml, sizeof xml, SCENE, s->before, s->device, s->tolerance, s->energy, s->solver_ok,
-             s->after, s->springs_ok, s->extra);
+    snprintf(xml, sizeof xml, SCENE, s->before, s->device, s->tolerance, s->energy, s->scheme,
+             s->solver_ok, s->after, s->springs_ok, s->extra);
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
@@ -154,6 +155,34 @@ START_TEST(device_path_equals_cpu_path_bitwise)
     /* the loop did run on the device service: 4 kernels per iteration, 6 iterations, 8 steps */
     ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * 6 * 4);
     pl_sim_free(sim);
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
+/* SOFA's schemes (firstOrder, rayleighStiffness) live in the inertia masses
+ * and the inertial target, which the host prepares: the device path
+ * follows them bitwise too (and they change the motion). */
+START_TEST(first_order_and_rayleigh_stiffness_on_the_device_equal_the_cpu)
+{
+    pl_registry *r = registry();
+    static result plain_cpu, cpu, dev;
+    const char *schemes[] = {"firstOrder=\"1\"", "rayleighStiffness=\"0.05\"",
+                             "firstOrder=\"1\" rayleighStiffness=\"0.05\""};
+    setup s = plain("cpu");
+    s.energy = "1";
+    run(r, &s, 8, &plain_cpu, NULL);
+    for (int k = 0; k < 3; ++k) {
+        s.scheme = schemes[k];
+        s.device = "cpu";
+        run(r, &s, 8, &cpu, NULL);
+        s.device = "cuda";
+        run(r, &s, 8, &dev, NULL);
+        assert_same(&dev, &cpu);
+        double d = 0;
+        for (size_t i = 0; i < cpu.m; ++i) d = fmax(d, fabs(cpu.x[i] - plain_cpu.x[i]));
+        ck_assert_msg(d > 1e-4, "%s changed nothing (%g m)", schemes[k], d);
+    }
     ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
 }
@@ -348,6 +377,7 @@ int main(void)
     TCase *tc = tcase_create("device path");
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, device_path_equals_cpu_path_bitwise);
+    tcase_add_test(tc, first_order_and_rayleigh_stiffness_on_the_device_equal_the_cpu);
     tcase_add_test(tc, tolerance_energy_and_profiling_agree);
     tcase_add_test(tc, auto_runs_on_the_device_when_it_can_and_on_the_cpu_otherwise);
     tcase_add_test(tc, constant_force_field_on_the_device_equals_the_cpu_bitwise);

@@ -42,8 +42,45 @@ static const bad_case CASES[] = {
     {"", "", "", "<UniformMass name=\"m2\" template=\"Rigid3d\" totalMass=\"1\"/>\n", "rigid", 8,
      "m2"},
     /* known SOFA components Pliant does not do: why, and the alternative */
-    {"", "", "", "<PlaneForceField normal=\"0 1 0\"/>\n", "closest: PlaneObstacle", 8,
-     "PlaneForceField"},
+    /* SOFA's penalty plane and per-element values, given wrong */
+    {"", "", "", "<PlaneForceField name=\"plane\" normal=\"0 0 0\"/>\n", "non-zero, finite normal",
+     8, "plane"},
+    {"", "", "", "<PlaneForceField name=\"plane\" maxForce=\"5\"/>\n", "force cap", 8, "plane"},
+    {"", "", "",
+     "<IndexValueMapper name=\"ivm\" indices=\"0 1 999999\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "999999 is not an element of the node's mesh", 8, "ivm"},
+    {"", "", "",
+     "<BoxROI name=\"b\" box=\"0 0\"/>\n<IndexValueMapper name=\"ivm\" "
+     "indices=\"@b.tetrahedronIndices\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "expected 6 numbers per box", 8, "b"},
+    /* SOFA's grids and still inline surfaces, given wrong */
+    {"", "", "",
+     "<RegularGridTopology name=\"g\" n=\"1 5 5\" min=\"0 0 0\" max=\"1 1 1\"/>\n"
+     "<TetrahedronSetTopologyContainer name=\"c\"/>\n"
+     "<Hexa2TetraTopologicalMapping input=\"@g\" output=\"@c\"/>\n",
+     "n: 1 vertices along x", 8, "g"},
+    {"", "", "",
+     "<RegularGridTopology name=\"g\" n=\"2 2\" min=\"0 0 0\" max=\"1 1 1\"/>\n"
+     "<TetrahedronSetTopologyContainer name=\"c\"/>\n"
+     "<Hexa2TetraTopologicalMapping input=\"@g\" output=\"@c\"/>\n",
+     "expected three vertex counts", 8, "g"},
+    {"", "", "",
+     "<RegularGridTopology name=\"g\" n=\"2 2 2\" min=\"0 0 0\" max=\"1 0 1\"/>\n"
+     "<TetrahedronSetTopologyContainer name=\"c\"/>\n"
+     "<Hexa2TetraTopologicalMapping input=\"@g\" output=\"@c\"/>\n",
+     "max must be above min", 8, "g"},
+    {"", "", "",
+     "<TriangleCollisionModel name=\"fc\"/>\n"
+     "</Node><Node name=\"floor\"><TriangleSetTopologyContainer name=\"t\" "
+     "position=\"0 0 0 1 0 0 0 0 1\" triangles=\"0 1 3\"/>\n"
+     "<MechanicalObject/><TriangleCollisionModel moving=\"0\" simulated=\"0\"/>\n",
+     "triangles: '3' is not one of the 3 points", 9, "t"},
+    {"", "", "",
+     "<IndexValueMapper name=\"ivm\" indices=\"@dofs.position\" value=\"5\"/>\n"
+     "<TetrahedronFEMForceField youngModulus=\"@ivm.outputValues\"/>\n",
+     "only a BoxROI's tetrahedronIndices", 8, "ivm"},
     {"", "", "", "<SphereROI name=\"s\" centers=\"0 0 0\" radii=\"1\"/>\n", "closest: BoxROI", 8,
      "SphereROI"},
     {"", "", "", "<PartialFixedProjectiveConstraint indices=\"0\"/>\n", "some directions", 8,
@@ -59,15 +96,17 @@ static const bad_case CASES[] = {
      "unknown component type 'FooBarForceField': neither a Pliant component nor a SOFA", 8, ""},
     {"", "", "", "<TetrahedronFEMForceFeld/>\n", "did you mean SOFA's TetrahedronFEMForceField?",
      8, ""},
-    /* integrators Pliant does not have */
-    {FREE_MOTION, "firstOrder=\"true\"", "",
+    /* a Lagrangian constraint without FreeMotionAnimationLoop: SOFA ignores
+     * it; the message names the constraint's own type */
+    {"", "", "",
      CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
                 "<BarycentricMapping/>"),
-     "firstOrder=\"true\" with a Lagrangian constraint", 5, "EulerImplicitSolver"},
-    {FREE_MOTION, "rayleighStiffness=\"0.1\"", "",
+     "SOFA solves it only with FreeMotionAnimationLoop", 10, "CableConstraint"},
+    /* SOFA's Rayleigh factors are >= 0 (with a cable too) */
+    {FREE_MOTION, "rayleighStiffness=\"-0.1\"", "",
      CABLE_NODE("position=\"-17.5 12.5 2.5\"", "<CableConstraint indices=\"0\"/>",
                 "<BarycentricMapping/>"),
-     "rayleighStiffness with a Lagrangian constraint", 5, "EulerImplicitSolver"},
+     "expected a number >= 0", 5, "ode"},
     {"", "vdamping=\"1\"", "", "", "velocity damping", 5, "ode"},
     {"", "", "", "</Node><Node name=\"other\"><MechanicalObject name=\"loose\" "
                  "position=\"0 0 0\"/>\n",
@@ -132,10 +171,11 @@ static const bad_case CASES[] = {
     {"", "", "", "<Node name=\"n\"><EulerImplicitSolver/><CGLinearSolver/><MechanicalObject/>"
                  "<TetrahedronSetTopologyContainer name=\"topo\" src=\"@../loader\"/></Node>\n",
      "another node", 8, "topo"},
-    /* collision models that could touch each other (two nodes) */
+    /* collision models that could touch each other (two nodes), one of them on
+     * points of no state: the body's is mapped, the other refused */
     {"", "", "", "<PointCollisionModel name=\"pc\"/>\n<Node name=\"sub\">"
                  "<TriangleCollisionModel/></Node>\n",
-     "collision models are not mapped yet", 8, "pc"},
+     "TriangleCollisionModel here: on a body", 9, "sub"},
     /* a rigid body's mapping: a known SOFA component, refused with the reason */
     {"", "", "", "<Node name=\"v\"><MechanicalObject name=\"m\" position=\"0 0 0\"/>"
                  "<RigidMapping name=\"rm\"/></Node>\n",

@@ -142,6 +142,61 @@ START_TEST(sofa_scene_gets_sofas_integrator)
 }
 END_TEST
 
+/* A SOFA cable scene's EulerImplicitSolver: with a Lagrangian constraint it
+ * becomes LocalGlobalSolver, with firstOrder and rayleighStiffness as its
+ * fields; under firstOrder SOFA uses no Rayleigh factor, and neither does
+ * Pliant (a warning says so). */
+static pl_sim *cable_scene(const char *ode, pl_diag *d)
+{
+    char xml[4096];
+    snprintf(xml, sizeof xml,
+             "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+             "<FreeMotionAnimationLoop/><GenericConstraintSolver/>\n"
+             "<Node name=\"finger\"><EulerImplicitSolver name=\"odesolver\" %s/>\n"
+             "<SparseLDLSolver/>\n"
+             "<MeshVTKLoader name=\"loader\" filename=\"" PL_SOURCE_DIR
+             "/scenes/meshes/finger.vtk\"/>\n"
+             "<MechanicalObject name=\"tetras\"/><UniformMass totalMass=\"0.5\"/>\n"
+             "<TetrahedronFEMForceField youngModulus=\"18000\" poissonRatio=\"0.3\"/>\n"
+             "<BoxROI name=\"ROI\" box=\"-15 0 0 5 10 15\"/>\n"
+             "<RestShapeSpringsForceField points=\"@ROI.indices\" stiffness=\"1e12\"/>\n"
+             "<Node name=\"cable\"><MechanicalObject position=\"-17.5 12.5 2.5 -32.5 12.5 2.5\"/>\n"
+             "<CableConstraint name=\"aCable\" indices=\"0 1\" pullPoint=\"0 12.5 2.5\"/>\n"
+             "<BarycentricMapping/></Node></Node></Node>\n",
+             ode);
+    pl_diag_init(d);
+    pl_sim *s = pl_sim_load_string(xml, "scene.scn", NULL, d);
+    if (!s) pl_diag_print(d, stderr);
+    ck_assert_ptr_nonnull(s);
+    return s;
+}
+
+START_TEST(cable_scene_maps_first_order_and_rayleigh_stiffness)
+{
+    pl_diag d;
+    pl_sim *s = cable_scene("rayleighStiffness=\"0.1\" rayleighMass=\"0.2\"", &d);
+    ck_assert_str_eq(pl_sim_component(s, "odesolver")->type->name, "LocalGlobalSolver");
+    ck_assert_double_eq(ct_get(s, "odesolver.rayleighStiffness"), 0.1);
+    ck_assert_double_eq(ct_get(s, "odesolver.damping"), 0.2);
+    ck_assert_double_eq(ct_get(s, "odesolver.firstOrder"), 0);
+    ct_step(s, 2);
+    pl_sim_free(s);
+    pl_diag_free(&d);
+    s = cable_scene("firstOrder=\"true\" rayleighStiffness=\"0.1\" rayleighMass=\"0.2\"", &d);
+    ck_assert_double_eq(ct_get(s, "odesolver.firstOrder"), 1);
+    ck_assert_double_eq(ct_get(s, "odesolver.rayleighStiffness"), 0);
+    ck_assert_double_eq(ct_get(s, "odesolver.damping"), 0);
+    const pl_error *w = NULL; /* a warning (ct_find_error finds errors) */
+    for (int k = 0; k < d.count && !w; ++k)
+        if (strstr(d.items[k].msg, "not used with firstOrder")) w = &d.items[k];
+    ck_assert_ptr_nonnull(w);
+    ck_assert_int_eq(w->line, 3);
+    ct_step(s, 2);
+    pl_sim_free(s);
+    pl_diag_free(&d);
+}
+END_TEST
+
 START_TEST(bad_settings_are_refused)
 {
     static const char *bad[] = {"iterations=\"0\"", "tolerance=\"-1\"",
@@ -204,6 +259,7 @@ int main(void)
     tcase_add_test(tc, spring_follows_sofas_recurrence);
     tcase_add_test(tc, bar_follows_converged_implicit_euler);
     tcase_add_test(tc, sofa_scene_gets_sofas_integrator);
+    tcase_add_test(tc, cable_scene_maps_first_order_and_rayleigh_stiffness);
     tcase_add_test(tc, bad_settings_are_refused);
     tcase_add_test(tc, cg_stopped_by_its_threshold_says_so);
     suite_add_tcase(s, tc);

@@ -124,7 +124,8 @@ typedef struct pl_system {
     const int *free_vertex;   /* per unknown: its global vertex */
     double h;                 /* time step [s] */
     pl_component *global_solver;
-    const double *mass;       /* per global vertex: lumped mass [kg] */
+    const double *mass;       /* per global vertex: the inertia term's lumped mass [kg]
+                               * (h m under LocalGlobalSolver firstOrder: W's scale) */
 } pl_system;
 
 /* ---- pl_global_solver: A^-1 for the constant system ---------------------- */
