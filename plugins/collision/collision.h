@@ -18,7 +18,9 @@
 #define PLIANT_COLLISION_H
 
 #include "pliant/error.h"
+#include "pliant/mesh.h"
 #include "pliant/rows.h"
+#include "detect.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -63,6 +65,17 @@ int shape_cylinder(pl_shape *s, const double center[3], const double axis[3], do
  * local axis, +x for radial directions. */
 double shape_query(const pl_shape *s, const double x[3], double closest[3], double normal[3]);
 
+/* Look-ahead: whether the straight path y0 -> y1 (a body point's motion over
+ * a step, relative to the shape) comes within alarm of the surface.  When it
+ * does, *t in [0, 1] is the path parameter of its first point at distance
+ * <= gap (the kept contactDistance: where the contact will be), or of its
+ * nearest point when it comes no closer, and closest / normal are that
+ * point's closest surface point and outward normal.  The shapes are convex,
+ * so the plane through closest along normal keeps the point out whatever
+ * the path does afterwards.  Returns 1 or 0. */
+int shape_sweep(const pl_shape *s, const double y0[3], const double y1[3], double alarm,
+                   double gap, double *t, double closest[3], double normal[3]);
+
 /* out = the shape moved by the rigid map x -> Rm x + tm. */
 void shape_transform(const pl_shape *s, const double Rm[9], const double tm[3], pl_shape *out);
 
@@ -99,6 +112,9 @@ void motion_pose(const pl_motion *m, double t, double R[9], double tr[3]);
  * translation uses its left derivative (the segment ending at t), i.e. the
  * velocity over a step that ends at t; 0 before the first key time. */
 void motion_velocity(const pl_motion *m, double t, const double p[3], double v[3]);
+/* The rigid map of the motion from time t0 to t1: a point moving with the
+ * shape from x at t0 is at R x + tr at t1. */
+void motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3]);
 /* Whether the motion moves anything at all. */
 int motion_is_static(const pl_motion *m);
 
@@ -118,6 +134,55 @@ typedef struct pl_obstacle_contact {
     int vertex;             /* the body point's first global vertex */
     int model;              /* index of its collision model (scene order) */
 } pl_obstacle_contact;
+
+/* ---- motion beyond the prediction (impact.c) ----------------------------- */
+
+/* A collision model's points over a step, summarised: their swept box from
+ * the start of the step to the prediction (x + h v + h^2 g for a body; an
+ * obstacle's pose at t and t + h), their mean velocity and how far the
+ * velocities spread around it. */
+typedef struct pl_reach {
+    pl_aabb box;      /* [m] */
+    double v[3];      /* mean velocity [m/s] */
+    double spread;    /* largest |v_i - v| [m/s] */
+    unsigned groups;
+    int n;            /* points */
+} pl_reach;
+
+/* n points x (at t, or for an obstacle posed at t + h) with velocities v
+ * (NULL: at rest), a body's gravity grav. */
+void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
+                 double h, const double grav[3], pl_reach *r);
+/* The largest relative speed [m/s] at which another of the n models (not
+ * model `except`, -1 for none; not sharing a group) can strike model k in
+ * this step: their boxes come within alarm of each other.  Model k's
+ * points may move that speed times h beyond their prediction.  With
+ * spreads, the bound on any two of their points (the mean velocities'
+ * difference plus both spreads: a spinning body's rim): the detection
+ * boxes; without, the mean velocities' difference alone: what an analytic
+ * obstacle, which sees the other models only as boxes, takes as the
+ * strike (with spreads, a body gripped by a turning gripper looked struck
+ * at the rim speed and got rows up to that speed times h from the floor). */
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int spreads);
+
+/* ---- messy obstacle meshes (mesh_clean.c) ------------------------------- */
+
+/* What coll_mesh_clean changed and found. */
+typedef struct coll_clean_report {
+    int degenerate;        /* triangles removed: a repeated vertex or no area */
+    int duplicate;         /* triangles removed: a second one on the same three vertices */
+    int border_edges;      /* edges of one triangle (left as they are) */
+    int nonmanifold_edges; /* edges of three or more triangles (left as they are) */
+    int misoriented_edges; /* edges of two triangles that run them the same way */
+    int edges;             /* distinct edges */
+} coll_clean_report;
+/* Removes degenerate and duplicate triangles from m (vertices untouched)
+ * and counts the border and non-manifold edges left.  PL_OK or
+ * PL_EINTERNAL (out of memory). */
+int coll_mesh_clean(pl_mesh *m, coll_clean_report *r);
+/* Whether the cleaned surface encloses a volume: at most 1 % of its edges
+ * are borders or misoriented (non-manifold fins do not count). */
+int coll_mesh_encloses(const coll_clean_report *r);
 
 /* ---- collision groups (groups.c) ----------------------------------------- */
 #define PL_COLLISION_MAX_GROUP 32

@@ -60,21 +60,44 @@ static int oppose_motion(const double c[3], const double d[3], double n[3])
     return 1;
 }
 
-/* diff = x_p - (the point of triangle tri at weights w), at the start of the
- * step; motion = their relative motion over the step (predicted, x1). */
+/* diff = x_p - (the point of triangle tri at weights w), at the instant s
+ * of the step (0: its start); motion = their relative motion over the step
+ * (predicted, x1). */
 static void offset_and_motion(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, const int *tri,
-                              const double w[3], double diff[3], double motion[3])
+                              const double w[3], double s, double diff[3], double motion[3])
 {
-    const double *x = &P->x0[3 * p];
+    double x[3], t[3][3];
+    coll_at(P, p, s, x);
+    for (int a = 0; a < 3; ++a) coll_at(T, tri[a], s, t[a]);
     for (int k = 0; k < 3; ++k) {
         double c = 0.0;
-        motion[k] = P->x1[3 * p + k] - x[k];
+        motion[k] = P->x1[3 * p + k] - P->x0[3 * p + k];
         for (int a = 0; a < 3; ++a) {
-            c += w[a] * T->x0[3 * tri[a] + k];
+            c += w[a] * t[a][k];
             motion[k] -= w[a] * (T->x1[3 * tri[a] + k] - T->x0[3 * tri[a] + k]);
         }
         diff[k] = x[k] - c;
     }
+}
+
+/* The unit normal of triangle j of T at the instant s (outward for a
+ * one-sided mesh): the one prepared at the start of the step when s = 0. */
+static void face_normal_at(const pl_coll_mesh *T, int j, double s, double nf[3])
+{
+    if (s == 0.0) {
+        memcpy(nf, &T->fnormal[3 * j], 3 * sizeof *nf);
+        return;
+    }
+    double a[3], b[3], c[3], u[3], v[3];
+    coll_at(T, T->tris[3 * j], s, a);
+    coll_at(T, T->tris[3 * j + 1], s, b);
+    coll_at(T, T->tris[3 * j + 2], s, c);
+    for (int k = 0; k < 3; ++k) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+    nf[0] = u[1] * v[2] - u[2] * v[1];
+    nf[1] = u[2] * v[0] - u[0] * v[2];
+    nf[2] = u[0] * v[1] - u[1] * v[0];
+    double len = sqrt(dot3(nf, nf)), f = len > 0.0 ? T->orientation / len : 0.0;
+    for (int k = 0; k < 3; ++k) nf[k] *= f;
 }
 
 /* Whether vertex p is predicted (x1) to be over the inside of triangle tri
@@ -143,7 +166,7 @@ static int vv_kept(const coll_vv_kept *kv, int v, int p)
  * faces), so the second pass keeps it. */
 int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *T, int it,
                         int j, int self, const coll_vv_kept *second, const pl_detect_params *prm,
-                        pl_proximity *out, int *face)
+                        pl_proximity *out, int *face, double *rank)
 {
     const int *tri = &T->tris[3 * j];
     if (self && (tri[0] == p || tri[1] == p || tri[2] == p)) return 0;
@@ -151,18 +174,39 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
     if (!is_active(P, p) && !is_active(T, tri[0]) && !is_active(T, tri[1]) &&
         !is_active(T, tri[2]))
         return 0;
-    const double *x = &P->x0[3 * p];
-    double w[3];
-    double d0 = sqrt(closest_point_triangle(x, &T->x0[3 * tri[0]], &T->x0[3 * tri[1]],
-                                               &T->x0[3 * tri[2]], w));
+    double w[3], s = 0.0, x[3], ta[3], tb[3], tc[3];
+    double d0 = sqrt(closest_point_triangle(&P->x0[3 * p], &T->x0[3 * tri[0]],
+                                               &T->x0[3 * tri[1]], &T->x0[3 * tri[2]], w));
+    if (d0 >= prm->alarm) {
+        /* far now: measured where the predicted motion brings it into
+         * contact (look-ahead), or dropped when it never comes near */
+        if (!coll_vf_lookahead(P, p, T, tri, d0, prm, &s)) return 0;
+        coll_at(P, p, s, x);
+        coll_at(T, tri[0], s, ta);
+        coll_at(T, tri[1], s, tb);
+        coll_at(T, tri[2], s, tc);
+        d0 = sqrt(closest_point_triangle(x, ta, tb, tc, w));
+    }
     for (int a = 0; a < 3; ++a)
         if (w[a] > 1.0 - EDGE_END &&
             ((second && vv_kept(second, tri[a], p)) || (self && p > tri[a])))
             return 0;
-    double diff[3], motion[3];
-    offset_and_motion(P, p, T, tri, w, diff, motion);
-    const double *nf = &T->fnormal[3 * j];
+    double diff[3], motion[3], nf[3];
+    offset_and_motion(P, p, T, tri, w, s, diff, motion);
+    face_normal_at(T, j, s, nf);
     double n[3], gap, tiny = tiny_of(prm), height = dot3(diff, nf);
+    if (s > 0.0) {
+        /* only a point coming from outside a closed mesh, and still on the
+         * side it starts on: a path that has passed the face's plane beside
+         * the triangle by then (into a closed mesh through another face),
+         * or that runs inside it towards the face from behind (a vertex of
+         * a body far across the mesh), is not this face's contact */
+        double d[3], m[3], nf0[3];
+        offset_and_motion(P, p, T, tri, w, 0.0, d, m);
+        face_normal_at(T, j, 0.0, nf0);
+        double h0 = dot3(d, nf0);
+        if (h0 * height <= 0.0 || (!T->two_sided && h0 < 0.0)) return 0;
+    }
     int over_face = foot_inside(height, d0); /* over the face, not beside it */
     memset(out, 0, sizeof *out);
     out->kind = PL_PROX_VERTEX_FACE;
@@ -188,7 +232,7 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
          * the apex meets the face's inside); the plane, and so the gap along
          * the face normal, is the same */
         over_face = 1;
-        offset_and_motion(P, p, T, tri, w, diff, motion);
+        offset_and_motion(P, p, T, tri, w, s, diff, motion);
         height = dot3(diff, nf);
         for (int a = 0; a < 3; ++a) out->wb[a] = w[a];
     }
@@ -222,9 +266,21 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
             return 0;
         gap = 0.0;
     }
+    if (s > 0.0) {
+        /* the gap the row has at the start of the step: a contact found
+         * later in the step is a plane the point must not cross on its way
+         * there, so the point starts in front of it (else it is measured
+         * where the point has already passed another face: no contact) */
+        offset_and_motion(P, p, T, tri, out->wb, 0.0, diff, motion);
+        gap = dot3(n, diff);
+        if (!(gap > 0.0)) return 0;
+    }
     double approach = -dot3(n, motion);
-    if (!(gap - (approach > 0.0 ? approach : 0.0) < prm->alarm)) return 0;
+    if (!(gap - (approach > 0.0 ? approach : 0.0) - prm->margin < prm->alarm)) return 0;
     *face = over_face;
+    /* nearest first; pairs in contact only later in the step come after
+     * those in contact now, earliest first */
+    *rank = s > 0.0 ? prm->alarm * (1.0 + s) + d0 : fabs(gap);
     memcpy(out->normal, n, sizeof n);
     out->gap = gap;
     if (T->two_sided) out->side = dot3(n, nf) >= 0.0 ? 1 : -1;
@@ -392,8 +448,20 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
         return 0;
     const double *pa0 = &A->x0[3 * a0], *pa1 = &A->x0[3 * a1];
     const double *pb0 = &B->x0[3 * b0], *pb1 = &B->x0[3 * b1];
-    double s, t;
+    double s, t, when = 0.0, xa0[3], xa1[3], xb0[3], xb1[3];
     double d0 = sqrt(closest_segments(pa0, pa1, pb0, pb1, &s, &t));
+    if (d0 >= prm->alarm) {
+        /* far now: measured where the predicted motion brings them into
+         * contact (look-ahead), or dropped when they never come near */
+        if (!coll_ee_lookahead(A, &A->edges[2 * e], B, &B->edges[2 * f], d0, prm, &when))
+            return 0;
+        coll_at(A, a0, when, xa0);
+        coll_at(A, a1, when, xa1);
+        coll_at(B, b0, when, xb0);
+        coll_at(B, b1, when, xb1);
+        pa0 = xa0, pa1 = xa1, pb0 = xb0, pb1 = xb1;
+        d0 = sqrt(closest_segments(pa0, pa1, pb0, pb1, &s, &t));
+    }
     if (s < EDGE_END || s > 1.0 - EDGE_END || t < EDGE_END || t > 1.0 - EDGE_END) {
         /* closest at an end now (a cloth edge from a vertex that sits on a
          * blade's apex): the ends' vertex contacts hold the distance, but
@@ -417,8 +485,10 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
         ea[k] = pa1[k] - pa0[k];
         eb[k] = pb1[k] - pb0[k];
         diff[k] = (pa0[k] + s * ea[k]) - (pb0[k] + t * eb[k]);
-        motion[k] = (1.0 - s) * (A->x1[3 * a0 + k] - pa0[k]) + s * (A->x1[3 * a1 + k] - pa1[k]) -
-                    (1.0 - t) * (B->x1[3 * b0 + k] - pb0[k]) - t * (B->x1[3 * b1 + k] - pb1[k]);
+        motion[k] = (1.0 - s) * (A->x1[3 * a0 + k] - A->x0[3 * a0 + k]) +
+                    s * (A->x1[3 * a1 + k] - A->x0[3 * a1 + k]) -
+                    (1.0 - t) * (B->x1[3 * b0 + k] - B->x0[3 * b0 + k]) -
+                    t * (B->x1[3 * b1 + k] - B->x0[3 * b1 + k]);
     }
     cr[0] = ea[1] * eb[2] - ea[2] * eb[1];
     cr[1] = ea[2] * eb[0] - ea[0] * eb[2];
@@ -486,8 +556,15 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
     if ((along_face(B, f, n, pa0, pa1) && ends_near(pa0, pa1, pb0, pb1, prm->alarm)) ||
         (along_face(A, e, n, pb0, pb1) && ends_near(pb0, pb1, pa0, pa1, prm->alarm)))
         return 0;
+    if (when > 0.0) { /* the gap the row has at the start of the step (as for vertices) */
+        gap = 0.0;
+        for (int k = 0; k < 3; ++k)
+            gap += n[k] * ((1.0 - s) * A->x0[3 * a0 + k] + s * A->x0[3 * a1 + k] -
+                           (1.0 - t) * B->x0[3 * b0 + k] - t * B->x0[3 * b1 + k]);
+        if (!(gap > 0.0)) return 0;
+    }
     double approach = -dot3(n, motion);
-    if (!(gap - (approach > 0.0 ? approach : 0.0) < prm->alarm)) return 0;
+    if (!(gap - (approach > 0.0 ? approach : 0.0) - prm->margin < prm->alarm)) return 0;
     memcpy(out->normal, n, sizeof n);
     out->gap = gap;
     return 1;

@@ -179,6 +179,10 @@ const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proxim
 
 typedef struct pl_detect_params {
     double alarm;        /* alarmDistance [m] */
+    double contact;      /* contactDistance [m]: a pair far apart at the start of the step is
+                            measured where it will be this close (look-ahead) */
+    double margin;       /* motion the prediction x1 may miss [m] (a body hit by another in
+                            this step): pairs are kept that far beyond alarm */
     const pl_side_hints *hints; /* sides from the previous step (NULL: none) */
     int vertex_face;     /* detect vertex-triangle proximities (both directions) */
     int edge_edge;       /* detect edge-edge proximities */

@@ -23,14 +23,28 @@ int coll_vv_collect(const pl_proximities *items, int from, int nb, coll_vv_kept 
 
 /* Vertex p of P against triangle j of T (self: P == T; second: in the
  * second direction of a pair, the vertex-vertex proximities the first kept,
- * NULL in the first).  Fills out and *face (the vertex projects inside the
- * triangle); returns 1 when the pair is kept. */
+ * NULL in the first).  Fills out, *face (the vertex projects inside the
+ * triangle) and *rank (the order in which a vertex's proximities are
+ * considered: nearest first, those found by look-ahead after the others,
+ * earliest first); returns 1 when the pair is kept. */
 int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *T, int it, int j,
                       int self, const coll_vv_kept *second, const pl_detect_params *prm,
-                      pl_proximity *out, int *face);
+                      pl_proximity *out, int *face, double *rank);
 
 /* Edge e of A against edge f of B; fills out, returns 1 when kept. */
 int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *B, int ib, int f,
                       int self, const pl_detect_params *prm, pl_proximity *out);
+
+/* Look-ahead (lookahead.c).  Position of vertex v of m at the instant s of
+ * the step, x0 + s (x1 - x0) (exactly x0 at s = 0). */
+void coll_at(const pl_coll_mesh *m, int v, double s, double out[3]);
+/* For a pair farther apart than alarm at the start of the step (distance
+ * d0): whether it comes within alarm + margin during the step, and *s the
+ * instant at which to measure it: the first at which it is within the
+ * kept gap (contactDistance), else its nearest.  1 or 0. */
+int coll_vf_lookahead(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, const int *tri,
+                      double d0, const pl_detect_params *prm, double *s);
+int coll_ee_lookahead(const pl_coll_mesh *A, const int *ea, const pl_coll_mesh *B,
+                      const int *eb, double d0, const pl_detect_params *prm, double *s);
 
 #endif

@@ -18,6 +18,7 @@ typedef struct mesh_obstacle {
     double mu;
     pl_ints group;
     int sides;
+    pl_mesh_sides use_sides;   /* sides, with auto resolved for a messy surface at bind */
     double velocity[3], rotation_axis[3], angular_velocity;
     pl_doubles rotation_center, times, translations;
     /* model */
@@ -43,7 +44,8 @@ static const pl_field FIELDS[] = {
     PL_FIELD_ENUM(mesh_obstacle, sides, "sides", SIDES, "auto",
                   "which sides repel: one (a closed surface: its outside; points inside are pushed "
                   "out), two (a thin sheet such as a knife blade: both sides, each point kept on "
-                  "the side it starts the step on) or auto (one when the surface is closed)",
+                  "the side it starts the step on) or auto (one when the surface is closed, or encloses "
+                  "a volume after cleaning: at most 1 percent of its edges borders or misoriented)",
                   0),
     PL_FIELD(mesh_obstacle, velocity, "velocity", PL_F_VEC3, "0 0 0",
              "constant translation velocity [m/s]", PL_FIELD_RUNTIME),
@@ -111,6 +113,41 @@ static int mo_init(pl_component *c, pl_ctx *ctx)
     return PL_OK;
 }
 
+/* Scanned meshes come with duplicate and degenerate triangles: removed,
+ * with a warning that says what changed (mesh_clean.c). */
+static int clean(mesh_obstacle *o, pl_ctx *ctx)
+{
+    pl_component *c = &o->base;
+    pl_mesh *m = &o->mesh;
+    int ntris = m->ntris;
+    coll_clean_report r;
+    if (coll_mesh_clean(m, &r)) return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    if (m->ntris == 0)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "the surface has no triangle with an area (%d degenerate)",
+                                  r.degenerate);
+    if (r.degenerate || r.duplicate)
+        pl_component_warn(c, ctx,
+                          "cleaned on load: removed %d duplicate triangle(s) and %d degenerate "
+                          "one(s) (a repeated vertex or no area); %d of %d triangles remain",
+                          r.duplicate, r.degenerate, m->ntris, ntris);
+    o->use_sides = (pl_mesh_sides)o->sides;
+    if (!r.border_edges && !r.nonmanifold_edges && !r.misoriented_edges) return PL_OK;
+    int one = o->sides == PL_SIDES_AUTO && coll_mesh_encloses(&r);
+    if (one) o->use_sides = PL_SIDES_ONE;
+    /* a plain open sheet (a blade, a plate) is what two sides are for */
+    if (!one && !r.nonmanifold_edges && !r.misoriented_edges) return PL_OK;
+    pl_component_warn(c, ctx,
+                      "the surface is not closed: %d border edge(s), %d edge(s) shared by more "
+                      "than two triangles, %d misoriented edge(s) of %d; %s",
+                      r.border_edges, r.nonmanifold_edges, r.misoriented_edges, r.edges,
+                      one ? "it encloses a volume all the same (at most 1 % of its edges are "
+                            "borders or misoriented): only its outside repels (sides=\"one\")"
+                          : o->sides == PL_SIDES_AUTO ? "both sides repel (sides=\"two\")"
+                                                      : "sides as given");
+    return PL_OK;
+}
+
 /* The mesh is read at bind: a linked loader or generator is ready then. */
 static int mo_bind(pl_component *c, pl_ctx *ctx)
 {
@@ -118,6 +155,7 @@ static int mo_bind(pl_component *c, pl_ctx *ctx)
     free_model(o);
     int rc = coll_mesh_source_load(c, ctx, &o->source, &o->mesh);
     if (rc) return rc;
+    if ((rc = clean(o, ctx))) return rc;
     if (triangle_edges(o->mesh.tris, o->mesh.ntris, &o->edges, &o->nedges))
         return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     size_t n = (size_t)(o->mesh.nverts ? o->mesh.nverts : 1);
@@ -188,7 +226,7 @@ static int is_mesh_obstacle(const pl_component *c)
 
 pl_mesh_sides coll_model_sides(const pl_component *c)
 {
-    if (is_mesh_obstacle(c)) return (pl_mesh_sides)((const mesh_obstacle *)c)->sides;
+    if (is_mesh_obstacle(c)) return ((const mesh_obstacle *)c)->use_sides;
     return coll_surface_model_solid(c) ? PL_SIDES_ONE : PL_SIDES_AUTO;
 }
 

@@ -46,6 +46,7 @@ typedef struct coll_mesh_source {
  * by scale3d, rotation, translation.  Errors are recorded against c. */
 int coll_mesh_source_load(pl_component *c, pl_ctx *ctx, coll_mesh_source *s, pl_mesh *out);
 
+
 /* The sides setting of a collision model of this plugin: MeshObstacle's
  * field; one for the boundary of a tetrahedral body (a solid, whatever
  * non-manifold edges its boundary has where parts of it touch); auto for

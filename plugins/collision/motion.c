@@ -133,3 +133,17 @@ void motion_velocity(const pl_motion *m, double t, const double p[3], double v[3
     v[1] = ds[1] + w * (a[2] * r[0] - a[0] * r[2]);
     v[2] = ds[2] + w * (a[0] * r[1] - a[1] * r[0]);
 }
+
+void motion_step_map(const pl_motion *m, double t0, double t1, double R[9], double tr[3])
+{
+    double R0[9], t0v[3], R1[9], t1v[3];
+    motion_pose(m, t0, R0, t0v);
+    motion_pose(m, t1, R1, t1v);
+    /* x(t1) = R1 R0^T (x(t0) - tr0) + tr1 */
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            R[3 * i + j] = R1[3 * i] * R0[3 * j] + R1[3 * i + 1] * R0[3 * j + 1] +
+                           R1[3 * i + 2] * R0[3 * j + 2];
+    for (int i = 0; i < 3; ++i)
+        tr[i] = t1v[i] - (R[3 * i] * t0v[0] + R[3 * i + 1] * t0v[1] + R[3 * i + 2] * t0v[2]);
+}

@@ -1,11 +1,14 @@
 /* obstacle.c - the constraint role shared by the analytic obstacles.  Once
  * per step (LocalGlobalSolver, Algorithm 4) every body point of every
  * collision model of the scene is tested against the obstacle posed at the
- * END of the step (t + h: the unknowns q are positions at t + h), using the
- * positions at the start of the step; a point with signed distance below
- * alarmDistance gets a contact: one normal and two friction rows (see
- * collision.h for the conventions).  Contacts are recorded in the pl_data
- * slot "contacts" and receive their forces after the step. */
+ * END of the step (t + h: the unknowns q are positions at t + h): a point
+ * within alarmDistance at the start of the step, or whose predicted path
+ * over the step (x + h v + h^2 g, relative to the obstacle's own motion)
+ * comes within it, gets a contact: one normal and two friction rows (see
+ * collision.h for the conventions), along the normal at the first point of
+ * that path at contactDistance, so that fast bodies are stopped at the
+ * surface instead of tunnelling.  Contacts are recorded in the pl_data slot
+ * "contacts" and receive their forces after the step. */
 #include <limits.h>
 #include <math.h>
 #include <stddef.h>
@@ -162,7 +165,23 @@ void coll_obstacle_destroy(pl_component *c)
 void coll_obstacle_workspace_free(const pl_component *c, void *ws)
 {
     (void)c;
-    free(((coll_obstacle_ws *)ws)->work);
+    coll_obstacle_ws *w = ws;
+    free(w->work);
+    free(w->geo);
+    free(w->reach);
+}
+
+/* The workspace's per-model arrays, sized for the scene's models. */
+static int fit_models(const coll_obstacle *o, coll_obstacle_ws *ws)
+{
+    if (ws->geo && ws->nmodels == o->nmodels) return PL_OK;
+    free(ws->geo);
+    free(ws->reach);
+    size_t n = (size_t)(o->nmodels ? o->nmodels : 1);
+    ws->geo = calloc(n, sizeof *ws->geo);
+    ws->reach = calloc(n, sizeof *ws->reach);
+    ws->nmodels = o->nmodels;
+    return ws->geo && ws->reach ? PL_OK : PL_EINTERNAL;
 }
 
 static pl_obstacle_contact *push_record(coll_obstacle_ws *o)
@@ -197,17 +216,53 @@ static int point_vertices(const pl_collision_geometry *g, int i, const pl_system
     return nfree ? nv : 0;
 }
 
+/* The shape posed at both ends of the step, the motion between them, and
+ * what a body point's predicted motion needs. */
+typedef struct posed {
+    pl_shape s;            /* at t + h (the unknowns are positions at t + h) */
+    double R[9], tr[3];    /* the obstacle's own motion from t to t + h */
+    double t1, h, g[3];    /* end time [s], step [s], the model's gravity [m/s^2] */
+    double margin;         /* how far the model may move beyond its prediction [m] */
+} posed;
+
+/* Where point i of g will be in contact, if anywhere: its position at the
+ * start of the step when within alarmDistance there (as always), else the
+ * first point of its predicted path over the step (x + h v + h^2 g,
+ * relative to the moving obstacle) that comes within contactDistance, or
+ * within alarmDistance (plus the margin of a body struck by another) when
+ * it comes no closer: a fast point is caught before it crosses
+ * (look-ahead).  Fills p, n; returns the signed distance at the start of
+ * the step along n, or NAN when the point stays clear. */
+static double find_contact(const coll_obstacle *o, const posed *ps,
+                           const pl_collision_geometry *g, int i, double p[3], double n[3])
+{
+    const double *x = &g->x[3 * i];
+    double phi = shape_query(&ps->s, x, p, n);
+    if (phi < o->alarm_distance) return phi;
+    double y0[3], y1[3], t;
+    for (int k = 0; k < 3; ++k) {
+        const double *r = &ps->R[3 * k];
+        double v = g->v ? g->v[3 * i + k] : 0.0;
+        y0[k] = r[0] * x[0] + r[1] * x[1] + r[2] * x[2] + ps->tr[k]; /* rides with the shape */
+        y1[k] = x[k] + ps->h * v + ps->h * ps->h * ps->g[k];
+    }
+    if (!shape_sweep(&ps->s, y0, y1, o->alarm_distance + ps->margin, o->contact_distance, &t,
+                        p, n))
+        return NAN;
+    return n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2]);
+}
+
 /* Contacts of one collision model's points against the posed shape. */
 static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
-                          const pl_collision_geometry *g, const pl_shape *s, const pl_motion *m,
-                          double t1, const pl_system *sys, pl_rows *rows, pl_error *err)
+                          const pl_collision_geometry *g, const posed *ps, const pl_motion *m,
+                          const pl_system *sys, pl_rows *rows, pl_error *err)
 {
     double mu = g->mu >= 0.0 ? g->mu : o->mu;
     for (int i = 0; i < g->nverts; ++i) {
         const double *x = &g->x[3 * i];
         double p[3], n[3];
-        double phi = shape_query(s, x, p, n);
-        if (!(phi < o->alarm_distance)) continue;
+        double phi = find_contact(o, ps, g, i, p, n);
+        if (isnan(phi)) continue;
         int vert[4];
         double w[4];
         int nv = point_vertices(g, i, sys, vert, w);
@@ -222,12 +277,11 @@ static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
         memcpy(r->point, p, sizeof r->point);
         memcpy(r->normal, n, sizeof r->normal);
         memcpy(r->body_point, x, sizeof r->body_point);
-        motion_velocity(m, t1, p, r->velocity);
+        motion_velocity(m, ps->t1, p, r->velocity);
         r->gap = phi;
         r->vertex = vert[0];
         r->model = k;
-        if (collision_emit_contact(rows, &o->base, nv, vert, w, p, n,
-                                      r->velocity, mu,
+        if (collision_emit_contact(rows, &o->base, nv, vert, w, p, n, r->velocity, mu,
                                       o->contact_distance, r->t1, r->t2) < 0)
             return pl_component_fail(&o->base, err, PL_EINTERNAL, "out of memory");
     }
@@ -239,31 +293,46 @@ static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
 {
     const coll_obstacle *o = (const coll_obstacle *)c;
     coll_obstacle_ws *ws = pl_data_workspace(ctx->data, c);
-    if (!ws) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
-    pl_shape s0, s;
+    if (!ws || fit_models(o, ws))
+        return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    pl_shape s0;
     pl_motion m;
     pl_error e;
     if (prepare(o, &s0, &m, &e) != PL_OK) return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     if (!pl_buffer_f64(q))
         return pl_component_fail(c, err, PL_EINTERNAL, "positions must be host float64");
     /* posed at the end of the step: q is solved for t + h */
-    double t1 = ctx->data->time + sys->h, R[9], tr[3];
-    motion_pose(&m, t1, R, tr);
-    shape_transform(&s0, R, tr, &s);
+    posed ps;
+    double R[9], tr[3];
+    ps.h = sys->h;
+    ps.t1 = ctx->data->time + sys->h;
+    motion_pose(&m, ps.t1, R, tr);
+    shape_transform(&s0, R, tr, &ps.s);
+    motion_step_map(&m, ctx->data->time, ps.t1, ps.R, ps.tr);
     unsigned groups;
     if (collision_groups(&o->group, &groups, &e) != PL_OK)
         return pl_component_fail(c, err, PL_EINPUT, "%s", e.msg);
     ws->nwork = 0;
+    /* every model first: a body struck by another in this step may move
+     * beyond its prediction (impact.c) */
     for (int k = 0; k < o->nmodels; ++k) {
         pl_component *mc = o->models[k];
         const pl_collision_model_ops *ops = pl_component_role(mc, PL_ROLE_COLLISION_MODEL);
-        pl_collision_geometry g;
-        memset(&g, 0, sizeof g);
-        int rc = ops->update(mc, ctx, q, &g, err);
+        pl_collision_geometry *g = &ws->geo[k];
+        memset(g, 0, sizeof *g);
+        int rc = ops->update(mc, ctx, q, g, err);
         if (rc) return rc;
+        double grav[3] = {0.0, 0.0, 0.0};
+        if (!g->is_obstacle) pl_node_gravity(mc->node, grav);
+        reach_of(g->x, g->v, g->nverts, g->is_obstacle, g->groups, sys->h, grav, &ws->reach[k]);
+    }
+    for (int k = 0; k < o->nmodels; ++k) {
+        const pl_collision_geometry *g = &ws->geo[k];
         /* geometry without DOFs cannot respond; groups opt out */
-        if (g.is_obstacle || (groups & g.groups)) continue;
-        rc = model_contacts(o, ws, k, &g, &s, &m, t1, sys, rows, err);
+        if (g->is_obstacle || (groups & g->groups)) continue;
+        pl_node_gravity(o->models[k]->node, ps.g);
+        ps.margin = sys->h * hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance, 0);
+        int rc = model_contacts(o, ws, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }
     if (pl_data_store(ctx->data, o->slot, ws->work, (size_t)ws->nwork * sizeof *ws->work))

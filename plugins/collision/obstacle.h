@@ -43,6 +43,9 @@ struct coll_obstacle {
 typedef struct coll_obstacle_ws {
     pl_obstacle_contact *work;
     int nwork, capwork;
+    pl_collision_geometry *geo; /* per model: this step's geometry */
+    pl_reach *reach;            /* per model: its motion over the step (impact.c) */
+    int nmodels;                /* entries of geo and reach */
 } coll_obstacle_ws;
 
 /* Field table entries every obstacle type starts with (S embeds a

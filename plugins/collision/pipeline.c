@@ -144,6 +144,8 @@ static void cp_workspace_free(const pl_component *c, void *ws)
         free(w->models[k].active);
     }
     free(w->models);
+    free(w->reach);
+    free(w->struck);
     proximities_free(&w->prox);
     side_hints_free(&w->hints);
     free(w->prev);
@@ -158,7 +160,9 @@ static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
     coll_ws *w = pl_data_workspace(d, &p->base);
     if (!w || w->models) return w;
     w->models = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->models);
-    if (!w->models) return NULL;
+    w->reach = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->reach);
+    w->struck = calloc((size_t)(p->nmodels ? p->nmodels * p->nmodels : 1), sizeof *w->struck);
+    if (!w->models || !w->reach || !w->struck) return NULL;
     for (int k = 0; k < p->nmodels; ++k) {
         w->models[k].c = p->models[k];
         coll_mesh_init(&w->models[k].mesh);
@@ -220,7 +224,7 @@ static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     pl_timer_start(ctx->timers, p->t_detect);
     w->nwork = 0;
     int rc = coll_pipeline_update_models(p, w, ctx, sys, q, err);
-    if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, err);
+    if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, sys->h, err);
     if (rc == PL_OK) rc = coll_pipeline_emit(p, w, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;

@@ -4,6 +4,7 @@
 #ifndef PLIANT_COLLISION_PIPELINE_H
 #define PLIANT_COLLISION_PIPELINE_H
 
+#include "collision.h"
 #include "detect.h"
 #include "pliant/pliant.h"
 
@@ -48,6 +49,8 @@ typedef struct collision_pipeline {
  * structures, and the step's lists. */
 typedef struct coll_ws {
     pipe_model *models;            /* nmodels, made on first use */
+    pl_reach *reach;               /* per model: its motion over the step (impact.c) */
+    double *struck;                /* nmodels x nmodels: speed at which model j strikes k [m/s] */
     pl_proximities prox;
     pl_side_hints hints;           /* sides of the previous step's contacts */
     pl_proximity *prev;            /* their proximities (copied out of the state) */
@@ -62,8 +65,8 @@ extern const pl_type coll_pipeline_type;
 int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx *ctx,
                                 const pl_system *sys, const pl_buffer *q, pl_error *err);
 /* Stage 2: proximities of every pair of models that may touch (w->prox);
- * d holds the previous step's contacts (their sides are kept). */
-int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d,
+ * d holds the previous step's contacts (their sides are kept); h the step. */
+int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
                          pl_error *err);
 /* Stage 3: rows and records (w->work) of the proximities. */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,

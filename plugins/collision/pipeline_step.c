@@ -33,17 +33,21 @@ static int fit_model(pipe_model *m)
     return (m->x0 && m->x1 && m->active) ? PL_OK : PL_EINTERNAL;
 }
 
-/* x0 / x1 over the step and which points carry a free DOF. */
+/* x0 / x1 over the step and which points carry a free DOF.  A deformable
+ * point is predicted where its inertia and gravity take it, x + h v + h^2 g
+ * (the solver's own initial guess): a falling body's motion over the step
+ * is then exact until it touches. */
 static void fill_positions(pipe_model *m, const pl_system *sys)
 {
     const pl_collision_geometry *g = &m->g;
-    double h = sys->h;
+    double h = sys->h, grav[3] = {0.0, 0.0, 0.0};
+    if (!g->is_obstacle) pl_node_gravity(m->c->node, grav);
     for (int i = 0; i < g->nverts; ++i) {
         for (int k = 0; k < 3; ++k) {
             double x = g->x[3 * i + k], v = g->v ? g->v[3 * i + k] : 0.0;
             /* obstacles are posed at t + h, deformables given at t */
             m->x0[3 * i + k] = g->is_obstacle ? x - h * v : x;
-            m->x1[3 * i + k] = g->is_obstacle ? x : x + h * v;
+            m->x1[3 * i + k] = g->is_obstacle ? x : x + h * v + h * h * grav[k];
         }
         unsigned char act = 0;
         for (int a = 0; a < 4 && !g->is_obstacle; ++a) {
@@ -69,6 +73,13 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
                                      m->c->name);
         if (fit_model(m)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         fill_positions(m, sys);
+        double grav[3] = {0.0, 0.0, 0.0};
+        if (!m->g.is_obstacle) pl_node_gravity(m->c->node, grav);
+        reach_of(m->g.x, m->g.v, m->g.nverts, m->g.is_obstacle, m->g.groups, sys->h, grav,
+                    &w->reach[k]);
+    }
+    for (int k = 0; k < p->nmodels; ++k) {
+        pipe_model *m = &w->models[k];
         pl_coll_mesh *cm = &m->mesh;
         cm->nverts = m->g.nverts;
         cm->ntris = m->g.ntris;
@@ -79,8 +90,12 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
         cm->edges = m->g.edges;
         cm->active = m->active;
         cm->sides = coll_model_sides(m->c);
+        /* boxes reach alarm / 2 and how far a body struck by another may
+         * move beyond its prediction */
+        double hit = sys->h * hit_speed(w->reach, p->nmodels, k, -1, p->alarm, 1);
         pl_error e;
-        if ((rc = coll_mesh_prepare(cm, p->alarm, &e)))
+        int rc;
+        if ((rc = coll_mesh_prepare(cm, p->alarm + 2.0 * hit, &e)))
             return pl_component_fail(&p->base, err, rc, "collision model '%s': %s", m->c->name,
                                      e.msg);
     }
@@ -109,31 +124,101 @@ static int build_hints(const collision_pipeline *p, coll_ws *w, const pl_data *d
     return side_hints_build(&w->hints, w->prev, n);
 }
 
-int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d,
+/* Whether models k and l are a pair to detect. */
+static int is_pair(const collision_pipeline *p, const coll_ws *w, int k, int l)
+{
+    const pipe_model *a = &w->models[k], *b = &w->models[l];
+    if (a->g.ntris == 0 && b->g.ntris == 0) return 0; /* points against points */
+    if (a->g.is_obstacle && b->g.is_obstacle) return 0;
+    if (l == k && (!p->self || a->g.is_obstacle)) return 0;
+    if (a->g.groups & b->g.groups) return 0; /* they share a group */
+    return any_active(a) || any_active(b);
+}
+
+/* The speed at which each model strikes each other one in this step: the
+ * largest approach speed -n . (motion_a - motion_b) / h of the closest
+ * points of their proximities at the predictions (0 when they only
+ * separate).  It is measured where they touch, so a body gripped by
+ * another and turning with it is not struck, however fast its rim moves
+ * (the models' boxes and velocity spreads, impact.c, bound it from above:
+ * they made every pair of a turning gripper look struck at the rim speed). */
+static void struck_speeds(const collision_pipeline *p, coll_ws *w, double h)
+{
+    int n = p->nmodels;
+    memset(w->struck, 0, (size_t)n * (size_t)n * sizeof *w->struck);
+    for (int k = 0; k < w->prox.n; ++k) {
+        const pl_proximity *x = &w->prox.items[k];
+        const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
+        double u = 0.0;
+        for (int i = 0; i < 3; ++i) {
+            double m = 0.0;
+            for (int j = 0; j < x->na; ++j)
+                m += x->wa[j] * (ma->x1[3 * x->a[j] + i] - ma->x0[3 * x->a[j] + i]);
+            for (int j = 0; j < x->nb; ++j)
+                m -= x->wb[j] * (mb->x1[3 * x->b[j] + i] - mb->x0[3 * x->b[j] + i]);
+            u -= x->normal[i] * m / h;
+        }
+        double *ab = &w->struck[x->model_a * n + x->model_b];
+        double *ba = &w->struck[x->model_b * n + x->model_a];
+        *ab = fmax(*ab, u);
+        *ba = fmax(*ba, u);
+    }
+}
+
+/* The fastest strike on model k by a model other than k and l [m/s]. */
+static double struck_by_third(const coll_ws *w, int n, int k, int l)
+{
+    double u = 0.0;
+    for (int j = 0; j < n; ++j)
+        if (j != k && j != l) u = fmax(u, w->struck[k * n + j]);
+    return u;
+}
+
+/* Drops the proximities between models k and l (order kept). */
+static void drop_pair(pl_proximities *px, int k, int l)
+{
+    int m = 0;
+    for (int i = 0; i < px->n; ++i) {
+        const pl_proximity *x = &px->items[i];
+        if ((x->model_a == k && x->model_b == l) || (x->model_a == l && x->model_b == k)) continue;
+        px->items[m++] = *x;
+    }
+    px->n = m;
+}
+
+int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
                          pl_error *err)
 {
     w->prox.n = 0;
     if (build_hints(p, w, d))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
     pl_detect_params prm = detect_defaults(p->alarm);
+    prm.contact = p->contact;
     prm.hints = &w->hints;
     prm.vertex_face = p->vertex_face;
     prm.edge_edge = p->edge_edge;
     prm.max_per_vertex = p->max_per_vertex;
-    for (int k = 0; k < p->nmodels; ++k) {
-        pipe_model *a = &w->models[k];
-        int ak = any_active(a);
+    /* every pair at its prediction */
+    prm.margin = 0.0;
+    for (int k = 0; k < p->nmodels; ++k)
+        for (int l = k; l < p->nmodels; ++l)
+            if (is_pair(p, w, k, l) &&
+                detect_pair(&w->models[k].mesh, k, &w->models[l].mesh, l, &prm, &w->prox))
+                return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+    /* a model struck by a third one in this step may be pushed up to that
+     * speed times h beyond its prediction: its pairs again, that much
+     * farther (the boxes were prepared for the bound of impact.c, larger) */
+    struck_speeds(p, w, h);
+    for (int k = 0; k < p->nmodels; ++k)
         for (int l = k; l < p->nmodels; ++l) {
-            pipe_model *b = &w->models[l];
-            if (a->g.ntris == 0 && b->g.ntris == 0) continue; /* points against points */
-            if (a->g.is_obstacle && b->g.is_obstacle) continue;
-            if (l == k && (!p->self || a->g.is_obstacle)) continue;
-            if (a->g.groups & b->g.groups) continue; /* they share a group */
-            if (!ak && !any_active(b)) continue;
-            if (detect_pair(&a->mesh, k, l == k ? &a->mesh : &b->mesh, l, &prm, &w->prox))
+            if (!is_pair(p, w, k, l)) continue;
+            prm.margin = h * fmax(struck_by_third(w, p->nmodels, k, l),
+                                  struck_by_third(w, p->nmodels, l, k));
+            if (!(prm.margin > 0.0)) continue;
+            drop_pair(&w->prox, k, l);
+            if (detect_pair(&w->models[k].mesh, k, &w->models[l].mesh, l, &prm, &w->prox))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         }
-    }
     return PL_OK;
 }
 

@@ -386,6 +386,38 @@ START_TEST(test_closed_surface_pushes_out)
 }
 END_TEST
 
+/* A closed plate 2 mm thick (the unit cube squashed along z), thinner than
+ * alarm: a point 1 mm over its top is in front of the top face and also
+ * behind the bottom one, 3 mm away.  Its only row is the top's; a second
+ * one out of the bottom face (gap -3 mm, normal -z) pushed it through the
+ * plate (a ball on dragon.obj's spines: vertices through them every step). */
+START_TEST(test_point_over_a_thin_plate_has_one_side)
+{
+    cube c;
+    cube_make(&c);
+    for (int b = 0; b < 8; ++b) c.x[3 * b + 2] *= 0.002;
+    double px[3] = {0.5, 0.4, 0.003};
+    pl_coll_mesh T, P;
+    cube_mesh(&c, &T);
+    coll_mesh_init(&P);
+    P.nverts = 1, P.x0 = P.x1 = px;
+    pl_error err;
+    ck_assert_int_eq(coll_mesh_prepare(&T, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(&P, 0.01, &err), PL_OK);
+    ck_assert_int_eq(T.two_sided, 0);
+    pl_detect_params prm = detect_defaults(0.01);
+    pl_proximities p = {0};
+    ck_assert_int_eq(detect_pair(&P, 0, &T, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(p.n, 1);
+    ck_assert_double_eq_tol(p.items[0].normal[2], 1.0, 1e-15);
+    ck_assert_double_eq_tol(p.items[0].gap, 0.001, 1e-12);
+    proximities_free(&p);
+    coll_mesh_free(&T);
+    coll_mesh_free(&P);
+    free(c.edges);
+}
+END_TEST
+
 /* A cloth point beside a closed cube's corner, not the corner's nearest
  * cloth feature: the corner keeps only its nearest proximity beside the
  * faces (here a triangle over it), and the point, over none of the cube's
@@ -560,6 +592,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_static_detection_is_complete);
     tcase_add_test(tc, test_thin_triangle_keeps_each_side);
     tcase_add_test(tc, test_closed_surface_pushes_out);
+    tcase_add_test(tc, test_point_over_a_thin_plate_has_one_side);
     tcase_add_test(tc, test_point_beside_a_corner_keeps_its_contact);
     tcase_add_test(tc, test_edge_beside_a_cube_keeps_its_side);
     tcase_add_test(tc, test_pair_rows);
