@@ -56,10 +56,22 @@ static xmlNode *sphere_source(xmlNode *node, xmlNode *mo, const char *pos)
     return src && sofa_tag_is(src, "SphereLoader") ? src : NULL;
 }
 
+/* Does the mapping map the parent's MechanicalObject onto mo (when it says)? */
+static int maps_onto(xmlNode *map, xmlNode *parent_mo, xmlNode *mo)
+{
+    char *in = sofa_get(map, "input"), *out = sofa_get(map, "output");
+    int ok = (!in || (in[0] == '@' && sofa_find(map->parent, in + 1) == parent_mo)) &&
+             (!out || (out[0] == '@' && sofa_find(map->parent, out + 1) == mo));
+    xmlFree(in);
+    xmlFree(out);
+    return ok;
+}
+
 int sofa_lower_mapped_points(sofa_lower *L, xmlNode *node, xmlNode *map, xmlNode *mo,
                              int identity)
 {
-    if (!mo || !first_tag(node->parent, "MechanicalObject")) return 0;
+    xmlNode *parent_mo = first_tag(node->parent, "MechanicalObject");
+    if (!mo || !parent_mo || !maps_onto(map, parent_mo, mo)) return 0;
     char *pos = sofa_get(mo, "position"), *name = sofa_get(mo, "name");
     xmlNode *sph = pos && pos[0] == '@' ? sphere_source(node, mo, pos) : NULL;
     char *file = sph ? sofa_get(sph, "filename") : NULL;

@@ -232,9 +232,7 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         sofa_remove(node);
         return;
     }
-    if (!ncables && mo && check_mapping(L, map, first_tag(parent, "MechanicalObject"), mo) &&
-        sofa_lower_mapped_points(L, node, map, mo, identity))
-        return;
+    if (!ncables && mo && sofa_lower_mapped_points(L, node, map, mo, identity)) return;
     if (!ncables) {
         sofa_note(L, "mapped-visual", map,
                   "the node '%s' only follows the body (drawing, nothing acting on it): not "

@@ -7,8 +7,9 @@
  *    of the unit tetrahedron, extrapolated outside) after 5 steps, and they
  *    did move;
  *  - under an IdentityMapping the points are the body's vertices;
- *  - a mapped node whose points come from nowhere Pliant reads is dropped
- *    as before (drawing only), and a broken .sph file is refused by name. */
+ *  - a mapped node whose points come from nowhere Pliant reads, or whose
+ *    mapping does not map the body's state, is dropped as before (drawing only), and
+ *    a broken .sph file is refused by name. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -169,6 +170,14 @@ START_TEST(unreadable_points_drop_or_fail)
     pl_sim *s = load("<MechanicalObject name=\"pts\" position=\"@../dofs.position\"/>"
                      "<BarycentricMapping/>",
                      &d);
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_null(pl_sim_component(s, "body/map/pts"));
+    pl_sim_free(s);
+    pl_diag_free(&d);
+    /* a mapping that does not drive these points: they do not follow the body */
+    s = load("<MechanicalObject name=\"pts\" position=\"0.2 0.3 0.1\"/>"
+             "<BarycentricMapping input=\"@../loader\" output=\"@pts\"/>",
+             &d);
     ck_assert_ptr_nonnull(s);
     ck_assert_ptr_null(pl_sim_component(s, "body/map/pts"));
     pl_sim_free(s);
