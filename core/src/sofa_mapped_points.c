@@ -77,6 +77,7 @@ int sofa_lower_mapped_points(sofa_lower *L, xmlNode *node, xmlNode *map, xmlNode
     char *file = sph ? sofa_get(sph, "filename") : NULL;
     int keep = identity ? !pos : (pos && pos[0] != '@') || file;
     if (keep) {
+        int line = sofa_line(map); /* map goes below */
         xmlNode *mp = sofa_new_before(L, mo, "MappedPoints", sofa_line(mo));
         sofa_set(mp, "name", name ? name : "mapped");
         if (!identity && file) {
@@ -90,7 +91,7 @@ int sofa_lower_mapped_points(sofa_lower *L, xmlNode *node, xmlNode *map, xmlNode
             next = e->next;
             if (e != mp && (sofa_is_element(e) || sofa_is_node(e))) sofa_remove(e);
         }
-        require_collision(L, sofa_line(map));
+        require_collision(L, line);
         char where[160];
         sofa_note(L, "mapped-points", mp,
                   "the node '%s' only follows the body: its MechanicalObject '%s' is kept as "
