@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "cable_area.h"
+#include "test_tmp.h"
 #include "cable_test_util.h"
 
 /* A grid of (nx + 1) x (ny + 1) points with spacing h in the plane z = z0,
@@ -174,9 +175,7 @@ static void write_end_face(const char *path, double *p, int *tris, int *np, int 
 START_TEST(pulled_area_centroid_moves_by_the_displacement)
 {
     char obj[256], xml[4096];
-    const char *tmp = getenv("TMPDIR");
-    snprintf(obj, sizeof obj, "%s/pliant_cable_area_%ld.obj", tmp && *tmp ? tmp : "/tmp",
-             (long)getpid());
+    snprintf(obj, sizeof obj, "%s/cable_area.obj", test_tmp_dir()); /* under $TMPDIR */
     double p[3 * 25], w[25], c[3] = {0.1, 0.01, 0.01}, d = 0.002;
     int tris[3 * 32], idx[25], np, nt, ns;
     write_end_face(obj, p, tris, &np, &nt);

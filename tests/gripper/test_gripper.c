@@ -396,7 +396,7 @@ int main(void)
     tcase_add_test(scene, test_scene);
     suite_add_tcase(s, scene);
     TCase *grasp = tcase_create("grasp");
-    tcase_set_timeout(grasp, 900); /* 3 min on 2 idle cores: room for a busy CI machine */
+    tcase_set_timeout(grasp, 1500); /* 7 min alone on 2 idle cores (look-ahead contacts): room for a busy CI machine */
     tcase_add_test(grasp, test_grasp);
     suite_add_tcase(s, grasp);
     SRunner *sr = srunner_create(s);
