@@ -18,12 +18,13 @@
 #include <unistd.h>
 
 #include "cable/cable_test_util.h"
+#include "test_tmp.h"
 
-static char dir[] = "/tmp/pl_mapped_points_XXXXXX";
+static char dir[1024];
 
 static void write_file(const char *name, const char *text)
 {
-    char path[256];
+    char path[2048];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "w");
     ck_assert_ptr_nonnull(f);
@@ -33,6 +34,7 @@ static void write_file(const char *name, const char *text)
 
 static void setup(void)
 {
+    test_tmp_template(dir, sizeof dir, "mapped_points");
     ck_assert_ptr_nonnull(mkdtemp(dir));
     write_file("tet.vtk", "# vtk DataFile Version 2.0\none tetrahedron\nASCII\n"
                           "DATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n"
@@ -43,22 +45,12 @@ static void setup(void)
     write_file("bad.sph", "sph 1.0\nsphe 1 0.2 zero 0.1 0.05\n");
 }
 
-static void teardown(void)
-{
-    const char *names[] = {"tet.vtk", "pts.sph", "bad.sph"};
-    char path[256];
-    for (int k = 0; k < 3; ++k) {
-        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        unlink(path);
-    }
-    rmdir(dir);
-    strcpy(dir, "/tmp/pl_mapped_points_XXXXXX");
-}
+static void teardown(void) { test_tmp_rmtree(dir); }
 
 /* The body and a child node holding `child`. */
 static pl_sim *load(const char *child, pl_diag *d)
 {
-    char xml[4096];
+    char xml[8192];
     snprintf(xml, sizeof xml,
              "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
              "<DefaultAnimationLoop/>\n"
@@ -128,7 +120,7 @@ END_TEST
 START_TEST(sphere_centres_from_a_sphere_loader)
 {
     pl_diag d;
-    char child[1024];
+    char child[2048];
     snprintf(child, sizeof child,
              "<SphereLoader filename=\"%s/pts.sph\"/>"
              "<MechanicalObject name=\"spheres\" position=\"@[-1].position\"/>"
@@ -182,7 +174,7 @@ START_TEST(unreadable_points_drop_or_fail)
     ck_assert_ptr_null(pl_sim_component(s, "body/map/pts"));
     pl_sim_free(s);
     pl_diag_free(&d);
-    char child[1024];
+    char child[2048];
     snprintf(child, sizeof child,
              "<SphereLoader filename=\"%s/bad.sph\"/>"
              "<MechanicalObject name=\"spheres\" position=\"@[-1].position\"/>"
