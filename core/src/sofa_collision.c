@@ -198,7 +198,10 @@ static int surface_node(sofa_lower *L, xmlNode *node)
         if (sofa_is_collision_model(L, e)) model = e;
     if (!model || !t2t || !idm || !first_of(node->parent, "MechanicalObject")) return 0;
     body_surface(L, node->parent, model, node);
-    sofa_remove(node); /* its drawing child goes with it */
+    /* its points may stay (mapped states, sofa_mapped_points.c); the rest
+     * goes, its drawing child too */
+    xmlNode *mo = first_of(node, "MechanicalObject");
+    if (!sofa_lower_mapped_points(L, node, idm, mo, 1)) sofa_remove(node);
     return 1;
 }
 

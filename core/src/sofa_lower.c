@@ -300,7 +300,7 @@ static void check_selection_link(sofa_lower *L, xmlNode *e, const char *attr)
  * its share/ folder): when the scene's folder has no such file, the name
  * without "mesh/" is looked up by MeshLoader's own rule (the scene's folder,
  * the working directory, PLIANT_DATA_PATH). */
-static void lower_mesh_path(sofa_lower *L, xmlNode *e)
+void sofa_lower_mesh_path(sofa_lower *L, xmlNode *e)
 {
     char *f = sofa_get(e, "filename");
     if (f && !strncmp(f, "mesh/", 5)) {
@@ -321,7 +321,7 @@ static void lower_mesh_path(sofa_lower *L, xmlNode *e)
 static void lower_component_attrs(sofa_lower *L, xmlNode *e, const char *tag)
 {
     if (!strcmp(tag, "MechanicalObject")) lower_state(L, e);
-    if (strstr(tag, "Loader")) lower_scale(L, e), lower_mesh_path(L, e);
+    if (strstr(tag, "Loader")) lower_scale(L, e), sofa_lower_mesh_path(L, e);
     if (strstr(tag, "FEMForceField") || !strcmp(tag, "FastTetrahedralCorotationalForceField"))
         lower_fem(L, e, tag);
     if (!strcmp(tag, "DiagonalMass") || !strcmp(tag, "MeshMatrixMass")) {
@@ -526,6 +526,10 @@ void pl_sofa_lower(xmlDoc *doc, const char *file, pl_registry *reg, pl_diag *dia
     sofa_lower_value_mappers(&L);
     sofa_lower_rois(&L, L.root);
     lower_tree(&L, L.root);
+    if (L.need & NEED_COLLISION) {
+        pl_error err; /* MappedPoints' plugin, now that SOFA's names are lowered */
+        pl_registry_load_plugin(L.reg, "collision", &err);
+    }
     sofa_emit_solvers(&L);
     check_unknown(&L, L.root);
     for (int k = 0; k < L.nnoted; ++k) free(L.noted[k]);

@@ -14,6 +14,7 @@ enum {
     NEED_SPARSE_INVERSE = 2,
     NEED_NCP_CONTACT = 4,
     NEED_CABLE = 8,
+    NEED_COLLISION = 16, /* MappedPoints: loaded after lower_tree (sofa_mapped_points.c) */
 };
 
 typedef struct sofa_lower {
@@ -70,6 +71,13 @@ xmlNode *sofa_find(xmlNode *node, const char *path);
 xmlNode *sofa_data_link(xmlNode *node, const char *value, const char **field);
 int sofa_parse_number(const char *s, double *v);
 int sofa_is_true(const char *s);
+
+/* SOFA's share/ path "mesh/x" of e's filename: "x" unless the scene's folder has it. */
+void sofa_lower_mesh_path(sofa_lower *L, xmlNode *e);
+/* sofa_mapped_points.c: 1 if the mapped node `node` (its mapping map, its
+ * MechanicalObject mo) is kept as MappedPoints, everything else in it removed. */
+int sofa_lower_mapped_points(sofa_lower *L, xmlNode *node, xmlNode *map, xmlNode *mo,
+                             int identity);
 
 /* sofa_structure.c */
 void sofa_lower_plugins(sofa_lower *L);

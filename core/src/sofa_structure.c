@@ -232,6 +232,7 @@ static void lower_mapped(sofa_lower *L, xmlNode *node, xmlNode *map)
         sofa_remove(node);
         return;
     }
+    if (!ncables && mo && sofa_lower_mapped_points(L, node, map, mo, identity)) return;
     if (!ncables) {
         sofa_note(L, "mapped-visual", map,
                   "the node '%s' only follows the body (drawing, nothing acting on it): not "
@@ -589,7 +590,9 @@ void sofa_lower_lonely_collision(sofa_lower *L)
                   np);
         sofa_remove(e);
     }
-    /* what only fed them (SOFA's SphereLoader) goes with them */
+    /* what only fed them (SOFA's SphereLoader) goes with them, unless the
+     * node is mapped: its MechanicalObject may stay (sofa_mapped_points.c) */
+    if (first_tag(holder, "BarycentricMapping")) return;
     for (xmlNode *e = holder->children; e; e = next) {
         next = e->next;
         if (sofa_tag_is(e, "SphereLoader")) sofa_remove(e);

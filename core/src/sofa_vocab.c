@@ -97,7 +97,8 @@ static const pl_sofa_component COMPONENTS[] = {
     RENAME("MeshSTLLoader", "MeshLoader", NULL, "MeshLoader (the format is read from the content)"),
     RENAME("MeshGmshLoader", "MeshLoader", NULL,
            "MeshLoader (the format is read from the content)"),
-    REFUSED("SphereLoader", "sphere collision models are not mapped; closest: "
+    REFUSED("SphereLoader", "sphere collision models are not mapped (in a mapped node that "
+                            "only follows its body, its centres become MappedPoints); closest: "
                             "SurfaceCollisionModel (collision plugin)"),
     LOWERED("RegularGridTopology", "RegularGridTetrahedra", NULL,
             "with a Hexa2TetraTopologicalMapping into a body's TetrahedronSetTopologyContainer: "

@@ -15,12 +15,13 @@ extern const pl_type coll_mesh_obstacle_type;
 extern const pl_type coll_mapped_model_type;
 extern const pl_type coll_pipeline_type;
 extern const pl_type coll_shape_tets_type;
+extern const pl_type coll_mapped_points_type;
 
 static const pl_type *const types[] = {
     &coll_surface_model_type,   &coll_point_model_type,    &coll_plane_obstacle_type,
     &coll_sphere_obstacle_type, &coll_box_obstacle_type,   &coll_capsule_obstacle_type,
     &coll_cylinder_obstacle_type, &coll_mesh_obstacle_type,  &coll_mapped_model_type,
-    &coll_pipeline_type,        &coll_shape_tets_type,
+    &coll_pipeline_type,        &coll_shape_tets_type,       &coll_mapped_points_type,
 };
 
 PL_PLUGIN_DEFINE(types)
