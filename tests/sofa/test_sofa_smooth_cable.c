@@ -87,6 +87,7 @@ START_TEST(the_port_runs_and_pulls_its_area)
     ck_assert(f > 0.0);
     pl_diag_free(&d);
     double disp2, f2 = run("method=\"geodesic\"", "method=\"sphere\"", 5, &disp2, &d);
+    pl_diag_free(&d); /* run() starts a new one */
     double disp3, f3 = run("radii=\"1\"", "radii=\"2\"", 5, &disp3, &d);
     printf("sphere: %.6f mm, tension %.4g; geodesic radius 2: %.6f mm, tension %.4g\n", disp2,
            f2, disp3, f3);
