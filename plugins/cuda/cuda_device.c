@@ -8,6 +8,8 @@
  * everywhere (a build without CUDA runs it on the CPU, with a warning). */
 #include "cuda_device.h"
 
+#include <stdlib.h>
+
 static const pl_field FIELDS[] = {
     PL_FIELD(cuda_device, index, "device", PL_F_INT, "0",
              "CUDA device ordinal [index] (0: the first GPU; see nvidia-smi)", 0),
@@ -23,15 +25,20 @@ static const pl_field FIELDS[] = {
 
 static int device_init(pl_component *c, pl_ctx *ctx)
 {
-    return cuda_device_open((cuda_device *)c, ctx);
+    cuda_device *d = (cuda_device *)c;
+    if (!d->live && !(d->live = calloc(1, sizeof *d->live)))
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
+    return cuda_device_open(d, ctx);
 }
 
 static void device_destroy(pl_component *c)
 {
     cuda_device *d = (cuda_device *)c;
     cuda_device_close(d);
-    if (d->live > 0)
-        pl_log_warn("%s: %ld device allocations were never freed", c->name, d->live);
+    if (d->live && *d->live > 0)
+        pl_log_warn("%s: %ld device allocations were never freed", c->name, *d->live);
+    free(d->live);
+    d->live = NULL;
 }
 
 static const pl_type cuda_device_type = {

@@ -95,7 +95,7 @@ static void *dev_alloc(pl_component *c, size_t bytes, pl_error *err)
         cuda_fail(c, err, e, "cudaMalloc");
         return NULL;
     }
-    DEV(c)->live++;
+    if (DEV(c)->live) ++*DEV(c)->live;
     return p;
 }
 
@@ -103,7 +103,7 @@ static void dev_free(pl_component *c, void *p)
 {
     if (!p) return;
     cudaFree(p);
-    DEV(c)->live--;
+    if (DEV(c)->live) --*DEV(c)->live;
 }
 
 static int dev_zero(pl_component *c, void *p, size_t bytes, pl_error *err)
