@@ -78,3 +78,28 @@ const pl_error *ct_find_error(const pl_diag *d, const char *what)
         if (d->items[k].code != PL_OK && strstr(d->items[k].msg, what)) return &d->items[k];
     return NULL;
 }
+
+char *ct_read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    ck_assert_msg(f != NULL, "cannot open %s", path);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)n + 1);
+    ck_assert_uint_eq(fread(b, 1, (size_t)n, f), (size_t)n);
+    b[n] = '\0';
+    fclose(f);
+    return b;
+}
+
+void ct_replace(char **text, const char *from, const char *to)
+{
+    char *p = strstr(*text, from);
+    ck_assert_msg(p != NULL, "'%s' not in the text", from);
+    size_t n = strlen(*text) - strlen(from) + strlen(to) + 1;
+    char *r = malloc(n);
+    snprintf(r, n, "%.*s%s%s", (int)(p - *text), *text, to, p + strlen(from));
+    free(*text);
+    *text = r;
+}

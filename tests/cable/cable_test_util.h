@@ -20,5 +20,10 @@ const double *ct_positions(pl_sim *s, const char *path, int rest, int *n);
 int ct_vertex_at(const double *x, int n, double px, double py, double pz);
 /* The first error of diag whose message contains `what`, or NULL. */
 const pl_error *ct_find_error(const pl_diag *d, const char *what);
+/* A whole text file (fails the test when it cannot be read; caller frees). */
+char *ct_read_text(const char *path);
+/* *text with its first `from` replaced by `to` (fails the test when `from`
+ * is absent; *text is reallocated). */
+void ct_replace(char **text, const char *from, const char *to);
 
 #endif

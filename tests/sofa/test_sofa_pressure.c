@@ -26,32 +26,12 @@
 #define CAVITY_OBJ PL_SOURCE_DIR "/scenes/meshes/Hollow_Bunny_Body_Cavity.obj"
 #define SP "bunny/pressure"
 
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    ck_assert_ptr_nonnull(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    ck_assert_uint_eq(fread(b, 1, (size_t)n, f), (size_t)n);
-    b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 /* The scene with its first `from` replaced by `to` (caller frees). */
 static char *variant(const char *from, const char *to)
 {
-    char *text = read_text(SCENE_FILE);
-    if (!from) return text;
-    char *p = strstr(text, from);
-    ck_assert_ptr_nonnull(p);
-    size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-    char *r = malloc(n);
-    snprintf(r, n, "%.*s%s%s", (int)(p - text), text, to, p + strlen(from));
-    free(text);
-    return r;
+    char *text = ct_read_text(SCENE_FILE);
+    if (from) ct_replace(&text, from, to);
+    return text;
 }
 
 /* Loads text as the scene file (its relative mesh paths resolve); NULL and
@@ -162,7 +142,7 @@ END_TEST
 static void refused(const char *from, const char *to, const char *at, const char *what,
                     const char *who)
 {
-    char *text = read_text(SCENE_FILE);
+    char *text = ct_read_text(SCENE_FILE);
     int line = 1;
     ck_assert_ptr_nonnull(strstr(text, at));
     for (const char *p = text; p < strstr(text, at); ++p) line += *p == '\n';

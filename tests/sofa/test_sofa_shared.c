@@ -130,40 +130,15 @@ START_TEST(shared_scene)
 }
 END_TEST
 
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    ck_assert_ptr_nonnull(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    ck_assert_uint_eq(fread(b, 1, (size_t)n, f), (size_t)n);
-    b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 /* Replaces the first `from` in *text by `to`. */
-static void replace(char **text, const char *from, const char *to)
-{
-    char *p = strstr(*text, from);
-    ck_assert_ptr_nonnull(p);
-    size_t n = strlen(*text) - strlen(from) + strlen(to) + 1;
-    char *r = malloc(n);
-    snprintf(r, n, "%.*s%s%s", (int)(p - *text), *text, to, p + strlen(from));
-    free(*text);
-    *text = r;
-}
-
 START_TEST(shared_finger_pulled)
 {
     if (!have_shared()) return;
     char meshes[2048], scene[2048];
     setenv("PLIANT_DATA_PATH", shared(meshes, sizeof meshes, "meshes"), 1);
     shared(scene, sizeof scene, "sofa_scenes/CableFinger_displacement.scn");
-    char *xml = read_text(scene);
-    replace(&xml, "2.5\" value=\"0\"", "2.5\" value=\"10\""); /* the cable, not the comment */
+    char *xml = ct_read_text(scene);
+    ct_replace(&xml, "2.5\" value=\"0\"", "2.5\" value=\"10\""); /* the cable, not the comment */
     /* the scene's folder, so that its mesh/ paths resolve as in the file */
     pl_diag d;
     pl_diag_init(&d);
@@ -402,7 +377,7 @@ START_TEST(shared_falling_beam)
     ck_assert_int_eq(pl_state_file_read(refs, &ref, &e), PL_OK);
     const pl_state_record *last = &ref.items[ref.count - 1];
     ck_assert_double_eq_tol(last->time, 0.45, 1e-9);
-    char *xml = read_text(scene);
+    char *xml = ct_read_text(scene);
     pl_diag d;
     double rel, rel0;
     pl_sim *s = beam_at_045(xml, scene, last, &rel, &d);
@@ -420,7 +395,7 @@ START_TEST(shared_falling_beam)
     }
     pl_sim_free(s);
     pl_diag_free(&d);
-    replace(&xml, "rayleighStiffness=\"0.1\"", "rayleighStiffness=\"0\"");
+    ct_replace(&xml, "rayleighStiffness=\"0.1\"", "rayleighStiffness=\"0\"");
     s = beam_at_045(xml, scene, last, &rel0, &d);
     printf("fallingBeamLagrangianCollision.scn at T = 0.45 (45 steps) against SOFA's reference: "
            "largest vertex distance %.3e of the rest diagonal (%.3e with rayleighStiffness 0); "

@@ -24,32 +24,12 @@
 #define SCENE_FILE PL_SOURCE_DIR "/tests/sofa/scenes/bunny_smooth_cable.scn"
 #define CABLE "bunny/cable"
 
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    ck_assert_ptr_nonnull(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    ck_assert_uint_eq(fread(b, 1, (size_t)n, f), (size_t)n);
-    b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 /* The scene with its first `from` replaced by `to` (caller frees). */
 static char *variant(const char *from, const char *to)
 {
-    char *text = read_text(SCENE_FILE);
-    if (!from) return text;
-    char *p = strstr(text, from);
-    ck_assert_ptr_nonnull(p);
-    size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-    char *r = malloc(n);
-    snprintf(r, n, "%.*s%s%s", (int)(p - text), text, to, p + strlen(from));
-    free(text);
-    return r;
+    char *text = ct_read_text(SCENE_FILE);
+    if (from) ct_replace(&text, from, to);
+    return text;
 }
 
 static int has(const pl_diag *d, int error, const char *what)
