@@ -124,9 +124,9 @@ PL_HD void hm_newton_direction(const int d, const double *H, const double *r, do
 }
 
 /* Minimises f over the d singular values from z_hat; returns the
- * iterations or -1. */
+ * iterations or -1.  *halvings (if not NULL) += the line-search halvings. */
 PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, double what,
-                                   const double *zh, double *s)
+                                   const double *zh, double *s, int *halvings)
 {
     const int max_iter = 100;
     const double scale = hm_inf_norm(d, zh);
@@ -170,6 +170,7 @@ PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, d
             }
             if (accepted) break;
             alpha *= 0.5;
+            if (halvings) ++*halvings;
         }
         if (!accepted || alpha * hm_inf_norm(d, dx) <= 1e-16 * hm_inf_norm(d, s))
             return rn <= 1e4 * tol ? it : -1; /* no representable progress */
@@ -182,11 +183,12 @@ PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, d
 
 /* p (3 x d) = the local step of z (3 x d), both row-major: the closest
  * rotation (ARAP; closest orthonormal columns for d = 2) or the prox of the
- * law `mat` with weight what.  Returns the Newton iterations (0 for ARAP),
+ * law `mat` with weight what (*halvings, if not NULL, += its line-search
+ * halvings).  Returns the Newton iterations (0 for ARAP),
  * or -1 if z is not finite or the Newton iteration missed its tolerance
  * (p is then its last iterate). */
 PL_HD int hm_local_solve(const int d, int mat, double mu, double la, double what, const double *z,
-                         double *p)
+                         double *p, int *halvings)
 {
     PL_UNROLL
     for (int i = 0; i < 3 * d; ++i)
@@ -201,7 +203,7 @@ PL_HD int hm_local_solve(const int d, int mat, double mu, double la, double what
         return 0;
     }
     double s[3];
-    int it = hm_solve_singular_values(d, mat, mu, la, what, zh, s);
+    int it = hm_solve_singular_values(d, mat, mu, la, what, zh, s, halvings);
     PL_UNROLL
     for (int a = 0; a < 3; ++a)
         PL_UNROLL

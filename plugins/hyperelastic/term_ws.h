@@ -7,10 +7,14 @@
 #ifndef PLIANT_HYPER_TERM_WS_H
 #define PLIANT_HYPER_TERM_WS_H
 
+#include "hyperelastic.h"
 #include "pliant/pliant.h"
 
 typedef struct hyper_term_ws {
     double *work;                      /* host scratch of project() */
+    hyper_prox_stats prox;             /* FEM terms: this step's local solves (end_step
+                                        * adds them to the timers' statistics) */
+    double prox_seconds;               /* FEM terms: this step's host time in project() */
     struct hyper_fem_gpu *fem;         /* ARAP, Corotational, NeoHookean: fem_term_device.c */
     struct hyper_stencil_gpu *stencil; /* bending, PositionTarget: stencil_device.c */
 } hyper_term_ws;

@@ -53,7 +53,7 @@ CSTEPS=${BENCH_CONTACT_STEPS:-60}
 WSTEPS=${BENCH_W_STEPS:-25}
 
 echo "== building the benchmarks in $BUILD"
-cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact -j "$JOBS"
+cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact bench_local -j "$JOBS"
 BIN="$BUILD/bench"
 LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 

@@ -95,7 +95,8 @@ __global__ void __launch_bounds__(kThreads)
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        const int it = hm_local_solve(Dd, material, m, la, what, z, p);
+        int halvings = 0;
+        const int it = hm_local_solve(Dd, material, m, la, what, z, p, &halvings);
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
