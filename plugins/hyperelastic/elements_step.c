@@ -44,8 +44,8 @@ size_t hyper_elements_work_size(const pl_hyper_elements *e)
 }
 
 int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
-                              double *dual, double *work, double *rhs, hyper_prox_stats *stats,
-                              pl_error *err)
+                              double *dual, double *warm, double *work, double *rhs,
+                              hyper_prox_stats *stats, pl_error *err)
 {
     const int d = e->d, nd = 3 * d, k = e->k;
     if (e->material != PL_HYPER_ARAP && !dual)
@@ -62,7 +62,8 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
         double *u = dual ? dual + (size_t)i * nd : NULL;
         for (int a = 0; a < nd; ++a) z[a] = u && e->material != PL_HYPER_ARAP ? F[a] + u[a] : F[a];
         int nhalf = 0;
-        int it = hyper_local_solve_counted(&law, hyper_law_weight(&law), z, p, &nhalf);
+        int it = hyper_local_solve_warm(&law, hyper_law_weight(&law), z, p,
+                                        warm ? warm + (size_t)i * d : NULL, &nhalf);
         halvings += nhalf;
         int finite = 1;
         for (int a = 0; a < nd; ++a) finite &= isfinite(p[a]);

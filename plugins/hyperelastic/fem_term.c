@@ -120,6 +120,10 @@ int hyper_fem_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
     (void)err;
     if (f->dual_slot >= 0 && !f->warm_start)
         memset(pl_data_slot(ctx->data, f->dual_slot), 0, pl_data_slot_bytes(ctx->data, f->dual_slot));
+    /* the prox's warm start is within a step only: each step starts cold,
+     * so that it depends on the slots alone (restore, clone: bitwise) */
+    hyper_term_ws *w = pl_data_workspace(ctx->data, c);
+    if (w && w->warm) memset(w->warm, 0, w->nwarm * sizeof *w->warm);
 #ifdef PLIANT_HAVE_CUDA
     hyper_fem_device_begin_step(f, ctx->data);
 #endif
@@ -228,10 +232,14 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
     double *work = hyper_term_work(c, d, hyper_elements_work_size(&f->el), err);
     if (!work) return err->code;
     hyper_term_ws *w = pl_data_workspace(d, c); /* not NULL: hyper_term_work made it */
+    double *warm = NULL;
+    if (f->material == PL_HYPER_NEOHOOKEAN &&
+        !(warm = hyper_term_warm(c, d, (size_t)f->el.n * f->el.d, err)))
+        return err->code;
     pl_error e;
     long long capped = w->prox.capped;
     double t0 = pl_now();
-    if (hyper_elements_project(&f->el, offset, h2, x, dual, work, b, &w->prox, &e) != PL_OK)
+    if (hyper_elements_project(&f->el, offset, h2, x, dual, warm, work, b, &w->prox, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     w->prox_seconds += pl_now() - t0;
     if (w->prox.capped > capped)

@@ -53,7 +53,7 @@ static void check_local(gpu_bar *bar, int m)
     int sg[2];
     int admm = e->material != PL_HYPER_ARAP;
     double *work = malloc(hyper_elements_work_size(e) * sizeof *work);
-    int cpu_rc = work ? hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, work, rc, &sc, &err)
+    int cpu_rc = work ? hyper_elements_project(e, 0, h2, q, admm ? uc : NULL, NULL, work, rc, &sc, &err)
                       : pl_error_set(&err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     free(work);
     if (cpu_rc != PL_OK) {
