@@ -210,7 +210,7 @@ PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, d
             PL_UNROLL
             for (int i = 0; i < d; ++i)
                 if (dx[i] < 0.0) alpha = fmin(alpha, -0.95 * s[i] / dx[i]);
-        double trial[3], rt[3], Ht[9] = {0};
+        double trial[3], rt[3] = {0}, Ht[9] = {0};
         PL_UNROLL
         for (int i = 0; i < d; ++i) trial[i] = s[i] + alpha * dx[i];
         double rnt = hm_residual(d, mat, mu, la, what, trial, zh, rt, Ht);
