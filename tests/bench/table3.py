@@ -205,7 +205,7 @@ def row_of(res, dev, scene, paper):
         "vert": kilo(info["vertices"] or 0), "paper_vert": pv,
         "elem": kilo(info["elements"]), "paper_elem": pe,
         "contacts": "%d" % cmax if cmax else "0", "paper_contacts": pc,
-        "at": "%.2f" % ((first[0] + 1) * FRAME_S), "ties": len(at),
+        "at": "%.2f" % ((first[0] + 1) * FRAME_S) if cmax else "", "ties": len(at),
         "star": star, "det_at": best[2],
         "median": median([r[1] for r in rows]), "det_median": median([r[2] for r in rows]),
         "max": max(r[1] for r in rows), "frames": len(rows) + 1, "spf": spf,
@@ -270,8 +270,10 @@ def tables(res):
 
 
 def write_doc(doc, text):
-    with open(doc) as f:
-        old = f.read()
+    old = ""
+    if os.path.exists(doc):
+        with open(doc) as f:
+            old = f.read()
     if BEGIN in old and END in old:
         a = old.index(BEGIN)
         b = old.index(END) + len(END) + 1

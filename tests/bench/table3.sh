@@ -10,10 +10,12 @@
 #   bash tests/bench/table3.sh BUILD_DIR half2 table  # second CPU half (~8 min), tables
 # PARTS (any order, several allowed): gpu, cpu1, cpu2 (the runs), half1 (= gpu cpu1),
 #   half2 (= cpu2), all (every run), table (the tables from what RES holds),
-#   plan (the runs and their estimated times).
+#   plan (the runs and their estimated times), clean (empties RES: results of
+#   earlier calls stay there and enter the tables until then).
 # Environment (optional):
-#   RES        results folder (default BUILD_DIR/table3, kept between calls on a warm
-#              machine; copied to $OUT/table3 when OUT is set, so the lead gets them)
+#   RES        results folder (default out/table3: an ignored folder outside the carried
+#              build, kept between calls on a warm machine); each file is also copied to
+#              $OUT/table3 as soon as written when OUT is set (a call cut short keeps its runs)
 #   FRAMES     frames of 0.01 s per scene (default 150); RAPTOR_FRAMES for the
 #              raptors (default 100: 400 steps of 2.5 ms)
 #   THREADS    CPU threads (default: this host's cores)
@@ -37,7 +39,7 @@ B=${1:?usage: table3.sh BUILD_DIR PART...}
 shift
 [ $# -gt 0 ] || set -- plan
 case "$B" in /*) ;; *) B="$ROOT/$B" ;; esac
-RES=${RES:-$B/table3}
+RES=${RES:-$ROOT/out/table3}
 PY="python3 $ROOT/tests/bench/table3.py"
 LIMIT_S=${LIMIT_S:-560}
 NCPU=$(getconf _NPROCESSORS_ONLN 2>/dev/null || nproc)
@@ -51,6 +53,11 @@ P=$B/bin/pliant
 mkdir -p "$RES/out"
 t0=$(date +%s)
 status=0
+save() { # copies files of RES to $OUT/table3 (the device machine's returned folder)
+    [ -n "${OUT:-}" ] && [ -d "$OUT" ] || return 0
+    mkdir -p "$OUT/table3" && for f in "$@"; do [ -f "$f" ] && cp "$f" "$OUT/table3/"; done
+    return 0
+}
 
 meta() { # the run's context, once per call
     date -u '+%Y-%m-%d %H:%M UTC' > "$RES/meta_date.txt"
@@ -61,6 +68,7 @@ meta() { # the run's context, once per call
         > "$RES/meta_cpu.txt"
     echo "FRAMES=${FRAMES:-150} RAPTOR_FRAMES=${RAPTOR_FRAMES:-100}, --set solver.computeResidual=off, first frame left out" \
         > "$RES/meta_settings.txt"
+    save "$RES"/meta_*.txt
 }
 
 run_part() { # the runs of part $1
@@ -69,16 +77,17 @@ run_part() { # the runs of part $1
         left=$(( LIMIT_S - ($(date +%s) - t0) ))
         if [ "$left" -lt $(( (tmo - 60) / 3 + 5 )) ]; then
             echo "skipped (time limit): $dev $scene" | tee -a "$RES/skipped.txt"
+            status=1
             continue
         fi
         [ "$tmo" -gt "$left" ] && tmo=$left
         name=${dev}_${scene%.xml}
         if [ "$dev" = gpu ]; then
             args=(--device auto)
-            echo "$P run scenes/SCENE -n STEPS --device auto --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_gpu.txt"
+            echo "${P#"$ROOT"/} run scenes/SCENE -n STEPS --device auto --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_gpu.txt"
         else
             args=(--device cpu -j "$THREADS")
-            echo "$P run scenes/SCENE -n STEPS --device cpu -j $THREADS --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_cpu.txt"
+            echo "${P#"$ROOT"/} run scenes/SCENE -n STEPS --device cpu -j $THREADS --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_cpu.txt"
         fi
         s0=$(date +%s)
         timeout "$tmo" "$P" run "scenes/$scene" -n "$steps" "${args[@]}" --timings "$RES/$name.json" \
@@ -87,6 +96,7 @@ run_part() { # the runs of part $1
         rc=$?
         [ "$rc" = 0 ] || { status=1; rm -f "$RES/$name.json"; }
         echo "$dev $scene: $steps steps, exit $rc, $(( $(date +%s) - s0 )) s [$(( $(date +%s) - t0 )) s]"
+        save "$RES/$name.json" "$RES/$name.log" "$RES"/meta_command_*.txt
     done < "$RES/jobs_$1.txt"
     rm -rf "$RES/out"; mkdir -p "$RES/out"
 }
@@ -94,6 +104,7 @@ run_part() { # the runs of part $1
 for part in "$@"; do
     case "$part" in
         plan) FRAMES=${FRAMES:-150} $PY plan ;;
+        clean) rm -rf "$RES"; mkdir -p "$RES/out" ;;
         gpu|cpu1|cpu2|half1|half2|all|cpu)
             [ -x "$P" ] || { echo "table3.sh: no $P (build first)" >&2; exit 2; }
             meta
@@ -103,12 +114,11 @@ for part in "$@"; do
             echo "== tables"
             if [ "$DOC" = none ]; then $PY table "$RES" --out "$RES/table3.md"
             else $PY table "$RES" --out "$RES/table3.md" --doc "$DOC"; fi || status=1
+            save "$RES/table3.md" "$DOC"
             cat "$RES/table3.md" ;;
         *) echo "table3.sh: unknown part '$part'" >&2; exit 2 ;;
     esac
 done
-if [ -n "${OUT:-}" ] && [ -d "$OUT" ]; then
-    mkdir -p "$OUT/table3" && cp "$RES"/*.json "$RES"/*.log "$RES"/*.txt "$RES"/*.md "$OUT/table3/" 2>/dev/null
-fi
+save "$RES/skipped.txt"
 echo "table3.sh: $(( $(date +%s) - t0 )) s, status $status"
 exit $status
