@@ -190,6 +190,9 @@ def row_of(res, dev, scene, paper):
     info = parse_log(base + ".log")
     stats = js.get("stats", {})
     spf = steps_per_frame(scene)
+    if "frames" not in js:
+        raise SystemExit("%s.json has no per-frame table: pliant older than the timers' "
+                         "\"frames\" (commit c8a0b60); rebuild" % base)
     rows = frame_rows(js, spf)[1:]  # the first frame is warm-up
     if not rows:
         return None
