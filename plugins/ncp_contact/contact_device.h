@@ -56,6 +56,11 @@ int ncpc_device_ran(const pl_ncpc_device *g);
  * once the device's stream has been waited for (the loop's last copy). */
 const double *ncpc_device_lambda(const pl_ncpc_device *g);
 const double *ncpc_device_lambda_all(const pl_ncpc_device *g);
+/* A number that changes whenever a CUDA graph captured around iterate()
+ * in an earlier step would no longer fit this step (device buffers moved,
+ * capacities grew, rows appeared or vanished, parameters changed); the
+ * step's data went up with its first iterate.  0 for NULL. */
+unsigned long ncpc_device_epoch(const pl_ncpc_device *g);
 /* End of the step: device errors of the step (CR or residual not finite)
  * and, with record, the per-iteration series pushed into timers. */
 int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err);
