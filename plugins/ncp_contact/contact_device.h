@@ -10,7 +10,10 @@
  * dense or as scatter / device solve / gather) and the correction
  * q^{k+1} = q_free + h^2 A^-1 H^T (S lambda), and asynchronous copies of
  * lambda into page-locked host memory.  Nothing waits for the device, so
- * the animation loop can capture an iteration as a CUDA graph; the loop's
+ * the animation loop can capture an iteration as a CUDA graph, and keep it
+ * for later steps: the kernels read the rows from the device descriptor
+ * the upload put first, their grids and copies are sized by a capacity
+ * of rows, and ncpc_device_epoch says when a graph went stale; the loop's
  * copy of q at the end of the step is the one synchronisation, after which
  * the multipliers are on the host.  Internal to the plugin. */
 #ifndef PLIANT_NCP_CONTACT_DEVICE_H
