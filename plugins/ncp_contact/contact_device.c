@@ -50,7 +50,7 @@ struct pl_ncpc_device {
     pl_ncp_cuda_vecs V;
     pl_ncp_cuda_params P;
     int explicit_w, jacobian;
-    int fused_env;          /* PLIANT_NCP_FUSED_CR=1: CR's loop in one kernel (explicit W) */
+    int fused_env;          /* PLIANT_NCP_FUSED_CR=1: the constraint update in one kernel */
     int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
     int mcap, nallcap;      /* capacities of rows and of all rows (grown by half) */
     graph_key key;
@@ -309,9 +309,12 @@ static void check_key(pl_ncpc_device *g, int nfree)
     k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
     k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused;
     memcpy(&k.P, &g->P, sizeof k.P);
+    /* unique over the process: a device path made again (a rebuilt
+     * workspace) never repeats an epoch a loop's graph was captured at */
+    static _Atomic unsigned long epochs;
     if (memcmp(&k, &g->key, sizeof k)) {
         g->key = k;
-        g->epoch++;
+        g->epoch = ++epochs;
     }
 }
 
@@ -434,6 +437,10 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
 {
     int rc = PL_OK, maxit = g->P.cr_max_iter;
     pl_ncp_cuda_vecs *V = &g->V;
+    if (g->fused) { /* all of the below in one kernel */
+        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian);
+        return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
+    }
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
         rc = product(g, sys, V->lambda, V->tmp2, err);
         if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
@@ -445,11 +452,6 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
     if (!rc) rc = phase(g, PL_NCP_PHASE_D, 0, err);
-    if (!rc && g->fused) { /* the loop below in one kernel */
-        int e = ncp_cuda_cr_loop(g->stream, g->in_dev, &g->V, &g->P, g->W);
-        if (e) rc = cuda_fail(g, err, e, "CR loop");
-        maxit = 0;
-    }
     for (int t = 1; !rc && t < maxit; ++t) {
         int last = t == maxit - 1;
         rc = phase(g, PL_NCP_PHASE_E, last, err);

@@ -117,14 +117,16 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                           const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                           const pl_ncp_cuda_params *P, int last);
 
-/* CR's iterations after the first (PL_NCP_PHASE_E, y = W x, PL_NCP_PHASE_F
- * for t = 1 .. cr_max_iter - 1, E alone at the last) in one single-block
- * kernel, W explicit (m x m, m = R->m): the same arithmetic as those phases
- * and ncp_cuda_dense queued one by one, without their launches.  For few
- * rows (one block does each product: NCP_CUDA_FUSED_MAX_ROWS). */
+/* The whole constraint update (contact_device.c's constraint_update: the
+ * phases above and the products y = W x between them, CR's loop included)
+ * in one single-block kernel, W explicit (m x m, m = R->m): the same
+ * arithmetic as those phases and ncp_cuda_dense queued one by one, without
+ * their launches.  jacobian: the correction's kind (no linearisation).  For
+ * few rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
 #define NCP_CUDA_FUSED_MAX_ROWS 256
-int ncp_cuda_cr_loop(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
-                     const pl_ncp_cuda_params *P, const double *W);
+int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                          const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
+                          int jacobian);
 
 #ifdef __cplusplus
 }

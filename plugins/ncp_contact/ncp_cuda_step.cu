@@ -203,12 +203,10 @@ __device__ void dense_block(int m, const double *__restrict__ W, const double *_
     }
 }
 
-__global__ void __launch_bounds__(kThreads)
-    k_phase(int phase, const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V,
-            pl_ncp_cuda_params P, int last)
+/* One phase by the block (k_phase; the fused update runs them in turn). */
+__device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                          const pl_ncp_cuda_params &P, int last, double *sh)
 {
-    const pl_ncp_cuda_rows R = *Rp; /* the step's rows (a graph keeps only the address) */
-    __shared__ double sh[kThreads];
     pl_ncp_cuda_scalars *sc = V.sc;
     const int m = R.m, t0 = threadIdx.x == 0;
     const double h2 = P.h * P.h;
@@ -360,26 +358,69 @@ __global__ void __launch_bounds__(kThreads)
     }
 }
 
-/* CR's iterations 1 .. cr_max_iter - 1 in one block (phases E, the W
- * product, F, as the phased path queues them, with the same arithmetic);
- * the block stops once CR is done (what follows only reads dlambda, the
- * scalars and vectors it no longer changes). */
 __global__ void __launch_bounds__(kThreads)
-    k_cr_loop(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P,
-              const double *__restrict__ W)
+    k_phase(int phase, const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V,
+            pl_ncp_cuda_params P, int last)
+{
+    const pl_ncp_cuda_rows R = *Rp; /* the step's rows (a graph keeps only the address) */
+    __shared__ double sh[kThreads];
+    run_phase(phase, R, V, P, last, sh);
+}
+
+/* The whole constraint update in one block, W explicit: the sequence of
+ * contact_device.c's constraint_update (phases and W products), each
+ * phase as k_phase runs it and each product as k_dense computes it, with a
+ * barrier where the phased path ends a kernel.  CR's loop stops once CR is
+ * done (its later phases change nothing then; the product between them
+ * only writes tmp2, which the next phase after CR overwrites before use). */
+__global__ void __launch_bounds__(kThreads)
+    k_update(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P,
+             const double *__restrict__ W, int jacobian)
 {
     __shared__ double sh[kThreads];
     const pl_ncp_cuda_rows R = *Rp;
+    const int m = R.m;
+#define PHASE(p, last)                         \
+    do {                                       \
+        run_phase((p), R, V, P, (last), sh);   \
+        __syncthreads();                       \
+    } while (0)
+#define PRODUCT(x)                             \
+    do {                                       \
+        dense_block(m, W, (x), V.tmp2);        \
+        __syncthreads();                       \
+    } while (0)
+    if (!jacobian) { /* linearise at delta_free + h^2 W lambda */
+        PRODUCT(V.lambda);
+        PHASE(PL_NCP_PHASE_LIN, 0);
+    }
+    PHASE(PL_NCP_PHASE_A, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_B, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_C, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_D, 0);
     for (int t = 1; t < P.cr_max_iter; ++t) {
         const int last = t == P.cr_max_iter - 1;
-        cr_e(R, V, P, last, sh);
-        __syncthreads(); /* E's scalars and tmp, seen by the whole block */
+        PHASE(PL_NCP_PHASE_E, last);
         if (last || V.sc->done) break;
-        dense_block(R.m, W, V.tmp, V.tmp2);
-        __syncthreads();
-        cr_f(R, V, P, sh);
-        __syncthreads();
+        PRODUCT(V.tmp);
+        PHASE(PL_NCP_PHASE_F, 0);
     }
+    PHASE(PL_NCP_PHASE_G, 0);
+    if (P.line_search) {
+        if (jacobian) {
+            PHASE(PL_NCP_PHASE_LAMBDA, 0);
+            PRODUCT(V.force);
+            PHASE(PL_NCP_PHASE_LS0, 0);
+        }
+        PHASE(PL_NCP_PHASE_DLAMBDA, 0);
+        PRODUCT(V.force);
+    }
+    PHASE(PL_NCP_PHASE_UPDATE, 0);
+#undef PHASE
+#undef PRODUCT
 }
 
 } // namespace
@@ -392,10 +433,10 @@ extern "C" int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phas
     return (int)cudaGetLastError();
 }
 
-extern "C" int ncp_cuda_cr_loop(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
-                                const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
-                                const double *W)
+extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                     const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
+                                     const double *W, int jacobian)
 {
-    k_cr_loop<<<1, kThreads, 0, st>>>(R, *V, *P, W);
+    k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian);
     return (int)cudaGetLastError();
 }

@@ -12,8 +12,11 @@
  *     with rows) and at least one (the graph was used);
  *   - its positions equal those of the run without a graph (relative
  *     1e-12; a graph replaying a former step's rows would differ far
- *     more), so reuse changes nothing computed.
- * Notes: the median wall time of a step with and without the graph.
+ *     more), so reuse changes nothing computed;
+ *   - a third run with a graph and PLIANT_NCP_FUSED_CR=1 (CR's loop in one
+ *     kernel where W is explicit and rows are few) gives those positions
+ *     too (relative 1e-12).
+ * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
 #include <stdio.h>
@@ -65,9 +68,10 @@ static int first_state(pl_component *c, void *user)
 
 /* Runs `steps` steps; the first body's positions (malloc'ed, *n values),
  * the graph captures and the median step [ms]; NULL on failure. */
-static double *run(const char *path, int graph, int steps, size_t *n, double *captures,
-                   double *ms)
+static double *run(const char *path, int graph, int fused, int steps, size_t *n,
+                   double *captures, double *ms)
 {
+    setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1); /* read by the contact solver's device path */
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
     double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
@@ -108,9 +112,11 @@ static void check(const char *path, int steps)
 {
     char what[256];
     size_t na = 0, nb = 0;
-    double cap_a = 0, cap_b = 0, ms_a = NAN, ms_b = NAN;
-    double *a = run(path, 1, steps, &na, &cap_a, &ms_a);
-    double *b = run(path, 0, steps, &nb, &cap_b, &ms_b);
+    size_t nc = 0;
+    double cap_a = 0, cap_b = 0, cap_c = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
+    double *a = run(path, 1, 0, steps, &na, &cap_a, &ms_a);
+    double *b = run(path, 0, 0, steps, &nb, &cap_b, &ms_b);
+    double *c = run(path, 1, 1, steps, &nc, &cap_c, &ms_c);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -126,7 +132,15 @@ static void check(const char *path, int steps)
         snprintf(what, sizeof what, "%s: median step ms without a graph", path);
         gpu_note_line(md, what, ms_b);
     }
-    free(a), free(b);
+    snprintf(what, sizeof what, "%s: PLIANT_NCP_FUSED_CR=1 with a graph vs no graph (relative)",
+             path);
+    gpu_check_line(md, what, c && b && nc == nb ? rel(c, b, nb) : INFINITY, 1e-12);
+    snprintf(what, sizeof what, "%s: median step ms, graph and PLIANT_NCP_FUSED_CR=1", path);
+    gpu_note_line(md, what, ms_c);
+    snprintf(what, sizeof what, "%s: graph captures with PLIANT_NCP_FUSED_CR=1", path);
+    gpu_note_line(md, what, cap_c);
+    free(a), free(b), free(c);
+    unsetenv("PLIANT_NCP_FUSED_CR");
 }
 
 int main(int argc, char **argv)
