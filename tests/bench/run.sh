@@ -18,6 +18,13 @@
 #   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
 #   JOBS               build jobs (default: nproc)
 #   PLIANT_DEVICE      cpu (default here) or auto (scenes run on a GPU when one is usable)
+#   BENCH_PARALLEL     1: run the parts (contact, W comparison, pressure, scenes, convergence)
+#                      at the same time, one thread each: for an idle machine with cores to
+#                      spare (e.g. the GPU machine's 16-core host, whose commands are limited
+#                      to 10 minutes); the whole bench then takes as long as its longest part
+#   BENCH_COMMIT       the commit to name in the doc (default: git's; for a tree without .git)
+#   BENCH_NO_BUILD     1: do not build; BUILD_DIR already holds the programs (a build carried
+#                      to another machine)
 set -eu
 
 BUILD=${1:-build}
@@ -52,8 +59,12 @@ skip() { case " $SKIP " in *" $1 "*) return 0 ;; esac; return 1; }
 CSTEPS=${BENCH_CONTACT_STEPS:-60}
 WSTEPS=${BENCH_W_STEPS:-25}
 
-echo "== building the benchmarks in $BUILD"
-cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact -j "$JOBS"
+if [ "${BENCH_NO_BUILD:-0}" = 1 ]; then
+    echo "== BENCH_NO_BUILD=1: the benchmark programs already built in $BUILD"
+else
+    echo "== building the benchmarks in $BUILD"
+    cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact -j "$JOBS"
+fi
 BIN="$BUILD/bench"
 LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 
@@ -65,8 +76,14 @@ CONV_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_convergence --
 CONTACT_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_contact --steps $CSTEPS --out $REL_BUILD/bench_out (the small and medium cloth, ball and gingerbread scenes; the pulling scenes with --steps $((2 * CSTEPS)))"
 W_CMD="OMP_NUM_THREADS=$OMP_NUM_THREADS $REL_BUILD/bench/bench_contact --steps $WSTEPS --out $REL_BUILD/bench_out --set contact.delassus=explicit|matrix-free scenes/sharp_corner_small.xml scenes/sharp_corner.xml"
 
-status=0
-if ! skip contact; then
+# Each part writes its tables under $OUT and says "fail" on error.  With
+# BENCH_PARALLEL=1 the parts run at the same time, one thread each (for an
+# idle machine with more cores than parts, e.g. the GPU machine's host: the
+# whole bench then takes as long as its longest part); their output is then
+# printed part by part at the end.
+fail() { echo 1 >>"$OUT/failed"; }
+rm -f "$OUT/failed"
+part_contact() {
     echo "== $CONTACT_CMD"
     S=scenes
     { "$BIN/bench_contact" --steps "$CSTEPS" --out "$OUT" $S/cloth_on_knives_small.xml $S/cloth_on_knives.xml \
@@ -74,47 +91,67 @@ if ! skip contact; then
           $S/gingerbread_small.xml $S/gingerbread.xml &&
       "$BIN/bench_contact" --steps "$((2 * CSTEPS))" --out "$OUT" $S/pulling_through_gap_small.xml \
           $S/pulling_through_gap.xml | grep '^| pulling'; } >"$OUT/contact.md" 2>"$OUT/contact.log" ||
-        { status=1; echo "run.sh: bench_contact failed, see $OUT/contact.log" >&2; }
+        { fail; echo "run.sh: bench_contact failed, see $OUT/contact.log" >&2; }
     cat "$OUT/contact.md"
+}
+
+part_contact_w() {
+    S=scenes
     echo "== $W_CMD"
     for w in explicit matrix-free; do
         "$BIN/bench_contact" --steps "$WSTEPS" --out "$OUT" --set contact.delassus=$w \
             $S/sharp_corner_small.xml $S/sharp_corner.xml
     done 2>"$OUT/contact_w.log" | awk 'NR <= 4 || /^\| sharp/' \
-        >"$OUT/contact_w.md" || status=1
+        >"$OUT/contact_w.md" || fail
     cat "$OUT/contact_w.md"
-fi
-if ! skip pressure; then
+}
+
+part_pressure() {
     # make test runs levels 1 and 2; the finest (level 3, 30720 tetrahedra) is here
     echo "== PRESSURE_LEVELS='1 2 3' $REL_BUILD/tests/test_pressure_sphere"
-    cmake --build "$BUILD" --target test_pressure_sphere -j "$JOBS" >/dev/null
+    [ "${BENCH_NO_BUILD:-0}" = 1 ] || cmake --build "$BUILD" --target test_pressure_sphere -j "$JOBS" >/dev/null
     PRESSURE_LEVELS="1 2 3" CK_RUN_CASE=lame "$BUILD/tests/test_pressure_sphere" 2>/dev/null |
-        grep -E '^level|%' || status=1
-fi
-if ! skip scenes; then
+        grep -E '^level|%' || fail
+}
+
+part_scenes() {
     echo "== $SCENES_CMD"
     # shellcheck disable=SC2086 # SCENES is a list of words
     if "$BIN/bench_scenes" --frames "$FRAMES" --modes "$MODES" --out-dir "$OUT" \
         --csv "$OUT/scenes.csv" $SCENES >"$OUT/scenes.md" 2>"$OUT/scenes.log"; then :; else
-        status=1
+        fail
         echo "run.sh: bench_scenes failed, see $OUT/scenes.log" >&2
         tail -5 "$OUT/scenes.log" >&2
     fi
     cat "$OUT/scenes.md"
-fi
-if ! skip convergence; then
+}
+
+part_convergence() {
     echo "== $CONV_CMD"
     if "$BIN/bench_convergence" --scene "$CONV_SCENE" --frames "$CONV_FRAMES" --iterations 20 \
         --jacobi-iterations "$CONV_JACOBI" --stiffness 1e5,1e7,1e9 --out-dir "$OUT" \
         --csv "$OUT/convergence.csv" \
         >"$OUT/convergence.md" 2>"$OUT/convergence.log"; then :; else
-        status=1
+        fail
         echo "run.sh: bench_convergence failed, see $OUT/convergence.log" >&2
         tail -5 "$OUT/convergence.log" >&2
     fi
     grep -h "warning" "$OUT/convergence.log" >&2 || true
     cat "$OUT/convergence.md"
+}
+
+PARTS_RUN=""
+for p in contact pressure scenes convergence; do skip $p || PARTS_RUN="$PARTS_RUN $p"; done
+skip contact || PARTS_RUN="$PARTS_RUN contact_w"
+if [ "${BENCH_PARALLEL:-0}" = 1 ]; then
+    for p in $PARTS_RUN; do part_$p >"$OUT/part_$p.out" 2>&1 & done
+    wait
+    for p in $PARTS_RUN; do cat "$OUT/part_$p.out"; done
+else
+    for p in $PARTS_RUN; do part_$p; done
 fi
+status=0
+[ -s "$OUT/failed" ] && status=1
 LOAD_AFTER=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 
 # ---- the plot: gnuplot, else python3 matplotlib; installed here if missing (never by make test)
@@ -193,9 +230,9 @@ GEN="$OUT/generated.md"
          "$NCPU cores available, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo) memory"
     echo "- load average (1, 5, 15 min) before: $LOAD_BEFORE, after: $LOAD_AFTER" \
          "(other jobs shared the machine: timings are noisy; medians over the frames)"
-    echo "- OMP_NUM_THREADS=$OMP_NUM_THREADS, build type" \
+    echo "- OMP_NUM_THREADS=$OMP_NUM_THREADS$([ "${BENCH_PARALLEL:-0}" = 1 ] && echo ", the parts run at the same time (BENCH_PARALLEL=1), one thread each"), build type" \
          "$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$BUILD/CMakeCache.txt"), commit" \
-         "$(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD -- 2>/dev/null || echo ' + local changes')"
+         "${BENCH_COMMIT:-$(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD -- 2>/dev/null || echo ' + local changes')}"
     echo "- command: \`make bench\` (= \`sh tests/bench/run.sh $REL_BUILD\`), which ran:"
     echo
     echo "      $SCENES_CMD"
