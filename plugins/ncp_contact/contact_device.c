@@ -52,7 +52,7 @@ struct pl_ncpc_device {
     int explicit_w, jacobian;
     int fused_env;          /* PLIANT_NCP_FUSED_CR=1: the constraint update in one kernel */
     int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
-    int mcap, nallcap;      /* capacities of rows and of all rows (grown by half) */
+    int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */
     graph_key key;
     unsigned long epoch;
 };
@@ -148,13 +148,23 @@ unsigned long ncpc_device_epoch(const pl_ncpc_device *g)
     return g ? g->epoch : 0;
 }
 
-/* A capacity of at least n (grown by half, at least 16): the grids and
- * copies of a captured graph are sized by it, so it changes rarely. */
+/* A capacity of at least n (doubled, at least 64): the grids and copies of
+ * a captured graph are sized by it, so it changes rarely (from 0 to 1000
+ * rows: 5 times). */
 static int grow(int cap, int n)
 {
     if (n <= cap) return cap;
-    int c = cap + cap / 2;
-    return c > n ? c : (n > 16 ? n : 16);
+    int c = 2 * cap;
+    return c > n ? c : (n > 64 ? n : 64);
+}
+
+/* W's bytes for m rows: the capacity's square (W's address then changes
+ * with the capacity only) while that is at most 64 MB; above, m^2 (and
+ * reserve's half more): a large W does not take 4 m^2. */
+static size_t w_bytes(const pl_ncpc_device *g, int m)
+{
+    size_t full = sizeof(double) * (size_t)g->mcap * (size_t)g->mcap;
+    return full <= ((size_t)64 << 20) ? full : sizeof(double) * (size_t)m * (size_t)m;
 }
 
 /* Device memory of at least `bytes` in *p (capacity *cap, grown by half). */
@@ -270,8 +280,7 @@ static int *transpose(const pl_ncpc_rows *r, int nfree)
 double *ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
 {
     g->mcap = grow(g->mcap, m); /* W follows the capacity of rows */
-    size_t mm = (size_t)g->mcap;
-    return reserve(g, (void **)&g->W, &g->W_cap, sizeof(double) * mm * mm, err) == PL_OK ? g->W : NULL;
+    return reserve(g, (void **)&g->W, &g->W_cap, w_bytes(g, m), err) == PL_OK ? g->W : NULL;
 }
 
 /* The work vectors in one device arena of capacity mcap (nallcap for
@@ -370,7 +379,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     if (!rc && g->explicit_w && st->D->W_dev && st->D->W_dev != g->W)
         rc = fail(g, err, PL_EINTERNAL, "W was built into another device array");
     if (!rc && g->explicit_w && !st->D->W_dev) {
-        rc = reserve(g, (void **)&g->W, &g->W_cap, sizeof(double) * mm * mm, err);
+        rc = reserve(g, (void **)&g->W, &g->W_cap, w_bytes(g, m), err);
         if (!rc && m)
             rc = g->ops->copy(g->dev, g->W, PL_DEVICE, st->D->W, PL_HOST,
                               sizeof(double) * (size_t)m * (size_t)m, err);
