@@ -369,12 +369,14 @@ static unsigned long contact_epoch(const local_global_solver *s, pl_ctx *ctx)
 }
 
 /* Whether a graph holding the contact solver's iterate may be replayed in
- * later steps: the solver says when it goes stale (graph_epoch). */
+ * later steps: the solver says when it goes stale (graph_epoch).
+ * PLIANT_DEVICE_GRAPH_REUSE=0 (a diagnostic) captures it every step. */
 static int rows_graph_reusable(const local_global_solver *s)
 {
     const pl_contact_solver_ops *cs =
         s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    return cs && cs->version >= 3 && cs->graph_epoch;
+    const char *env = getenv("PLIANT_DEVICE_GRAPH_REUSE");
+    return cs && cs->version >= 3 && cs->graph_epoch && !(env && !strcmp(env, "0"));
 }
 
 /* Iteration `it` of a step: eager, or through the captured graph.  The
