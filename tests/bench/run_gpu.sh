@@ -8,8 +8,10 @@
 # BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep, test_gripper) and
 # plugins/ of a CUDA build; the bundled libraries (gpu-bundle) are taken from
 # $GPU_LIBS/lib (default BUILD_DIR/lib).  Parts:
-#   ctest     `ctest -L gpu` in BUILD_DIR: gpu_check's small bar and gpu_scenes'
-#             checks of the small scenes (each says "skipped: no GPU" without one)
+#   ctest     `ctest -L gpu` in BUILD_DIR: gpu_check's small bar, gpu_scenes'
+#             checks of the small scenes and gpu_graph (the loop's CUDA graph
+#             kept across 100 constrained steps; each says "skipped: no GPU"
+#             without one)
 #   check     gpu_scenes: CPU vs GPU one frame from identical states, every scene
 #             with a device path (bars, cloth, cloth with bending/targets/forces,
 #             contact scenes), float64 within 1e-9, float32 S within 1e-4
