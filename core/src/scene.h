@@ -35,8 +35,9 @@ void pl_scene_move_component_first(pl_node *n, pl_component *c);
  * and takes it out again when no GPU answers (returns it, or NULL).
  * pl_sim_device_cost, called after every component's init: records the
  * cost model's sizes and predictions in timers (may be NULL) and, when dev
- * (the implicit device, or NULL) is predicted slower than the CPU, takes it
- * out of the root (returns 1: the caller indexes the components again). */
+ * (the implicit device, or NULL) is predicted slower than the CPU and not
+ * forced (gpu-always), takes it out of the root (returns 1: the caller
+ * indexes the components again). */
 struct pl_model;
 struct pl_sim_options;
 pl_component *pl_sim_implicit_device(pl_node *root, pl_registry *reg, struct pl_model *model,
@@ -45,7 +46,7 @@ pl_component *pl_sim_implicit_device(pl_node *root, pl_registry *reg, struct pl_
 pl_component *pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg,
                                          struct pl_model *model);
 struct pl_timers;
-int pl_sim_device_cost(pl_node *root, pl_component *dev, struct pl_model *model,
+int pl_sim_device_cost(pl_node *root, pl_component *dev, int forced, struct pl_model *model,
                        struct pl_timers *timers);
 
 #endif

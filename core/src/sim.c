@@ -142,8 +142,7 @@ static int load_tree(pl_sim *s, pl_diag *diag)
     if (diag->nerrors) return pl_diag_status(diag);
     /* sizes known, nothing on the device yet: the implicit device stays
      * only where the cost model predicts it faster */
-    if (pl_sim_device_cost(root, s->device_forced ? NULL : s->implicit_device, &s->model,
-                           s->timers)) {
+    if (pl_sim_device_cost(root, s->implicit_device, s->device_forced, &s->model, s->timers)) {
         s->implicit_device = NULL;
         if (pl_model_index_components(&s->model) != PL_OK)
             return pl_diag_error(diag, PL_EINTERNAL, s->model.file, 0, NULL, "out of memory");

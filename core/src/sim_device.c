@@ -209,14 +209,18 @@ static void record(pl_timers *t, const pl_device_sizes *z, const pl_device_estim
     pl_stat_set(t, "predicted GPU [ms/step]", e->gpu_ms);
 }
 
-int pl_sim_device_cost(pl_node *root, pl_component *dev, pl_model *model, pl_timers *timers)
+int pl_sim_device_cost(pl_node *root, pl_component *dev, int forced, pl_model *model,
+                       pl_timers *timers)
 {
     pl_device_sizes z;
     memset(&z, 0, sizeof z);
     z.device_path = 1;
     walk_pre(root, gather, &z);
+    if (dev && forced)
+        pl_log_info("%s: no device in the scene, running on the GPU found (--device gpu-always)",
+                    model->file);
     if (z.iterations_max == 0) { /* no LocalGlobalSolver: nothing to predict */
-        if (dev)
+        if (dev && !forced)
             pl_log_info("%s: no device in the scene, running on the GPU found (no "
                         "LocalGlobalSolver for the cost model to predict; --device cpu keeps it "
                         "on the CPU)",
@@ -234,7 +238,7 @@ int pl_sim_device_cost(pl_node *root, pl_component *dev, pl_model *model, pl_tim
     char why[768];
     int gpu = pl_device_cost_choose(&z, threads, dev != NULL, &e, why, sizeof why);
     if (timers) record(timers, &z, &e);
-    if (!dev) { /* policy cpu or gpu-always, no GPU, or the scene's own device */
+    if (!dev || forced) { /* policy cpu or gpu-always, no GPU, or the scene's own device */
         pl_log_debug("%s: device cost model: %s", model->file, why);
         return 0;
     }
