@@ -19,6 +19,8 @@ mkdir -p "$O"
 THREADS=${THREADS:-$(nproc)}
 LIMIT=${LIMIT:-540}
 export OMP_WAIT_POLICY=PASSIVE
+# the bundled libraries as in run_gpu.sh: $GPU_LIBS/lib (default BUILD_DIR/lib)
+export LD_LIBRARY_PATH="$PWD/${GPU_LIBS:-$B}/lib:$PWD/$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH=${PLIANT_PLUGIN_PATH:-$PWD/$B/plugins}
 t0=$(date +%s)
 { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null; echo "$THREADS threads";
