@@ -74,6 +74,9 @@ def read_scenes(folder, sizes_dir):
                   file=sys.stderr)
             continue
         its = cpu.get("series", {}).get("iterations")
+        if "S device memory [MB]" not in gpu.get("stats", {}):
+            print(f"warning: {n}: the GPU run has no device statistics (did a GPU answer?)",
+                  file=sys.stderr)
         scenes.append({"name": n, "cpu": frame_ms(cpu), "gpu": frame_ms(gpu),
                        "auto": frame_ms(auto), "z": size,
                        "nnz_s": cpu.get("stats", {}).get("nnz(S)"),

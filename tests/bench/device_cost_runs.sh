@@ -33,7 +33,7 @@ for s in $scenes; do
     if [ $(($(date +%s) - t0)) -gt "$LIMIT" ]; then echo "time up before $s $dev"; break 2; fi
     timeout 60 "$B/bin/pliant" run "scenes/$s.xml" -n $n -q -o "/tmp/device_cost_out/$s" \
       --device $dev -j "$THREADS" --timings "$O/${s}_$dev.json" > "$O/${s}_$dev.log" 2>&1
-    echo "$s $dev exit $? $(tail -c 200 "$O/${s}_$dev.log" | tail -1)"
+    echo "$s $dev exit $? $(tail -1 "$O/${s}_$dev.log" | cut -c1-150)"
   done
 done
 cp core/src/device_cost.c "$O/device_cost_fitted.c"
