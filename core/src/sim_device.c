@@ -138,11 +138,18 @@ static int has_device_step(const char *type)
     return 0;
 }
 
+typedef struct gathered {
+    pl_device_sizes z;
+    int cuda_asked; /* a component says device="cuda": the device stays */
+} gathered;
+
 static int gather(pl_component *c, void *user)
 {
-    pl_device_sizes *z = user;
+    gathered *g = user;
+    pl_device_sizes *z = &g->z;
     const char *type = c->type->name;
     char v[64];
+    if (!strcmp(field_text(c, "device", v, sizeof v), "cuda")) g->cuda_asked = 1;
     if (pl_component_role(c, PL_ROLE_STATE)) {
         const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
         int n = ops->count ? ops->count(c) : 0;
@@ -212,13 +219,17 @@ static void record(pl_timers *t, const pl_device_sizes *z, const pl_device_estim
 int pl_sim_device_cost(pl_node *root, pl_component *dev, int forced, pl_model *model,
                        pl_timers *timers)
 {
-    pl_device_sizes z;
-    memset(&z, 0, sizeof z);
-    z.device_path = 1;
-    walk_pre(root, gather, &z);
+    gathered g;
+    memset(&g, 0, sizeof g);
+    g.z.device_path = 1;
+    walk_pre(root, gather, &g);
+    pl_device_sizes z = g.z;
+    /* the scene asks for the GPU by name somewhere (device="cuda"): its
+     * word, as a declared CudaDevice's */
+    forced = forced || g.cuda_asked;
     if (dev && forced)
-        pl_log_info("%s: no device in the scene, running on the GPU found (--device gpu-always)",
-                    model->file);
+        pl_log_info("%s: no device in the scene, running on the GPU found (%s)", model->file,
+                    g.cuda_asked ? "a component asks for device=\"cuda\"" : "--device gpu-always");
     if (z.iterations_max == 0) { /* no LocalGlobalSolver: nothing to predict */
         if (dev && !forced)
             pl_log_info("%s: no device in the scene, running on the GPU found (no "
