@@ -21,6 +21,7 @@ and, with --write FILE, replaces the FITTED block of FILE (device_cost.c).
 Python 3 standard library only (the GPU machine has no packages).
 
   python3 tests/bench/device_cost_fit.py DIR [--sizes DIR] [--write core/src/device_cost.c]
+  python3 tests/bench/device_cost_fit.py --selftest    (ctest device_cost_fit)
 """
 import argparse
 import json
@@ -187,7 +188,72 @@ def c_block(k):
             f"static const int CAL_THREADS = {CAL_THREADS}, FT_ITERATIONS = {k['FT_ITERATIONS']};\n")
 
 
+def selftest():
+    """Timings made by known constants through the whole path (files, fit,
+    table, --write): the fit must predict them within 2% and choose right."""
+    import random
+    import tempfile
+    rng = random.Random(16)
+    truth = {"CPU_MS": [0.05, 0.16, 0.07, 0.07, 0.13, 0.1, 0.11, 0.02, 0.004, 0.001, 2.0, 0.01],
+             "GPU_MS": [0.3, 0.04, 0.001, 0.003, 0.02, 0.004, 0.5, 0.05, 0.01, 0.03, 2.0, 0.0],
+             "S_TET": 6.0, "S_TRI": 4.0, "PARTIAL": 0.8, "FT_ITERATIONS": 80}
+    laws = ["ARAP", "corotational", "Neo-Hookean"]
+    with tempfile.TemporaryDirectory() as d:
+        for i in range(40):
+            n = int(10 ** rng.uniform(2, 4.5))
+            tets = rng.random() < 0.6
+            z = {f"{l} {k}": 0 for l in laws for k in ("tetrahedra", "triangles")}
+            z[f"{rng.choice(laws)} {'tetrahedra' if tets else 'triangles'}"] = n * (5 if tets else 2)
+            contact = rng.random() < 0.5
+            z.update({"vertices": n, "S basis tetrahedra": n ** (4 / 3) if tets else 0,
+                      "S basis triangles": 0 if tets else n * math.log2(n),
+                      "iterations": rng.choice([5, 10]), "force tolerance": 0,
+                      "constraints": 1 if contact else 0, "CR iterations": 10 if contact else 0,
+                      "surface vertices": n if contact else 0, "device path": 1,
+                      "sparse inverse": 1})
+            nnz = truth["S_TET"] * z["S basis tetrahedra"] + truth["S_TRI"] * z["S basis triangles"]
+            cpu, gpu = predict(truth, z)
+            for dev, ms in (("cpu", cpu), ("gpu-always", gpu)):
+                doc = {"phases": {"Frame": {"median_ms": ms}},
+                       "stats": dict({"cost: " + k: v for k, v in z.items()}, **{
+                           "nnz(S)": nnz, "S device memory [MB]": 1})}
+                with open(os.path.join(d, f"s{i}_{dev}.json"), "w") as f:
+                    json.dump(doc, f)
+        scenes = read_scenes(d, None)
+        k = fit(scenes)
+        for s in scenes:
+            cpu, gpu = predict(k, s["z"])
+            if abs(cpu / s["cpu"] - 1) > 0.02 or abs(gpu / s["gpu"] - 1) > 0.02:
+                sys.exit(f"selftest: {s['name']}: predicted {cpu:.4g} / {gpu:.4g} ms, "
+                         f"made {s['cpu']:.4g} / {s['gpu']:.4g} ms")
+            if verdict(s, gpu < cpu) != "yes":
+                sys.exit(f"selftest: {s['name']}: wrong choice")
+        path = os.path.join(d, "device_cost.c")
+        with open(path, "w") as f:
+            f.write("a\n/* BEGIN FITTED (x) */\nold\n/* END FITTED */\nb\n")
+        write_block(path, c_block(k))
+        with open(path) as f:
+            text = f.read()
+        if "old" in text or "CPU_MS[NTERMS]" not in text or not text.endswith("*/\nb\n"):
+            sys.exit("selftest: the FITTED block was not replaced")
+    print(f"selftest: {len(scenes)} made-up scenes predicted within 2%, every choice right")
+    return 0
+
+
+def write_block(path, block):
+    with open(path) as f:
+        text = f.read()
+    new, n = re.subn(r"(/\* BEGIN FITTED[^\n]*\n).*?(/\* END FITTED \*/)",
+                     lambda m: m.group(1) + block + m.group(2), text, flags=re.S)
+    if n != 1:
+        sys.exit(f"device_cost_fit: no FITTED block in {path}")
+    with open(path, "w") as f:
+        f.write(new)
+
+
 def main():
+    if sys.argv[1:] == ["--selftest"]:
+        return selftest()
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("folder")
     ap.add_argument("--sizes", help="folder of <scene>.json with the cost: statistics")
@@ -220,14 +286,7 @@ def main():
     block = c_block(k)
     print("\n" + block, end="")
     if a.write:
-        with open(a.write) as f:
-            text = f.read()
-        new, n = re.subn(r"(/\* BEGIN FITTED[^\n]*\n).*?(/\* END FITTED \*/)",
-                         lambda m: m.group(1) + block + m.group(2), text, flags=re.S)
-        if n != 1:
-            sys.exit(f"device_cost_fit: no FITTED block in {a.write}")
-        with open(a.write, "w") as f:
-            f.write(new)
+        write_block(a.write, block)
         print(f"wrote the constants into {a.write}")
     return 1 if wrong else 0
 
