@@ -56,7 +56,7 @@ pl_device_estimate pl_device_cost_predict(const pl_device_sizes *z, int threads)
 /* The choice: 1 for the GPU, 0 for the CPU (always 0 when gpu_present is
  * 0); *e gets the predictions and why one sentence for the log: "CPU
  * chosen: predicted 2.1 ms/step on 16 threads vs 5.5 ms on the GPU (3.2k
- * elements Neo-Hookean, 0.9k vertices, 10 iterations, ...)". */
+ * tetrahedra Neo-Hookean, 0.9k vertices, 10 iterations, ...)". */
 int pl_device_cost_choose(const pl_device_sizes *z, int threads, int gpu_present,
                           pl_device_estimate *e, char *why, size_t size);
 
