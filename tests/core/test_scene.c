@@ -283,12 +283,15 @@ static pl_sim *load_bar(const char *extra, const char *global, const char *polic
     return sim;
 }
 
-START_TEST(device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu)
+START_TEST(device_auto_removes_the_device_when_the_model_says_cpu)
 {
     unsetenv("FAKE_GPU");
-    pl_sim *s = load_bar("", "<SparseInverseSolver name=\"global\"/>", "auto");
+    /* a GPU answers, but nothing of this scene would run there (the JacobiSolver has no
+     * device path), so the model predicts the CPU at least as fast: the implicit device is
+     * removed.  (With the constants fitted on the H100 host the model sends every scene
+     * with a SparseInverseSolver to the GPU, tiny ones too: measured faster there.) */
+    pl_sim *s = load_bar("", "<JacobiSolver name=\"global\"/>", "auto");
     ck_assert_ptr_nonnull(s);
-    /* a GPU answers, but the model predicts the CPU faster: no device */
     ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
     double gpu = -1, cpu_ms = 0, gpu_ms = 0, tets = 0;
     pl_timers *t = pl_sim_timers(s);
@@ -296,7 +299,7 @@ START_TEST(device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu)
     ck_assert(gpu == 0);
     ck_assert_int_eq(pl_stat_get(t, "predicted CPU [ms/step]", &cpu_ms), 0);
     ck_assert_int_eq(pl_stat_get(t, "predicted GPU [ms/step]", &gpu_ms), 0);
-    ck_assert(cpu_ms > 0 && cpu_ms < gpu_ms);
+    ck_assert(cpu_ms > 0 && cpu_ms <= gpu_ms);
     /* the sizes the model read, and the log line that says why */
     ck_assert_int_eq(pl_stat_get(t, "cost: Neo-Hookean tetrahedra", &tets), 0);
     ck_assert_msg(tets == 2 * 3 * 2 * 6 || tets == 2 * 3 * 2 * 5, "%g tetrahedra", tets);
@@ -305,7 +308,8 @@ START_TEST(device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu)
     ck_assert(verts == 36);
     ck_assert_msg(strstr(log_text, "bar.xml: no device in the scene (device=auto): CPU chosen: "
                                    "predicted") &&
-                      strstr(log_text, "tetrahedra Neo-Hookean"),
+                      strstr(log_text, "tetrahedra Neo-Hookean") &&
+                      strstr(log_text, "the global solver has no device path"),
                   "%s", log_text);
     pl_error err;
     ck_assert_int_eq(pl_sim_step(s, 2, &err), PL_OK);
@@ -374,7 +378,7 @@ int main(void)
     tcase_add_test(tc, a_scene_without_a_device_gets_one_when_a_gpu_answers);
     tcase_add_test(tc, no_implicit_device_without_a_gpu_with_cpu_or_a_declared_one);
     tcase_add_test(tc, a_bad_device_policy_is_an_error);
-    tcase_add_test(tc, device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu);
+    tcase_add_test(tc, device_auto_removes_the_device_when_the_model_says_cpu);
     tcase_add_test(tc, a_declared_device_or_gpu_always_is_never_overridden);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
