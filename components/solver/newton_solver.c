@@ -20,6 +20,7 @@ typedef struct newton_solver {
     double tolerance;
     int quasi_static;
     int project;
+    double damping; /* an input, as LocalGlobalSolver's: the same step, the same state slots */
     pl_dynamics dyn;
     int ready;
 } newton_solver;
@@ -45,6 +46,10 @@ static const pl_field FIELDS[] = {
              "project each element Hessian onto the PSD cone (robust far from equilibrium; 0 keeps "
              "the exact Hessian: quadratic convergence near a minimum)",
              PL_FIELD_RUNTIME),
+    PL_FIELD(newton_solver, damping, "damping", PL_F_DOUBLE, "0",
+             "Rayleigh-style mass damping [1/s] after the step: v <- v / (1 + h damping) "
+             "(LocalGlobalSolver's, so that Newton solves the same step as a reference)",
+             PL_FIELD_INPUT),
 };
 
 static int ns_reinit(pl_component *c, pl_ctx *ctx)
@@ -270,7 +275,7 @@ static int ns_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     }
     pl_stat_set(ctx->timers, "newton iterations", it);
     pl_stat_set(ctx->timers, "newton energy", e);
-    pl_dynamics_scatter(d, &w->w, ctx->data, q, 0.0);
+    pl_dynamics_scatter(d, &w->w, ctx->data, q, pl_input_double(ctx->data, c, &s->damping));
     return PL_OK;
 }
 

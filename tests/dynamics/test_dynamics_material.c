@@ -2,12 +2,13 @@
  * converged local-global solution equals Newton's (catches a missing ADMM
  * dual), a hanging bar recovers Young's modulus and Poisson's ratio, a
  * cantilever follows Euler-Bernoulli, Neo-Hookean cloth keeps its area
- * better than corotational cloth. */
+ * better than corotational cloth; NewtonSolver damps as LocalGlobalSolver does. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "dyn_test_util.h"
 
@@ -67,6 +68,47 @@ START_TEST(converged_local_global_matches_newton_on_a_static_problem)
         pl_sim_free(lg);
         pl_sim_free(nw);
     }
+}
+END_TEST
+
+START_TEST(newton_damps_as_local_global_and_restores_its_state)
+{
+    /* NewtonSolver's damping input is LocalGlobalSolver's (v <- v / (1 + h c) after the
+     * step): converged, the two agree over steps where the damped velocity matters; and a
+     * state saved by one restores into the other (make bench's convergence study saves the
+     * run-up with the local-global solver and takes Newton's step from it) */
+    const char *size = "min=\"0 -1 0\" max=\"0.1 0 0.1\" n=\"3 6 3\"";
+    pl_sim *lg = hanging("<LocalGlobalSolver name=\"solver\" iterations=\"50000\" "
+                         "tolerance=\"1e-14\" damping=\"20\"/>",
+                         "NeoHookean", 1e5, 0.3, 0.05, size, "");
+    pl_sim *nw = hanging("<NewtonSolver name=\"solver\" tolerance=\"1e-14\" damping=\"20\"/>",
+                         "NeoHookean", 1e5, 0.3, 0.05, size, "");
+    pl_sim *free_ = hanging("<NewtonSolver name=\"solver\" tolerance=\"1e-14\"/>", "NeoHookean",
+                            1e5, 0.3, 0.05, size, "");
+    dyn_step(lg, 3);
+    dyn_step(nw, 3);
+    dyn_step(free_, 3);
+    int n;
+    const double *a = dyn_positions(lg, "bar/dofs", &n), *b = dyn_positions(nw, "bar/dofs", &n);
+    const double *f = dyn_positions(free_, "bar/dofs", &n), *r = dyn_rest(nw, "bar/dofs", &n);
+    double disp = max_abs_diff(b, r, 3 * n), diff = max_abs_diff(a, b, 3 * n),
+           damped = max_abs_diff(b, f, 3 * n);
+    fprintf(stderr, "damping 20: displacement %.6g m, local-global vs Newton %.3g, damped vs "
+                    "undamped Newton %.3g\n", disp, diff, damped);
+    ck_assert(damped > 1e-2 * disp);
+    ck_assert_msg(diff < 1e-6 * disp, "relative difference %g", diff / disp);
+    char path[] = "/tmp/pliant_newton_state_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    close(fd);
+    pl_error err;
+    ck_assert_int_eq(pl_sim_save_state(lg, path, &err), PL_OK);
+    ck_assert_msg(pl_sim_restore_state(free_, path, &err) == PL_OK, "%s", err.msg);
+    ck_assert(max_abs_diff(dyn_positions(free_, "bar/dofs", &n), a, 3 * n) == 0.0);
+    unlink(path);
+    pl_sim_free(lg);
+    pl_sim_free(nw);
+    pl_sim_free(free_);
 }
 END_TEST
 
@@ -210,6 +252,7 @@ int main(void)
     TCase *tc = tcase_create("material");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, converged_local_global_matches_newton_on_a_static_problem);
+    tcase_add_test(tc, newton_damps_as_local_global_and_restores_its_state);
     tcase_add_test(tc, a_hanging_bar_recovers_young_modulus_and_poisson_ratio);
     tcase_add_test(tc, a_cantilever_deflects_as_euler_bernoulli_predicts);
     tcase_add_test(tc, neo_hookean_cloth_keeps_its_area_better_than_corotational);
