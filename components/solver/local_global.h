@@ -27,8 +27,10 @@ typedef struct lg_device_ws {
     double *q, *sn, *rhs;
     double *b_free, *q_free;   /* nfree x 3 */
     double *change;            /* 1: largest position change of an iteration */
-    void *graph;               /* one iteration, captured (PL_DEVICE_GRAPHS) */
-    int graph_rows;            /* the graph holds the contact solver's iterate */
+    void *graph[2];            /* one iteration, captured (PL_DEVICE_GRAPHS): [0] for
+                                  steps without rows, [1] with the contact iterate */
+    unsigned long graph_epoch; /* the contact solver's graph_epoch at graph[1]'s capture */
+    long captures;             /* graphs captured for this data (stat "device graph captures") */
     int nrows;                 /* constraint rows of the step being taken */
     double *pinned_q, *pinned_sn; /* the host vectors page-locked (NULL: not) */
 } lg_device_ws;

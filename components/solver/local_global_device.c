@@ -16,7 +16,9 @@
  *           from the second iteration on, one captured iteration is
  *           replayed as a graph when the device asks for graphs (the first
  *           iteration of each step stays eager: terms upload their per-step
- *           data, such as ADMM duals, when first called in a step);
+ *           data, such as ADMM duals, when first called in a step); the
+ *           graph is kept for the following steps (two: one for steps
+ *           without rows, one with them);
  * The model's arrays (masses, the free-vertex map, A_fp) go to the device
  * once, at reinit; each pl_data has its own vectors and graph, in the
  * solver's workspace, so several data step over one model on the device.
@@ -28,10 +30,15 @@
  * run on the host at the start of the step (with q_t, as on the CPU path);
  * when there are rows, each iteration's global step is the contact
  * solver's iterate() on the device buffers (its device path queues the
- * constraint update and the correction on the same stream), the graph is
- * captured again for the step (the rows' sizes change from step to step),
- * and after the copy of q the multipliers go to the constraints on the
- * host.  The contact solver must have a device path: a field "device"
+ * constraint update and the correction on the same stream), and after the
+ * copy of q the multipliers go to the constraints on the host.  The
+ * contact solver's kernels read the step's rows from a device descriptor
+ * and are sized by a capacity of rows, so the graph holding its iterate
+ * replays later steps' rows too; the solver's graph_epoch (contact solver
+ * ops version 3) changes when its buffers move or its capacity grows, and
+ * only then is the graph captured again (stat "device graph captures").
+ * A contact solver without graph_epoch gets a capture every step with
+ * rows, as before.  The contact solver must have a device path: a field "device"
  * whose value is not "cpu" (NonSmoothNewtonContactSolver in a CUDA build;
  * pl_contact_solver_ops has no accepts member yet). */
 #include <math.h>
@@ -252,7 +259,8 @@ void pl_lg_device_ws_free(lg_ws *ws)
     const pl_device_ops *o = g->ops;
     pl_error err;
     o->sync(g->dev, &err); /* nothing may still use the buffers */
-    if (g->graph) o->graph_free(g->dev, g->graph);
+    for (int k = 0; k < 2; ++k)
+        if (g->graph[k]) o->graph_free(g->dev, g->graph[k]);
     void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
@@ -352,27 +360,61 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
     return rc;
 }
 
-/* Iteration `it` of a step: eager, or through the captured graph. */
+/* The contact solver's graph_epoch for this data (0 without one). */
+static unsigned long contact_epoch(const local_global_solver *s, pl_ctx *ctx)
+{
+    const pl_contact_solver_ops *cs =
+        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
+    return cs && cs->version >= 3 && cs->graph_epoch ? cs->graph_epoch(s->contact, ctx->data) : 0;
+}
+
+/* Whether a graph holding the contact solver's iterate may be replayed in
+ * later steps: the solver says when it goes stale (graph_epoch).
+ * PLIANT_DEVICE_GRAPH_REUSE=0 (a diagnostic) captures it every step. */
+static int rows_graph_reusable(const local_global_solver *s)
+{
+    const pl_contact_solver_ops *cs =
+        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
+    const char *env = getenv("PLIANT_DEVICE_GRAPH_REUSE");
+    return cs && cs->version >= 3 && cs->graph_epoch && !(env && !strcmp(env, "0"));
+}
+
+/* Iteration `it` of a step: eager, or through the captured graph.  The
+ * graph is captured at the second iteration of a step when there is none
+ * (or the contact solver's buffers or capacities changed since, epoch) and
+ * replayed in the later iterations of this and the following steps. */
 static int run_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int it,
                          pl_error *err)
 {
     int profile = (g->flags & PL_DEVICE_PROFILE) != 0;
     if (profile || !(g->flags & PL_DEVICE_GRAPHS) || it == 0)
         return iteration(s, g, ctx, profile, err);
-    if (!g->graph) {
+    int r = g->nrows > 0;
+    unsigned long epoch = r ? contact_epoch(s, ctx) : 0;
+    if (r && g->graph[1] && epoch != g->graph_epoch) {
+        int rc = g->ops->sync(g->dev, err); /* nothing may still run it */
+        if (rc) return rc;
+        g->ops->graph_free(g->dev, g->graph[1]);
+        g->graph[1] = NULL;
+    }
+    if (!g->graph[r]) {
         int rc = g->ops->capture_begin(g->dev, err);
         if (rc) return rc;
-        g->graph_rows = g->nrows > 0;
+        if (r) g->graph_epoch = epoch;
+        g->captures++;
+        double total = 0.0; /* over every data of the timers */
+        pl_stat_get(ctx->timers, "device graph captures", &total);
+        pl_stat_set(ctx->timers, "device graph captures", total + 1.0);
         rc = iteration(s, g, ctx, 0, err);
         pl_error e2;
-        int rc2 = g->ops->capture_end(g->dev, &g->graph, rc ? &e2 : err);
+        int rc2 = g->ops->capture_end(g->dev, &g->graph[r], rc ? &e2 : err);
         if (rc || rc2) {
-            g->ops->graph_free(g->dev, g->graph);
-            g->graph = NULL;
+            g->ops->graph_free(g->dev, g->graph[r]);
+            g->graph[r] = NULL;
             return rc ? rc : rc2;
         }
     }
-    return g->ops->replay(g->dev, g->graph, err);
+    return g->ops->replay(g->dev, g->graph[r], err);
 }
 
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err)
@@ -394,14 +436,18 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
         g->nrows = pl_lg_begin_constraints(s, ws, ctx, err);
         if (g->nrows < 0) return -g->nrows;
     }
-    /* a graph with the contact solver's iterate holds this step's row
-     * buffers: captured again for every step with rows */
-    if ((flags != g->flags || g->nrows > 0 || g->graph_rows) && g->graph) {
+    /* graphs are kept across steps: graph[0] (no rows) always, graph[1]
+     * (with the contact solver's iterate) when the solver tells when it
+     * goes stale (graph_epoch, checked before the replay); without that it
+     * is captured again every step with rows.  A change of the device's
+     * flags drops both. */
+    for (int k = 0; k < 2; ++k) {
+        int drop = flags != g->flags || (k == 1 && g->nrows > 0 && !rows_graph_reusable(s));
+        if (!drop || !g->graph[k]) continue;
         rc = o->sync(g->dev, err);
         if (rc) return rc;
-        o->graph_free(g->dev, g->graph);
-        g->graph = NULL;
-        g->graph_rows = 0;
+        o->graph_free(g->dev, g->graph[k]);
+        g->graph[k] = NULL;
     }
     g->flags = flags;
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;

@@ -28,7 +28,7 @@ static const char USAGE[] =
     "  -j, --threads N       OpenMP threads per run (default: the cores, shared among the\n"
     "                        ranks on a node)\n"
     "  -t, --timeout S       stop a run that takes longer than S seconds (default: no limit)\n"
-    "      --device cpu|auto as for pliant run\n"
+    "      --device cpu|auto|gpu-always as for pliant run\n"
     "  -q, --quiet           no line per finished run\n"
     "  -h, --help            this text\n"
     "exit codes: 0 every run ok, 1 some run failed, crashed or timed out, 2 bad input\n";
@@ -52,8 +52,8 @@ static int parse_option(int c, sweep *s, sweep_opts *o, char **argv)
     case 'q': s->quiet = 1; return 0;
     case OPT_DEVICE:
         s->device = optarg;
-        if (strcmp(optarg, "cpu") && strcmp(optarg, "auto"))
-            return cli_usage_error("sweep", "--device expects cpu or auto, got '%s'", optarg);
+        if (strcmp(optarg, "cpu") && strcmp(optarg, "auto") && strcmp(optarg, "gpu-always"))
+            return cli_usage_error("sweep", "--device expects cpu, auto or gpu-always, got '%s'", optarg);
         return 0;
     case 'h': fputs(USAGE, stdout); return -1;
     default: return cli_bad_option("sweep", argv, optind, optopt);

@@ -39,8 +39,8 @@ int view_common_option(view_args *a, const char *cmd, int opt, const char *arg)
     case 'j': return cli_parse_int(cmd, "--threads", arg, 1, &a->threads) ? 2 : 1;
     case 'q': a->quiet = 1; return 1;
     case VOPT_DEVICE:
-        if (strcmp(arg, "cpu") && strcmp(arg, "auto"))
-            return cli_usage_error(cmd, "--device expects cpu or auto, got '%s'", arg);
+        if (strcmp(arg, "cpu") && strcmp(arg, "auto") && strcmp(arg, "gpu-always"))
+            return cli_usage_error(cmd, "--device expects cpu, auto or gpu-always, got '%s'", arg);
         a->device = arg;
         return 1;
     case VOPT_SIZE:

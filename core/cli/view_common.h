@@ -39,8 +39,7 @@ enum { VOPT_DEVICE = 1000, VOPT_SIZE, VOPT_FIELD, VOPT_WIREFRAME, VOPT_NO_OVERLA
     "      --wireframe        edges over the surfaces\n"                                       \
     "      --no-overlay       no text (time, ms per step by phase, contacts)\n"                \
     "  -s, --set PATH=VALUE   change a field before the scene starts (repeatable)\n"           \
-    "      --device cpu|auto  auto: the GPU when the scene declares no device and one is\n"    \
-    "                         usable (default PLIANT_DEVICE, else auto)\n"                     \
+    "      --device cpu|auto|gpu-always  as for pliant run (default PLIANT_DEVICE, else auto)\n" \
     "  -o, --out DIR          where the scene's exporters write (default out/<scene name>/)\n" \
     "  -j, --threads N        OpenMP threads (default OMP_NUM_THREADS, else the cores this\n"  \
     "                         process may use; never more than those)\n"                      \

@@ -30,14 +30,23 @@ void pl_scene_remove_component(pl_node *n, pl_component *c);
 void pl_scene_move_component_first(pl_node *n, pl_component *c);
 /* The implicit device (sim_device.c): a CudaDevice added first in the root
  * of a scene that declares no device, when the policy (opt->device, else
- * PLIANT_DEVICE; "auto" by default) allows it and the cuda plugin loads
+ * PLIANT_DEVICE; "auto" by default, "gpu-always": *forced = 1, no cost model) allows it and the cuda plugin loads
  * (NULL otherwise; a bad policy is an error in diag).  _try initialises it
- * and takes it out again when no GPU answers. */
+ * and takes it out again when no GPU answers (returns it, or NULL).
+ * pl_sim_device_cost, called after every component's init: records the
+ * cost model's sizes and predictions in timers (may be NULL) and, when dev
+ * (the implicit device, or NULL) is predicted slower than the CPU and not
+ * forced (gpu-always), takes it out of the root (returns 1: the caller
+ * indexes the components again). */
 struct pl_model;
 struct pl_sim_options;
 pl_component *pl_sim_implicit_device(pl_node *root, pl_registry *reg, struct pl_model *model,
-                                     const struct pl_sim_options *opt, pl_diag *diag);
-void pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg,
-                                struct pl_model *model);
+                                     const struct pl_sim_options *opt, int *forced,
+                                     pl_diag *diag);
+pl_component *pl_sim_implicit_device_try(pl_node *root, pl_component *c, pl_registry *reg,
+                                         struct pl_model *model);
+struct pl_timers;
+int pl_sim_device_cost(pl_node *root, pl_component *dev, int forced, struct pl_model *model,
+                       struct pl_timers *timers);
 
 #endif

@@ -24,6 +24,8 @@ struct pl_sim {
     int export_every;
     pl_component *loop;      /* the animation loop, or NULL */
     pl_work_limits ceiling;  /* pl_sim_options.max_limits, model.ceiling points here */
+    pl_component *implicit_device; /* added by the loader (sim_device.c), or NULL */
+    int device_forced;             /* policy "gpu": the cost model does not choose */
     pl_sim_callback callback;
     void *callback_user;
     pl_data *stepping;       /* the data whose step runs the callback, or NULL */
@@ -138,6 +140,13 @@ static int load_tree(pl_sim *s, pl_diag *diag)
     if (diag->nerrors) return pl_diag_status(diag);
     walk_pre(root, call_init, &ctx);
     if (diag->nerrors) return pl_diag_status(diag);
+    /* sizes known, nothing on the device yet: the implicit device stays
+     * only where the cost model predicts it faster */
+    if (pl_sim_device_cost(root, s->implicit_device, s->device_forced, &s->model, s->timers)) {
+        s->implicit_device = NULL;
+        if (pl_model_index_components(&s->model) != PL_OK)
+            return pl_diag_error(diag, PL_EINTERNAL, s->model.file, 0, NULL, "out of memory");
+    }
     s->data = pl_data_create(&s->model);
     if (!s->data) return pl_diag_error(diag, PL_EINTERNAL, s->model.file, 0, NULL, "out of memory");
     ctx.data = s->data;
@@ -209,11 +218,12 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     int flags = opt && opt->allow_plugin_path ? PL_SCENE_ALLOW_PLUGIN_PATH : 0;
     s->model.root = pl_scene_build(xml, len, file, s->registry, flags, diag);
     if (!s->model.root || diag->nerrors) goto fail;
-    pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt, diag);
+    pl_component *dev = pl_sim_implicit_device(s->model.root, s->registry, &s->model, opt,
+                                               &s->device_forced, diag);
     for (int k = 0; opt && k < opt->noverrides; ++k) apply_override(s, opt->overrides[k], diag);
     check_time_steps(&s->model, s->model.root, diag);
     if (diag->nerrors) goto fail;
-    pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
+    s->implicit_device = pl_sim_implicit_device_try(s->model.root, dev, s->registry, &s->model);
     if (hook->fn && hook->fn(s->model.root, s->registry, diag, hook->user)) {
         if (!diag->nerrors)
             pl_diag_error(diag, PL_EINPUT, file, 0, NULL, "the program's prepare step failed");

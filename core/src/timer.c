@@ -1,4 +1,10 @@
-/* timer.c - per-phase timers (samples per frame), statistics and series. */
+/* timer.c - per-phase timers (samples per frame), statistics and series.
+ *
+ * Besides the samples (one per frame in which a phase ran), every frame
+ * appends to a per-frame table: each phase's time in that frame (0 when it
+ * did not run) and, for each statistic kept by pl_stat_max, the largest value
+ * given in that frame (0 when none), so that a frame's phases can be read
+ * beside its contact count ("frames" in the JSON). */
 #include "pliant/timer.h"
 
 #include <math.h>
@@ -19,6 +25,8 @@ typedef struct named_values {
     char *name;
     double *v;
     int n, cap;
+    double frame; /* statistics: the largest pl_stat_max value of this frame */
+    int per_frame; /* statistics: kept by pl_stat_max (0: by pl_stat_set only) */
 } named_values;
 
 struct pl_timers {
@@ -28,6 +36,9 @@ struct pl_timers {
     int nstats, cap_stats;
     named_values *series;
     int nseries, cap_series;
+    named_values *frames;  /* per frame: phases [ms], then the pl_stat_max statistics */
+    int nframe_cols, cap_frames;
+    int nframes;           /* frames ended */
 };
 
 double pl_now(void)
@@ -58,7 +69,8 @@ void pl_timers_clear(pl_timers *t)
     }
     free_named(t->stats, t->nstats);
     free_named(t->series, t->nseries);
-    t->nphases = t->nstats = t->nseries = 0;
+    free_named(t->frames, t->nframe_cols);
+    t->nphases = t->nstats = t->nseries = t->nframe_cols = t->nframes = 0;
 }
 
 void pl_timers_free(pl_timers *t)
@@ -68,6 +80,7 @@ void pl_timers_free(pl_timers *t)
     free(t->phases);
     free(t->stats);
     free(t->series);
+    free(t->frames);
     free(t);
 }
 
@@ -109,9 +122,30 @@ void pl_timer_add(pl_timers *t, int id, double seconds)
     t->phases[id].ran = 1;
 }
 
+static named_values *find_named(named_values **arr, int *n, int *cap, const char *name, int create);
+static void push_value(named_values *v, double x);
+
+/* Appends this frame's value to column `name` of the per-frame table,
+ * with zeros for the frames before the column existed. */
+static void frame_value(pl_timers *t, const char *name, double x)
+{
+    named_values *v = find_named(&t->frames, &t->nframe_cols, &t->cap_frames, name, 1);
+    if (!v || v->n > t->nframes) return; /* a statistic named like a phase: the phase's */
+    while (v->n < t->nframes) push_value(v, 0.0);
+    push_value(v, x);
+}
+
 void pl_timers_end_frame(pl_timers *t)
 {
     if (!t) return;
+    for (int k = 0; k < t->nphases; ++k)
+        frame_value(t, t->phases[k].name, t->phases[k].ran ? 1e3 * t->phases[k].frame_sum : 0.0);
+    for (int k = 0; k < t->nstats; ++k) {
+        if (!t->stats[k].per_frame) continue;
+        frame_value(t, t->stats[k].name, t->stats[k].frame);
+        t->stats[k].frame = 0.0;
+    }
+    t->nframes++;
     for (int k = 0; k < t->nphases; ++k) {
         phase *p = &t->phases[k];
         if (!p->ran) continue;
@@ -211,10 +245,15 @@ void pl_stat_set(pl_timers *t, const char *name, double value)
 
 void pl_stat_max(pl_timers *t, const char *name, double value)
 {
-    double old;
     if (!t) return;
-    if (pl_stat_get(t, name, &old) == 0 && old >= value) return;
-    pl_stat_set(t, name, value);
+    named_values *v = find_named(&t->stats, &t->nstats, &t->cap_stats, name, 1);
+    if (!v) return;
+    if (!v->n || v->v[0] < value) {
+        v->n = 0;
+        push_value(v, value);
+    }
+    if (!v->per_frame || v->frame < value) v->frame = value;
+    v->per_frame = 1;
 }
 
 int pl_stat_get(const pl_timers *t, const char *name, double *value)
@@ -292,6 +331,18 @@ int pl_timers_write_json(const pl_timers *t, FILE *f)
         for (int i = 0; i < t->series[k].n; ++i) {
             if (i) fputs(", ", f);
             json_number(f, t->series[k].v[i]);
+        }
+        fputs("]", f);
+    }
+    fputs("\n  },\n  \"frames\": {", f);
+    fprintf(f, "\n    \"count\": %d", t->nframes);
+    for (int k = 0; k < t->nframe_cols; ++k) {
+        fputs(",\n    ", f);
+        json_string(f, t->frames[k].name);
+        fputs(": [", f);
+        for (int i = 0; i < t->nframes; ++i) {
+            if (i) fputs(", ", f);
+            json_number(f, i < t->frames[k].n ? t->frames[k].v[i] : 0.0);
         }
         fputs("]", f);
     }

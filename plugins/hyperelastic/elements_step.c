@@ -44,33 +44,40 @@ size_t hyper_elements_work_size(const pl_hyper_elements *e)
 }
 
 int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
-                              double *dual, double *work, double *rhs, int stats[2],
-                              pl_error *err)
+                              double *dual, double *warm, double *work, double *rhs,
+                              hyper_prox_stats *stats, pl_error *err)
 {
     const int d = e->d, nd = 3 * d, k = e->k;
     if (e->material != PL_HYPER_ARAP && !dual)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
                             "the ADMM-PD local step needs its dual variables");
-    int first_bad = INT_MAX, max_it = 0, missed = 0;
+    int first_bad = INT_MAX, max_it = 0;
+    long long missed = 0, newton = 0, halvings = 0, hist[HYPER_PROX_HIST] = {0};
 #pragma omp parallel for schedule(static) reduction(min : first_bad) reduction(max : max_it) \
-    reduction(+ : missed)
+    reduction(+ : missed, newton, halvings, hist[:HYPER_PROX_HIST])
     for (int i = 0; i < e->n; ++i) {
         double F[9], z[9], p[9];
         deformation_gradient(e, i, offset, q, F);
         pl_hyper_law law = hyper_elements_law(e, i);
         double *u = dual ? dual + (size_t)i * nd : NULL;
         for (int a = 0; a < nd; ++a) z[a] = u && e->material != PL_HYPER_ARAP ? F[a] + u[a] : F[a];
-        int it = hyper_local_solve(&law, hyper_law_weight(&law), z, p);
+        int nhalf = 0;
+        int it = hyper_local_solve_warm(&law, hyper_law_weight(&law), z, p,
+                                        warm ? warm + (size_t)i * d : NULL, &nhalf);
+        halvings += nhalf;
         int finite = 1;
         for (int a = 0; a < nd; ++a) finite &= isfinite(p[a]);
         if (!finite) {
             if (i < first_bad) first_bad = i;
             continue;
         }
-        if (it < 0)
+        if (it < 0) {
             ++missed;
-        else if (it > max_it)
-            max_it = it;
+        } else {
+            newton += it;
+            ++hist[it < HYPER_PROX_HIST - 1 ? it : HYPER_PROX_HIST - 1];
+            if (it > max_it) max_it = it;
+        }
         if (e->material != PL_HYPER_ARAP) {
             /* scaled dual ascent, then the right-hand side uses p - u */
             for (int a = 0; a < nd; ++a) {
@@ -81,8 +88,12 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
         spread(e, i, h2 * e->w[i], p, work + (size_t)i * 3 * k);
     }
     if (stats) {
-        stats[0] = max_it;
-        stats[1] = missed;
+        stats->solves += e->n;
+        stats->newton += newton;
+        stats->halvings += halvings;
+        stats->capped += missed;
+        for (int b = 0; b < HYPER_PROX_HIST; ++b) stats->hist[b] += hist[b];
+        if (max_it > stats->max_iterations) stats->max_iterations = max_it;
     }
     if (first_bad != INT_MAX)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,

@@ -5,6 +5,7 @@
  * ADMM-PD duals (3 x d per element) live in the pl_data slot "dual".
  * project() on device buffers (CUDA builds) goes to fem_term_device.c. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -119,20 +120,63 @@ int hyper_fem_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
     (void)err;
     if (f->dual_slot >= 0 && !f->warm_start)
         memset(pl_data_slot(ctx->data, f->dual_slot), 0, pl_data_slot_bytes(ctx->data, f->dual_slot));
+    /* the prox's warm start is within a step only: each step starts cold,
+     * so that it depends on the slots alone (restore, clone: bitwise) */
+    hyper_term_ws *w = pl_data_workspace(ctx->data, c);
+    if (w && w->warm) memset(w->warm, 0, w->nwarm * sizeof *w->warm);
 #ifdef PLIANT_HAVE_CUDA
     hyper_fem_device_begin_step(f, ctx->data);
 #endif
     return PL_OK;
 }
 
+/* t's statistic `name` += v (summed over the steps and over the terms of
+ * one type). */
+static void stat_add(pl_timers *t, const char *type, const char *what, double v)
+{
+    char name[96];
+    double old = 0.0;
+    snprintf(name, sizeof name, "%s: local %s", type, what);
+    if (pl_stat_get(t, name, &old) != 0) old = 0.0;
+    pl_stat_set(t, name, old + v);
+}
+
+/* The step's local-solve counts into the timers' statistics ("NeoHookean:
+ * local solves", "... newton", "... halvings", "... capped", "... its=k",
+ * "... seconds"; pliant run --timings prints them), then zeroed. */
+static void publish_prox(const pl_component *c, pl_ctx *ctx)
+{
+    hyper_term_ws *w = pl_data_workspace(ctx->data, c);
+    if (!w || !ctx->timers || w->prox.solves == 0) return;
+    const char *type = c->type->name;
+    const hyper_prox_stats *p = &w->prox;
+    stat_add(ctx->timers, type, "solves", (double)p->solves);
+    stat_add(ctx->timers, type, "newton", (double)p->newton);
+    stat_add(ctx->timers, type, "halvings", (double)p->halvings);
+    stat_add(ctx->timers, type, "capped", (double)p->capped);
+    stat_add(ctx->timers, type, "seconds", w->prox_seconds);
+    for (int b = 0; b < HYPER_PROX_HIST; ++b) {
+        char bin[16];
+        snprintf(bin, sizeof bin, b < HYPER_PROX_HIST - 1 ? "its=%d" : "its>=%d", b);
+        if (p->hist[b]) stat_add(ctx->timers, type, bin, (double)p->hist[b]);
+    }
+    char name[96];
+    snprintf(name, sizeof name, "%s: local max iterations", type);
+    pl_stat_max(ctx->timers, name, p->max_iterations);
+    memset(&w->prox, 0, sizeof w->prox);
+    w->prox_seconds = 0.0;
+}
+
 int hyper_fem_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
 {
+    int rc = PL_OK;
 #ifdef PLIANT_HAVE_CUDA
-    return hyper_fem_device_end_step((const hyper_fem *)c, ctx->data, err);
+    rc = hyper_fem_device_end_step((const hyper_fem *)c, ctx->data, err);
 #else
-    (void)c, (void)ctx, (void)err;
-    return PL_OK;
+    (void)err;
 #endif
+    publish_prox(c, ctx);
+    return rc;
 }
 
 void hyper_fem_destroy(pl_component *c)
@@ -187,12 +231,20 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
     }
     double *work = hyper_term_work(c, d, hyper_elements_work_size(&f->el), err);
     if (!work) return err->code;
+    hyper_term_ws *w = pl_data_workspace(d, c); /* not NULL: hyper_term_work made it */
+    double *warm = NULL;
+    if (f->material == PL_HYPER_NEOHOOKEAN &&
+        !(warm = hyper_term_warm(c, d, (size_t)f->el.n * f->el.d, err)))
+        return err->code;
     pl_error e;
-    int stats[2];
-    if (hyper_elements_project(&f->el, offset, h2, x, dual, work, b, stats, &e) != PL_OK)
+    long long capped = w->prox.capped;
+    double t0 = pl_now();
+    if (hyper_elements_project(&f->el, offset, h2, x, dual, warm, work, b, &w->prox, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
-    if (stats[1] > 0)
-        pl_log_debug("%s: %d local solves stopped before their tolerance", c->name, stats[1]);
+    w->prox_seconds += pl_now() - t0;
+    if (w->prox.capped > capped)
+        pl_log_debug("%s: %lld local solves stopped before their tolerance", c->name,
+                     w->prox.capped - capped);
     return PL_OK;
 }
 

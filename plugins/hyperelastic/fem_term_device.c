@@ -135,13 +135,24 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     if (stats[1] > 0)
         pl_log_debug("%s: %d local solves stopped before their tolerance (last iteration)",
                      f->base.name, stats[1]);
+    /* the step's counts join the host's (fem_term.c publishes them) */
+    hyper_term_ws *w = pl_data_workspace(d, &f->base);
+    if (w && hyper_cuda_prox_stats(gpu->g, gpu->stream, &w->prox, &e) != PL_OK)
+        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+    if (w && stats[0] > w->prox.max_iterations) w->prox.max_iterations = stats[0];
     return PL_OK;
 }
 
 void hyper_fem_device_begin_step(const hyper_fem *f, pl_data *d)
 {
     hyper_fem_gpu **slot = gpu_of(f, d);
-    if (slot && *slot) (*slot)->fresh = 0, (*slot)->used = 0;
+    if (!slot || !*slot) return;
+    (*slot)->fresh = 0, (*slot)->used = 0;
+    /* each step's prox starts cold, as on the host; queued before the
+     * step's kernels (or its graph) on the same stream.  An error here
+     * (a broken context) shows again at the next CUDA call, which reports. */
+    pl_error e;
+    (void)hyper_cuda_begin_step((*slot)->g, (*slot)->stream, &e);
 }
 
 void hyper_fem_device_free(hyper_fem_gpu **slot)

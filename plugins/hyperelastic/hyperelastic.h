@@ -115,6 +115,23 @@ void pl_hyper_dPdF(const pl_hyper_law *m, const double *F, int psd, double *H);
  * Neo-Hookean).  Returns the Newton iterations (>= 0), or -1 if it did not
  * reach its tolerance (p is then the last iterate) or z is not finite. */
 int hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p);
+/* The same, started from warm (d values: the element's previous singular
+ * values, used when warm[0] > 0; NULL: cold) and leaving its own there,
+ * adding its line-search halvings to *halvings (not NULL). */
+int hyper_local_solve_warm(const pl_hyper_law *m, double what, const double *z, double *p,
+                           double *warm, int *halvings);
+
+/* What the local steps did, summed over element-calls (hyper_elements_project
+ * adds to it; the FEM terms publish it per step, fem_term.c). */
+#define HYPER_PROX_HIST 13 /* bins: 0 .. 11 Newton iterations, then >= 12 */
+typedef struct hyper_prox_stats {
+    long long solves;                /* element-calls of the local step */
+    long long newton;                /* Newton iterations, summed */
+    long long halvings;              /* line-search halvings, summed */
+    long long capped;                /* solves that stopped before their tolerance */
+    long long hist[HYPER_PROX_HIST]; /* solves by Newton iterations (capped ones not binned) */
+    int max_iterations;              /* the largest count of one solve */
+} hyper_prox_stats;
 
 /* ---- element sets: one FEM term's elements (elements.c, elements_step.c) */
 
@@ -167,12 +184,13 @@ size_t hyper_elements_work_size(const pl_hyper_elements *e);
  * n x dual_size (NULL for ARAP; ADMM duals updated in place); work: the
  * caller's scratch of hyper_elements_work_size doubles (the element set
  * is only read, so several states may project with it at once); adds
- * h2 * w (p - u) D^T into rhs (global n x 3).  If stats != NULL, stats[0] =
- * the largest Newton iteration count, stats[1] = elements whose local solve
- * missed its tolerance.  PL_EINTERNAL if q gives a non-finite F. */
+ * h2 * w (p - u) D^T into rhs (global n x 3).  warm (n x d, or NULL):
+ * each element's prox starts from its row when set (row[0] > 0) and leaves
+ * its solution there (zeros: cold).  If stats != NULL, this call's counts
+ * are added to it.  PL_EINTERNAL if q gives a non-finite F. */
 int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
-                              double *dual, double *work, double *rhs, int stats[2],
-                              pl_error *err);
+                              double *dual, double *warm, double *work, double *rhs,
+                              hyper_prox_stats *stats, pl_error *err);
 /* Elastic energy sum psi(F_e) V_e [J] (+INFINITY if a Neo-Hookean element is
  * inverted).  Summed in element order. */
 double hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q);

@@ -7,10 +7,19 @@
 #ifndef PLIANT_HYPER_TERM_WS_H
 #define PLIANT_HYPER_TERM_WS_H
 
+#include "hyperelastic.h"
 #include "pliant/pliant.h"
 
 typedef struct hyper_term_ws {
     double *work;                      /* host scratch of project() */
+    hyper_prox_stats prox;             /* FEM terms: this step's local solves (end_step
+                                        * adds them to the timers' statistics) */
+    double prox_seconds;               /* FEM terms: this step's host time in project() */
+    double *warm;                      /* FEM terms (ADMM-PD): n x d singular values of each
+                                        * element's last prox, the next one's start;
+                                        * zeroed (cold) by begin_step, so that a step
+                                        * depends on the pl_data's slots only */
+    size_t nwarm;
     struct hyper_fem_gpu *fem;         /* ARAP, Corotational, NeoHookean: fem_term_device.c */
     struct hyper_stencil_gpu *stencil; /* bending, PositionTarget: stencil_device.c */
 } hyper_term_ws;
@@ -18,6 +27,9 @@ typedef struct hyper_term_ws {
 /* c's host scratch of n doubles in d (made on first use: n depends only on
  * the model); NULL with err set when memory runs out. */
 double *hyper_term_work(const pl_component *c, pl_data *d, size_t n, pl_error *err);
+/* c's warm-start rows (n doubles, zeros when new) in d; NULL with err set
+ * when memory runs out. */
+double *hyper_term_warm(const pl_component *c, pl_data *d, size_t n, pl_error *err);
 /* The types' workspace_free. */
 void hyper_term_workspace_free(const pl_component *c, void *ws);
 

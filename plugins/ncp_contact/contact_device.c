@@ -12,6 +12,17 @@
 
 enum { SERIES_CAP = 1024 };
 
+/* What a CUDA graph captured around iterate() keeps of this path: device
+ * addresses, the capacities that size its grids and copies, and the
+ * parameters passed by value.  While it stays the same, a graph captured in
+ * an earlier step replays this step's rows (their sizes and arrays are read
+ * from the device descriptor at in_dev); a change bumps epoch. */
+typedef struct graph_key {
+    const void *in_dev, *work, *W, *X, *q_free, *corr, *h_lambda, *h_lambda_all;
+    int mcap, nallcap, nfree, active, jacobian, explicit_w, fused;
+    pl_ncp_cuda_params P;
+} graph_key;
+
 struct pl_ncpc_device {
     const pl_component *owner;
     pl_component *dev;
@@ -35,11 +46,15 @@ struct pl_ncpc_device {
     double *h_lambda, *h_lambda_all;
     size_t h_cap, h_all_cap;
     pl_ncp_cuda_scalars *h_sc;
-    pl_ncp_cuda_rows R;
+    pl_ncp_cuda_rows R;     /* host copy; the device copy is at in_dev */
     pl_ncp_cuda_vecs V;
     pl_ncp_cuda_params P;
     int explicit_w, jacobian;
-    const int *free_vertex; /* device (jacobian correction), in the arena */
+    int fused_env;          /* PLIANT_NCP_FUSED_CR=1: the constraint update in one kernel */
+    int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
+    int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */
+    graph_key key;
+    unsigned long epoch;
 };
 
 static int fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
@@ -71,6 +86,8 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
     g->owner = c, g->dev = dev, g->ops = ops;
     g->stale = 1; /* made by the step's first device iterate: its data must go up */
     g->stream = ops->stream(dev);
+    const char *fz = getenv("PLIANT_NCP_FUSED_CR");
+    g->fused_env = fz && !strcmp(fz, "1");
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
@@ -126,6 +143,30 @@ const double *ncpc_device_lambda_all(const pl_ncpc_device *g)
     return g->h_lambda_all;
 }
 
+unsigned long ncpc_device_epoch(const pl_ncpc_device *g)
+{
+    return g ? g->epoch : 0;
+}
+
+/* A capacity of at least n (doubled, at least 64): the grids and copies of
+ * a captured graph are sized by it, so it changes rarely (from 0 to 1000
+ * rows: 5 times). */
+static int grow(int cap, int n)
+{
+    if (n <= cap) return cap;
+    int c = 2 * cap;
+    return c > n ? c : (n > 64 ? n : 64);
+}
+
+/* W's bytes for m rows: the capacity's square (W's address then changes
+ * with the capacity only) while that is at most 64 MB; above, m^2 (and
+ * reserve's half more): a large W does not take 4 m^2. */
+static size_t w_bytes(const pl_ncpc_device *g, int m)
+{
+    size_t full = sizeof(double) * (size_t)g->mcap * (size_t)g->mcap;
+    return full <= ((size_t)64 << 20) ? full : sizeof(double) * (size_t)m * (size_t)m;
+}
+
 /* Device memory of at least `bytes` in *p (capacity *cap, grown by half). */
 static int reserve(pl_ncpc_device *g, void **p, size_t *cap, size_t bytes, pl_error *err)
 {
@@ -168,6 +209,7 @@ typedef struct pack {
     size_t at;
     char *host; /* NULL: only measure */
     char *dev;
+    double *lambda, *lambda_all; /* where the warm start went (device) */
 } pack;
 
 static void *put(pack *k, const void *src, size_t bytes)
@@ -186,6 +228,7 @@ static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sy
     const pl_ncpc_rows *r = st->rows;
     int m = r->m, nc = st->work->nc, nfe = r->fstart[m], npe = r->pstart[m], nf = sys->nfree;
     pl_ncp_cuda_rows *R = &g->R;
+    put(k, NULL, sizeof *R); /* the device copy of R, at offset 0 (filled by upload) */
     R->m = m, R->nc = nc, R->nall = st->nall, R->nfree = nf;
     R->kind = put(k, kind, sizeof(int) * (size_t)m);
     R->contact = put(k, st->work->contact, sizeof(int) * 3 * (size_t)nc);
@@ -197,7 +240,7 @@ static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sy
     R->tptr = put(k, tr, sizeof(int) * ((size_t)nf + 1));
     R->tent = put(k, tr ? tr + nf + 1 : NULL, sizeof(int) * (size_t)nfe);
     R->erow = put(k, tr ? tr + nf + 1 + nfe : NULL, sizeof(int) * (size_t)nfe);
-    g->free_vertex = g->jacobian ? put(k, sys->free_vertex, sizeof(int) * (size_t)nf) : NULL;
+    R->fvert = g->jacobian ? put(k, sys->free_vertex, sizeof(int) * (size_t)nf) : NULL;
     R->fcoef = put(k, r->fcoef, sizeof(double) * 3 * (size_t)nfe);
     R->pcoef = put(k, r->pcoef, sizeof(double) * 3 * (size_t)npe);
     size_t mb = sizeof(double) * (size_t)m;
@@ -208,8 +251,9 @@ static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sy
     R->hi = put(k, r->hi, mb);
     R->r = put(k, st->r, mb);
     R->wdiag = put(k, st->D->diag, mb);
-    g->V.lambda = put(k, st->lambda, mb);
-    g->V.lambda_all = put(k, st->lambda_all, sizeof(double) * (size_t)st->nall);
+    /* the warm start, copied into the work vectors by upload */
+    k->lambda = put(k, st->lambda, mb);
+    k->lambda_all = put(k, st->lambda_all, sizeof(double) * (size_t)st->nall);
 }
 
 /* The transpose of the free entries: per unknown, its entries in
@@ -235,8 +279,52 @@ static int *transpose(const pl_ncpc_rows *r, int nfree)
 
 double *ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
 {
-    size_t mm = (size_t)(m > 0 ? m : 1);
-    return reserve(g, (void **)&g->W, &g->W_cap, sizeof(double) * mm * mm, err) == PL_OK ? g->W : NULL;
+    g->mcap = grow(g->mcap, m); /* W follows the capacity of rows */
+    return reserve(g, (void **)&g->W, &g->W_cap, w_bytes(g, m), err) == PL_OK ? g->W : NULL;
+}
+
+/* The work vectors in one device arena of capacity mcap (nallcap for
+ * lambda_all): 22 x mcap doubles, nallcap doubles, mcap ints. */
+static int work_vectors(pl_ncpc_device *g, int nall, pl_error *err)
+{
+    g->nallcap = grow(g->nallcap, nall > g->mcap ? nall : g->mcap);
+    size_t mc = (size_t)g->mcap, na = (size_t)g->nallcap;
+    size_t bytes = (22 * mc + na) * sizeof(double) + mc * sizeof(int);
+    void *old = g->work;
+    int rc = reserve(g, &g->work, &g->work_cap, bytes, err);
+    if (!rc && g->work != old) rc = g->ops->zero(g->dev, g->work, g->work_cap, err);
+    if (rc) return rc;
+    double *w = g->work;
+    double **vecs[] = {&g->V.dlambda,  &g->V.delta, &g->V.delta_free, &g->V.omega, &g->V.e,
+                       &g->V.phi,      &g->V.rhs,   &g->V.tmp,        &g->V.tmp2,  &g->V.scale,
+                       &g->V.clamped,  &g->V.op_omega, &g->V.op_e,    &g->V.force, &g->V.ls0,
+                       &g->V.ls1,      &g->V.cr_r,  &g->V.cr_p,       &g->V.cr_Ar, &g->V.cr_Ap,
+                       &g->V.cr_s,     &g->V.lambda};
+    for (size_t v = 0; v < sizeof vecs / sizeof vecs[0]; ++v) *vecs[v] = w + v * mc;
+    g->V.lambda_all = w + 22 * mc;
+    g->V.is_clamped = (int *)(w + 22 * mc + na);
+    g->V.series = g->series, g->V.series_cap = SERIES_CAP, g->V.sc = g->sc;
+    return PL_OK;
+}
+
+/* Whether a graph captured around iterate() before this step still fits
+ * (graph_key); bumps epoch when not. */
+static void check_key(pl_ncpc_device *g, int nfree)
+{
+    graph_key k;
+    memset(&k, 0, sizeof k); /* padding too: the keys are compared bytewise */
+    k.in_dev = g->in_dev, k.work = g->work, k.W = g->W, k.X = g->X, k.q_free = g->q_free;
+    k.corr = g->corr, k.h_lambda = g->h_lambda, k.h_lambda_all = g->h_lambda_all;
+    k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
+    k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused;
+    memcpy(&k.P, &g->P, sizeof k.P);
+    /* unique over the process: a device path made again (a rebuilt
+     * workspace) never repeats an epoch a loop's graph was captured at */
+    static _Atomic unsigned long epochs;
+    if (memcmp(&k, &g->key, sizeof k)) {
+        g->key = k;
+        g->epoch = ++epochs;
+    }
 }
 
 static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
@@ -250,26 +338,34 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
                                      j, st->r[j]);
     g->jacobian = !st->full_force;
     g->explicit_w = st->D->explicit_w;
+    g->mcap = grow(g->mcap, m);
     int *kind = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)), *tr = transpose(r, nf);
     if (!kind || !tr) {
         free(kind), free(tr);
         return fail(g, err, PL_EINTERNAL, "out of memory");
     }
     for (int j = 0; j < m; ++j) kind[j] = (int)r->kind[j];
-    pack k = {0, NULL, NULL};
+    pack k = {0, NULL, NULL, NULL, NULL};
     layout(g, st, sys, kind, tr, &k);
     size_t bytes = k.at;
     rc = reserve(g, &g->in_dev, &g->in_cap, bytes, err);
     if (!rc) rc = reserve_host(g, &g->in_host, &g->in_host_cap, bytes, err);
+    if (!rc) rc = work_vectors(g, st->nall, err);
+    pack fill = {0, g->in_host, g->in_dev, NULL, NULL};
     if (!rc) {
-        pack fill = {0, g->in_host, g->in_dev};
         layout(g, st, sys, kind, tr, &fill);
+        memcpy(g->in_host, &g->R, sizeof g->R); /* the descriptor the kernels read */
         rc = g->ops->copy(g->dev, g->in_dev, PL_DEVICE, g->in_host, PL_HOST, bytes, err);
     }
     free(kind), free(tr);
-    /* work vectors */
-    size_t mm = (size_t)(m > 0 ? m : 1), f3 = 3 * sizeof(double) * (size_t)(nf > 0 ? nf : 1);
-    if (!rc) rc = reserve(g, &g->work, &g->work_cap, mm * (21 * sizeof(double) + sizeof(int)), err);
+    /* the warm start into the work vectors (queued after the upload) */
+    if (!rc && m)
+        rc = g->ops->copy(g->dev, g->V.lambda, PL_DEVICE, fill.lambda, PL_DEVICE,
+                          sizeof(double) * (size_t)m, err);
+    if (!rc && st->nall)
+        rc = g->ops->copy(g->dev, g->V.lambda_all, PL_DEVICE, fill.lambda_all, PL_DEVICE,
+                          sizeof(double) * (size_t)st->nall, err);
+    size_t mm = (size_t)g->mcap, f3 = 3 * sizeof(double) * (size_t)(nf > 0 ? nf : 1);
     if (!rc && g->f_cap < f3) {
         g->ops->free(g->dev, g->X), g->ops->free(g->dev, g->q_free), g->ops->free(g->dev, g->corr);
         g->X = g->q_free = g->corr = NULL;
@@ -283,30 +379,26 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     if (!rc && g->explicit_w && st->D->W_dev && st->D->W_dev != g->W)
         rc = fail(g, err, PL_EINTERNAL, "W was built into another device array");
     if (!rc && g->explicit_w && !st->D->W_dev) {
-        size_t wb = sizeof(double) * mm * mm;
-        rc = reserve(g, (void **)&g->W, &g->W_cap, wb, err);
-        if (!rc && m) rc = g->ops->copy(g->dev, g->W, PL_DEVICE, st->D->W, PL_HOST, wb, err);
+        rc = reserve(g, (void **)&g->W, &g->W_cap, w_bytes(g, m), err);
+        if (!rc && m)
+            rc = g->ops->copy(g->dev, g->W, PL_DEVICE, st->D->W, PL_HOST,
+                              sizeof(double) * (size_t)m * (size_t)m, err);
     }
+    /* the multipliers come back whole capacities (a captured copy's size) */
     if (!rc) rc = reserve_host(g, (void **)&g->h_lambda, &g->h_cap, sizeof(double) * mm, err);
     if (!rc)
         rc = reserve_host(g, (void **)&g->h_lambda_all, &g->h_all_cap,
-                          sizeof(double) * (size_t)(st->nall > 0 ? st->nall : 1), err);
+                          sizeof(double) * (size_t)g->nallcap, err);
     if (rc) return rc;
-    double *w = g->work;
-    double **vecs[] = {&g->V.dlambda,  &g->V.delta, &g->V.delta_free, &g->V.omega, &g->V.e,
-                       &g->V.phi,      &g->V.rhs,   &g->V.tmp,        &g->V.tmp2,  &g->V.scale,
-                       &g->V.clamped,  &g->V.op_omega, &g->V.op_e,    &g->V.force, &g->V.ls0,
-                       &g->V.ls1,      &g->V.cr_r,  &g->V.cr_p,       &g->V.cr_Ar, &g->V.cr_Ap,
-                       &g->V.cr_s};
-    for (size_t v = 0; v < sizeof vecs / sizeof vecs[0]; ++v) *vecs[v] = w + v * mm;
-    g->V.is_clamped = (int *)(w + 21 * mm);
-    g->V.series = g->series, g->V.series_cap = SERIES_CAP, g->V.sc = g->sc;
     pl_ncp_cuda_params *P = &g->P;
+    memset(P, 0, sizeof *P); /* compared bytewise (check_key) */
     P->fn = st->fn, P->h = st->h, P->fb_eps = st->fb_eps, P->cr_rtol = st->cr_tolerance;
     P->damping = st->damping, P->cr_max_iter = st->cr_iterations, P->full_force = st->full_force;
     P->project = st->project, P->line_search = st->line_search, P->cr_jacobi = st->cr_jacobi;
+    g->fused = g->fused_env && g->explicit_w && g->mcap <= NCP_CUDA_FUSED_MAX_ROWS;
     int e = ncp_cuda_reset(g->stream, g->sc);
     if (e) return cuda_fail(g, err, e, "reset");
+    check_key(g, nf);
     g->stale = 0;
     return PL_OK;
 }
@@ -317,21 +409,22 @@ static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, dou
 {
     int e;
     if (g->explicit_w) {
-        e = ncp_cuda_dense(g->stream, g->R.m, g->W, x, y);
+        e = ncp_cuda_dense(g->stream, g->in_dev, g->mcap, g->W, x, y);
         return e ? cuda_fail(g, err, e, "W product") : PL_OK;
     }
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    if ((e = ncp_cuda_scatter(g->stream, &g->R, x, 1.0, g->X))) return cuda_fail(g, err, e, "H^T x");
+    if ((e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, x, 1.0, g->X)))
+        return cuda_fail(g, err, e, "H^T x");
     int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
     if (rc) return rc;
-    e = ncp_cuda_gather(g->stream, &g->R, g->X, y);
+    e = ncp_cuda_gather(g->stream, g->in_dev, g->mcap, g->X, y);
     return e ? cuda_fail(g, err, e, "H X") : PL_OK;
 }
 
 static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err)
 {
-    int e = ncp_cuda_phase_run(g->stream, p, &g->R, &g->V, &g->P, last);
+    int e = ncp_cuda_phase_run(g->stream, p, g->in_dev, &g->V, &g->P, last);
     return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
 }
 
@@ -353,6 +446,10 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
 {
     int rc = PL_OK, maxit = g->P.cr_max_iter;
     pl_ncp_cuda_vecs *V = &g->V;
+    if (g->fused) { /* all of the below in one kernel */
+        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian);
+        return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
+    }
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
         rc = product(g, sys, V->lambda, V->tmp2, err);
         if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
@@ -418,8 +515,8 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     int e = 0;
     lap(g, ctx, profile, st->t_assembly, 1, err);
     if (g->jacobian)
-        e = ncp_cuda_delta(g->stream, &g->R, NULL, q_k->data, g->free_vertex, g->V.delta);
-    if (!e) e = ncp_cuda_delta(g->stream, &g->R, g->q_free, q_k->data, NULL, g->V.delta_free);
+        e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, NULL, q_k->data, 1, g->V.delta);
+    if (!e) e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, 0, g->V.delta_free);
     if (e) return cuda_fail(g, err, e, "row values");
     if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
     lap(g, ctx, profile, st->t_solve, 1, err);
@@ -429,20 +526,22 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
     lap(g, ctx, profile, st->t_corr, 1, err);
     rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
-    if (!rc && (e = ncp_cuda_scatter(g->stream, &g->R, g->V.force, st->h * st->h, g->corr)))
+    if (!rc && (e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, g->V.force, st->h * st->h,
+                                     g->corr)))
         rc = cuda_fail(g, err, e, "H^T lambda");
     if (!rc) rc = gs->solve(sys->global_solver, &cb, &cb, err);
     if (!rc && (e = ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))
         rc = cuda_fail(g, err, e, "correction");
     if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
     if (rc) return rc;
-    /* the multipliers follow asynchronously (page-locked: capturable) */
+    /* the multipliers follow asynchronously (page-locked: capturable), whole
+     * capacities so that a graph captured in another step copies enough */
     cudaStream_t s = (cudaStream_t)g->stream;
-    cudaError_t ce = cudaMemcpyAsync(g->h_lambda, g->V.lambda, sizeof(double) * (size_t)g->R.m,
+    cudaError_t ce = cudaMemcpyAsync(g->h_lambda, g->V.lambda, sizeof(double) * (size_t)g->mcap,
                                      cudaMemcpyDeviceToHost, s);
     if (ce == cudaSuccess)
-        ce = cudaMemcpyAsync(g->h_lambda_all, g->V.lambda_all, sizeof(double) * (size_t)g->R.nall,
-                             cudaMemcpyDeviceToHost, s);
+        ce = cudaMemcpyAsync(g->h_lambda_all, g->V.lambda_all,
+                             sizeof(double) * (size_t)g->nallcap, cudaMemcpyDeviceToHost, s);
     if (ce == cudaSuccess)
         ce = cudaMemcpyAsync(g->h_sc, g->sc, sizeof *g->h_sc, cudaMemcpyDeviceToHost, s);
     if (ce != cudaSuccess) return cuda_fail(g, err, (int)ce, "multipliers to the host");

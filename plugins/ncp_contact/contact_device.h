@@ -10,7 +10,10 @@
  * dense or as scatter / device solve / gather) and the correction
  * q^{k+1} = q_free + h^2 A^-1 H^T (S lambda), and asynchronous copies of
  * lambda into page-locked host memory.  Nothing waits for the device, so
- * the animation loop can capture an iteration as a CUDA graph; the loop's
+ * the animation loop can capture an iteration as a CUDA graph, and keep it
+ * for later steps: the kernels read the rows from the device descriptor
+ * the upload put first, their grids and copies are sized by a capacity
+ * of rows, and ncpc_device_epoch says when a graph went stale; the loop's
  * copy of q at the end of the step is the one synchronisation, after which
  * the multipliers are on the host.  Internal to the plugin. */
 #ifndef PLIANT_NCP_CONTACT_DEVICE_H
@@ -56,6 +59,11 @@ int ncpc_device_ran(const pl_ncpc_device *g);
  * once the device's stream has been waited for (the loop's last copy). */
 const double *ncpc_device_lambda(const pl_ncpc_device *g);
 const double *ncpc_device_lambda_all(const pl_ncpc_device *g);
+/* A number that changes whenever a CUDA graph captured around iterate()
+ * in an earlier step would no longer fit this step (device buffers moved,
+ * capacities grew, rows appeared or vanished, parameters changed); the
+ * step's data went up with its first iterate.  0 for NULL. */
+unsigned long ncpc_device_epoch(const pl_ncpc_device *g);
 /* End of the step: device errors of the step (CR or residual not finite)
  * and, with record, the per-iteration series pushed into timers. */
 int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err);

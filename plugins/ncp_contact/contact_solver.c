@@ -469,6 +469,17 @@ static const double *solver_multipliers(const pl_component *c, pl_data *d, int *
     return w->active ? w->lambda_all : NULL;
 }
 
+static unsigned long solver_graph_epoch(const pl_component *c, pl_data *d)
+{
+#ifdef PLIANT_HAVE_CUDA
+    const ncpc_ws *w = pl_data_workspace(d, c);
+    return w ? ncpc_device_epoch(w->gpu) : 0;
+#else
+    (void)c, (void)d;
+    return 0;
+#endif
+}
+
 /* The step's records (rows with their final lambda) replace the slot's:
  * an empty slot after a step without rows. */
 static int solver_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
@@ -506,6 +517,7 @@ static const pl_contact_solver_ops CONTACT_OPS = {
     .begin = solver_begin,
     .iterate = solver_iterate,
     .multipliers = solver_multipliers,
+    .graph_epoch = solver_graph_epoch,
 };
 
 const pl_type pl_ncp_contact_solver_type = {

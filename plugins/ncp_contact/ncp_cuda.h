@@ -5,6 +5,11 @@
  * Every function queues work on `stream` and returns the launch's
  * cudaError_t as an int (0: queued); nothing waits, so a whole iteration
  * can be captured in a CUDA graph.  Pointers are device pointers.  The
+ * kernels read the step's rows (sizes and arrays) from a device copy of
+ * pl_ncp_cuda_rows, and their grids are sized by a capacity of rows
+ * (mcap >= m): a graph captured once stays valid for later steps with
+ * other rows as long as that descriptor's address, the capacity and the
+ * work vectors stay (contact_device.c counts the changes).  The
  * phases are single-block kernels (rows and contacts of one step are few;
  * their reductions are then deterministic): they call the CPU's own NCP
  * functions, residual parts and projections (ncp_functions.h,
@@ -40,6 +45,7 @@ typedef struct pl_ncp_cuda_rows {
     const int *erow;        /* per free entry: its row */
     const double *offset, *mu, *compliance, *lo, *hi, *r; /* m */
     const double *wdiag;    /* m: W_jj (CR's Jacobi scaling) */
+    const int *fvert;       /* nfree: the free vertices (jacobian correction), or NULL */
 } pl_ncp_cuda_rows;
 
 /* Device scalars of one iteration (and error flags of the step). */
@@ -68,18 +74,21 @@ typedef struct pl_ncp_cuda_params {
 } pl_ncp_cuda_params;
 
 /* ---- rows (ncp_cuda_rows.cu) ------------------------------------------- */
+/* R: the device copy of the rows; mcap >= R->m sizes the grids over rows,
+ * nfree (= R->nfree) the grids over unknowns. */
 /* delta_j = H_j [x; q_p] - offset_j (x: nfree x 3, q: all vertices); with
- * free_vertex != NULL, x is ignored and the free part reads q too. */
-int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
-                      const double *q, const int *free_vertex, double *delta);
+ * use_fvert, x is ignored and the free part reads q at R->fvert too. */
+int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *x,
+                   const double *q, int use_fvert, double *delta);
 /* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order). */
-int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *x,
-                        double alpha, double *X);
+int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int nfree,
+                     const double *x, double alpha, double *X);
 /* y_j = H_j,free X. */
-int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, const double *X,
-                       double *y);
-/* y = W x, W dense m x m row-major (a warp per row). */
-int ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x, double *y);
+int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *X,
+                    double *y);
+/* y = W x, W dense m x m row-major, m = R->m (a warp per row). */
+int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *W,
+                   const double *x, double *y);
 /* out[i] = a[i] + b[i], i < n. */
 int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b, double *out);
 /* sc reset for a new step: error 0, iter 0. */
@@ -103,10 +112,21 @@ typedef enum pl_ncp_cuda_phase {
                                projection, lambda_all, series */
 } pl_ncp_cuda_phase;
 
-/* Queues one phase (a single-block kernel). */
+/* Queues one phase (a single-block kernel); R: the device copy. */
 int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                           const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                           const pl_ncp_cuda_params *P, int last);
+
+/* The whole constraint update (contact_device.c's constraint_update: the
+ * phases above and the products y = W x between them, CR's loop included)
+ * in one single-block kernel, W explicit (m x m, m = R->m): the same
+ * arithmetic as those phases and ncp_cuda_dense queued one by one, without
+ * their launches.  jacobian: the correction's kind (no linearisation).  For
+ * few rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
+#define NCP_CUDA_FUSED_MAX_ROWS 256
+int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                          const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
+                          int jacobian);
 
 #ifdef __cplusplus
 }

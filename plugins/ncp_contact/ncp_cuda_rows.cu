@@ -22,10 +22,14 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-__global__ void k_delta(pl_ncp_cuda_rows R, const double *__restrict__ x,
-                        const double *__restrict__ q, const int *__restrict__ free_vertex,
-                        double *__restrict__ delta)
+/* The kernels read the step's rows from their device copy Rp (grids sized
+ * by a capacity: threads past R.m return), so that a captured graph stays
+ * valid when the rows change. */
+__global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
+                        const double *__restrict__ q, int use_fvert, double *__restrict__ delta)
 {
+    const pl_ncp_cuda_rows R = *Rp;
+    const int *free_vertex = use_fvert ? R.fvert : NULL;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= R.m) return;
     double s = 0.0;
@@ -39,9 +43,10 @@ __global__ void k_delta(pl_ncp_cuda_rows R, const double *__restrict__ x,
     delta[j] = s - R.offset[j];
 }
 
-__global__ void k_scatter(pl_ncp_cuda_rows R, const double *__restrict__ x, double alpha,
-                          double *__restrict__ X)
+__global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
+                          double alpha, double *__restrict__ X)
 {
+    const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= R.nfree) return;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
@@ -59,8 +64,10 @@ __global__ void k_scatter(pl_ncp_cuda_rows R, const double *__restrict__ x, doub
     X[3 * (size_t)f + 2] = a2;
 }
 
-__global__ void k_gather(pl_ncp_cuda_rows R, const double *__restrict__ X, double *__restrict__ y)
+__global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
+                         double *__restrict__ y)
 {
+    const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= R.m) return;
     double s = 0.0;
@@ -71,9 +78,10 @@ __global__ void k_gather(pl_ncp_cuda_rows R, const double *__restrict__ X, doubl
 
 /* A warp per row; lanes take columns lane, lane + 32, ... and a fixed
  * shuffle tree sums them (deterministic). */
-__global__ void k_dense(int m, const double *__restrict__ W, const double *__restrict__ x,
-                        double *__restrict__ y)
+__global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ W,
+                        const double *__restrict__ x, double *__restrict__ y)
 {
+    const int m = Rp->m;
     const long long warp = (blockIdx.x * (long long)blockDim.x + threadIdx.x) >> 5;
     const int lane = threadIdx.x & 31;
     if (warp >= m) return;
@@ -101,36 +109,35 @@ __global__ void k_reset(pl_ncp_cuda_scalars *sc)
 
 } // namespace
 
-extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
-                                 const double *x, const double *q, const int *free_vertex,
-                                 double *delta)
+extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                              const double *x, const double *q, int use_fvert, double *delta)
 {
-    if (R->m <= 0) return 0;
-    k_delta<<<blocks(R->m), kThreads, 0, st>>>(*R, x, q, free_vertex, delta);
+    if (mcap <= 0) return 0;
+    k_delta<<<blocks(mcap), kThreads, 0, st>>>(R, x, q, use_fvert, delta);
     return (int)cudaGetLastError();
 }
 
-extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
-                                   const double *x, double alpha, double *X)
+extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int nfree,
+                                const double *x, double alpha, double *X)
 {
-    if (R->nfree <= 0) return 0;
-    k_scatter<<<blocks(R->nfree), kThreads, 0, st>>>(*R, x, alpha, X);
+    if (nfree <= 0) return 0;
+    k_scatter<<<blocks(nfree), kThreads, 0, st>>>(R, x, alpha, X);
     return (int)cudaGetLastError();
 }
 
-extern "C" int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
-                                  const double *X, double *y)
+extern "C" int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                               const double *X, double *y)
 {
-    if (R->m <= 0) return 0;
-    k_gather<<<blocks(R->m), kThreads, 0, st>>>(*R, X, y);
+    if (mcap <= 0) return 0;
+    k_gather<<<blocks(mcap), kThreads, 0, st>>>(R, X, y);
     return (int)cudaGetLastError();
 }
 
-extern "C" int ncp_cuda_dense(struct CUstream_st *st, int m, const double *W, const double *x,
-                                 double *y)
+extern "C" int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                              const double *W, const double *x, double *y)
 {
-    if (m <= 0) return 0;
-    k_dense<<<blocks(32LL * m), kThreads, 0, st>>>(m, W, x, y);
+    if (mcap <= 0) return 0;
+    k_dense<<<blocks(32LL * mcap), kThreads, 0, st>>>(R, W, x, y);
     return (int)cudaGetLastError();
 }
 

@@ -128,10 +128,85 @@ __device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     for (int j = threadIdx.x; j < R.m; j += kThreads) V.lambda_all[R.full[j]] = V.lambda[j];
 }
 
-__global__ void __launch_bounds__(kThreads)
-    k_phase(int phase, pl_ncp_cuda_rows R, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P, int last)
+/* CR phase E: x, r update, stop test; tmp = ox (see ncp_cuda.h). */
+__device__ void cr_e(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                     const pl_ncp_cuda_params &P, int last, double *sh)
 {
-    __shared__ double sh[kThreads];
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m, t0 = threadIdx.x == 0;
+    if (sc->done) return;
+    const double ApAp = dot(m, V.cr_Ap, V.cr_Ap, sh), rAr = sc->rAr;
+    if (!(ApAp > 0.0) || rAr == 0.0) {
+        if (t0) sc->done = 1;
+        return;
+    }
+    const double alpha = rAr / ApAp;
+    double ss = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        V.dlambda[j] += alpha * V.cr_p[j];
+        const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
+        V.cr_r[j] = r;
+        ss += r * r;
+    }
+    const double rnorm = sqrt(block_reduce(ss, 0, sh));
+    const int stop = !isfinite(rnorm) || rnorm <= P.cr_rtol * sc->bnorm;
+    if (!stop && !last)
+        for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
+    __syncthreads();
+    if (t0) {
+        sc->rnorm = rnorm;
+        if (!isfinite(rnorm)) sc->error = 2;
+        if (stop)
+            sc->done = 1;
+        else
+            sc->its += 1; /* the product that follows */
+    }
+}
+
+/* CR phase F: Ar from tmp2, beta, p, Ap. */
+__device__ void cr_f(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                     const pl_ncp_cuda_params &P, double *sh)
+{
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m;
+    const double h2 = P.h * P.h;
+    if (sc->done) return;
+    double s = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+        V.cr_Ar[j] = ar;
+        s += V.cr_r[j] * ar;
+    }
+    const double rAr_new = block_reduce(s, 0, sh);
+    const double beta = rAr_new / sc->rAr;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
+        V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
+    }
+    __syncthreads();
+    if (threadIdx.x == 0) sc->rAr = rAr_new;
+}
+
+/* y = W x (W dense m x m, row-major) by one block: warp w takes rows w,
+ * w + 16, ..., each row exactly as k_dense (ncp_cuda_rows.cu) does it
+ * (lanes over columns, the same shuffle tree), so the sums are the same. */
+__device__ void dense_block(int m, const double *__restrict__ W, const double *__restrict__ x,
+                            double *__restrict__ y)
+{
+    const int lane = threadIdx.x & 31;
+    for (int i = threadIdx.x >> 5; i < m; i += kThreads / 32) {
+        const double *row = W + (size_t)i * (size_t)m;
+        double s = 0.0;
+        for (int j = lane; j < m; j += 32) s += row[j] * x[j];
+        for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
+        if (lane == 0) y[i] = s;
+    }
+}
+
+/* One phase by the block (k_phase; the fused update runs them in turn). */
+__device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                          const pl_ncp_cuda_params &P, int last, double *sh)
+{
     pl_ncp_cuda_scalars *sc = V.sc;
     const int m = R.m, t0 = threadIdx.x == 0;
     const double h2 = P.h * P.h;
@@ -222,54 +297,12 @@ __global__ void __launch_bounds__(kThreads)
         if (t0) sc->rAr = s, sc->its = 1;
         break;
     }
-    case PL_NCP_PHASE_E: {
-        if (sc->done) break;
-        const double ApAp = dot(m, V.cr_Ap, V.cr_Ap, sh), rAr = sc->rAr;
-        if (!(ApAp > 0.0) || rAr == 0.0) {
-            if (t0) sc->done = 1;
-            break;
-        }
-        const double alpha = rAr / ApAp;
-        double ss = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
-            V.dlambda[j] += alpha * V.cr_p[j];
-            const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
-            V.cr_r[j] = r;
-            ss += r * r;
-        }
-        const double rnorm = sqrt(block_reduce(ss, 0, sh));
-        const int stop = !isfinite(rnorm) || rnorm <= P.cr_rtol * sc->bnorm;
-        if (!stop && !last)
-            for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
-        __syncthreads();
-        if (t0) {
-            sc->rnorm = rnorm;
-            if (!isfinite(rnorm)) sc->error = 2;
-            if (stop)
-                sc->done = 1;
-            else
-                sc->its += 1; /* the product that follows */
-        }
+    case PL_NCP_PHASE_E:
+        cr_e(R, V, P, last, sh);
         break;
-    }
-    case PL_NCP_PHASE_F: {
-        if (sc->done) break;
-        double s = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
-            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
-            V.cr_Ar[j] = ar;
-            s += V.cr_r[j] * ar;
-        }
-        const double rAr_new = block_reduce(s, 0, sh);
-        const double beta = rAr_new / sc->rAr;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
-            V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
-            V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
-        }
-        __syncthreads();
-        if (t0) sc->rAr = rAr_new;
+    case PL_NCP_PHASE_F:
+        cr_f(R, V, P, sh);
         break;
-    }
     case PL_NCP_PHASE_G:
         for (int j = threadIdx.x; j < m; j += kThreads)
             V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j];
@@ -325,12 +358,85 @@ __global__ void __launch_bounds__(kThreads)
     }
 }
 
+__global__ void __launch_bounds__(kThreads)
+    k_phase(int phase, const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V,
+            pl_ncp_cuda_params P, int last)
+{
+    const pl_ncp_cuda_rows R = *Rp; /* the step's rows (a graph keeps only the address) */
+    __shared__ double sh[kThreads];
+    run_phase(phase, R, V, P, last, sh);
+}
+
+/* The whole constraint update in one block, W explicit: the sequence of
+ * contact_device.c's constraint_update (phases and W products), each
+ * phase as k_phase runs it and each product as k_dense computes it, with a
+ * barrier where the phased path ends a kernel.  CR's loop stops once CR is
+ * done (its later phases change nothing then; the product between them
+ * only writes tmp2, which the next phase after CR overwrites before use). */
+__global__ void __launch_bounds__(kThreads)
+    k_update(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P,
+             const double *__restrict__ W, int jacobian)
+{
+    __shared__ double sh[kThreads];
+    const pl_ncp_cuda_rows R = *Rp;
+    const int m = R.m;
+#define PHASE(p, last)                         \
+    do {                                       \
+        run_phase((p), R, V, P, (last), sh);   \
+        __syncthreads();                       \
+    } while (0)
+#define PRODUCT(x)                             \
+    do {                                       \
+        dense_block(m, W, (x), V.tmp2);        \
+        __syncthreads();                       \
+    } while (0)
+    if (!jacobian) { /* linearise at delta_free + h^2 W lambda */
+        PRODUCT(V.lambda);
+        PHASE(PL_NCP_PHASE_LIN, 0);
+    }
+    PHASE(PL_NCP_PHASE_A, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_B, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_C, 0);
+    PRODUCT(V.tmp);
+    PHASE(PL_NCP_PHASE_D, 0);
+    for (int t = 1; t < P.cr_max_iter; ++t) {
+        const int last = t == P.cr_max_iter - 1;
+        PHASE(PL_NCP_PHASE_E, last);
+        if (last || V.sc->done) break;
+        PRODUCT(V.tmp);
+        PHASE(PL_NCP_PHASE_F, 0);
+    }
+    PHASE(PL_NCP_PHASE_G, 0);
+    if (P.line_search) {
+        if (jacobian) {
+            PHASE(PL_NCP_PHASE_LAMBDA, 0);
+            PRODUCT(V.force);
+            PHASE(PL_NCP_PHASE_LS0, 0);
+        }
+        PHASE(PL_NCP_PHASE_DLAMBDA, 0);
+        PRODUCT(V.force);
+    }
+    PHASE(PL_NCP_PHASE_UPDATE, 0);
+#undef PHASE
+#undef PRODUCT
+}
+
 } // namespace
 
 extern "C" int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                                      const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                                      const pl_ncp_cuda_params *P, int last)
 {
-    k_phase<<<1, kThreads, 0, st>>>((int)phase, *R, *V, *P, last);
+    k_phase<<<1, kThreads, 0, st>>>((int)phase, R, *V, *P, last);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                     const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
+                                     const double *W, int jacobian)
+{
+    k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian);
     return (int)cudaGetLastError();
 }

@@ -17,7 +17,8 @@
 #   BENCH_W_STEPS      steps of the explicit vs matrix-free W runs of the sharp corner (default 25)
 #   OMP_NUM_THREADS    threads of the local step and S^T S b (default 1, see below)
 #   JOBS               build jobs (default: nproc)
-#   PLIANT_DEVICE      cpu (default here) or auto (scenes run on a GPU when one is usable)
+#   PLIANT_DEVICE      cpu (default here), auto (a GPU where the device=auto cost model predicts it
+#                      faster) or gpu-always (a GPU whenever one is usable)
 #   BENCH_PARALLEL     1: run the parts (contact, W comparison, pressure, scenes, convergence)
 #                      at the same time, one thread each: for an idle machine with cores to
 #                      spare (e.g. the GPU machine's 16-core host, whose commands are limited
@@ -64,7 +65,7 @@ if [ "${BENCH_NO_BUILD:-0}" = 1 ]; then
     echo "== BENCH_NO_BUILD=1: the benchmark programs already built in $BUILD"
 else
     echo "== building the benchmarks in $BUILD"
-    cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact -j "$JOBS"
+    cmake --build "$BUILD" --target bench_scenes bench_convergence bench_contact bench_local -j "$JOBS"
 fi
 BIN="$BUILD/bench"
 LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")

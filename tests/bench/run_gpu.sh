@@ -8,8 +8,10 @@
 # BUILD_DIR holds bin/ (pliant, gpu_scenes, gpu_table, stick_slip_sweep, test_gripper) and
 # plugins/ of a CUDA build; the bundled libraries (gpu-bundle) are taken from
 # $GPU_LIBS/lib (default BUILD_DIR/lib).  Parts:
-#   ctest     `ctest -L gpu` in BUILD_DIR: gpu_check's small bar and gpu_scenes'
-#             checks of the small scenes (each says "skipped: no GPU" without one)
+#   ctest     `ctest -L gpu` in BUILD_DIR: gpu_check's small bar, gpu_scenes'
+#             checks of the small scenes and gpu_graph (the loop's CUDA graph
+#             kept across 100 constrained steps; each says "skipped: no GPU"
+#             without one)
 #   check     gpu_scenes: CPU vs GPU one frame from identical states, every scene
 #             with a device path (bars, cloth, cloth with bending/targets/forces,
 #             contact scenes), float64 within 1e-9, float32 S within 1e-4
@@ -18,6 +20,7 @@
 #   sweep     stick_slip_sweep on the CPU and on the GPU (same thresholds?)
 #   grasp     tests/gripper's grasp criteria on both raptor scenes (small and
 #             the paper-size full variant) with the loop on the device
+#             (GRASP_SCENES="grabbing_raptor_10k ..." for others, in parallel)
 #   delassus  gpu_table of the contact scenes with W explicit (built on the
 #             device) and matrix-free, forced (DELASSUS_SCENES to choose)
 #   cpubench  the CPU benchmark of the collision scenes on this host's cores
@@ -130,7 +133,7 @@ if has grasp; then
   echo "== grasp: the gripper scenes with the whole loop on the device (tests/gripper criteria)"
   GRIP=$B/bin/test_gripper
   [ -x "$GRIP" ] || GRIP=$B/tests/test_gripper
-  for v in grabbing_raptor_small grabbing_raptor; do
+  for v in ${GRASP_SCENES:-grabbing_raptor_small grabbing_raptor}; do
     # next to the scene (its meshes are relative to it); exports renamed
     sed -e '0,/<Node name="root"[^>]*>/s//&<RequiredPlugin name="cuda"\/><CudaDevice name="gpu"\/>/' \
         -e 's/<LocalGlobalSolver name="solver"/& device="cuda"/' \
@@ -141,7 +144,7 @@ if has grasp; then
       timeout ${T_GRASP:-400} "$GRIP" > "$OUT/grasp_$v.log" 2>&1 &
   done
   wait
-  for v in grabbing_raptor_small grabbing_raptor; do
+  for v in ${GRASP_SCENES:-grabbing_raptor_small grabbing_raptor}; do
     rm -f "scenes/.gpu_$v.xml"
     echo "-- $v"; grep -E "^grasp: height|Checks|F:" "$OUT/grasp_$v.log" || status=1
     grep -q "100%: Checks" "$OUT/grasp_$v.log" || status=1

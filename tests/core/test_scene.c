@@ -243,6 +243,107 @@ START_TEST(no_implicit_device_without_a_gpu_with_cpu_or_a_declared_one)
 }
 END_TEST
 
+/* The cost model (core/src/device_cost.c) behind device=auto, with the
+ * stand-in device as the GPU and the real plugins for the physics. */
+static char log_text[8192];
+static void keep_log(pl_log_level level, const char *msg, void *user)
+{
+    (void)level, (void)user;
+    strncat(log_text, msg, sizeof log_text - strlen(log_text) - 2);
+    strcat(log_text, "\n");
+}
+
+/* A 3 x 4 x 3 Neo-Hookean bar (36 vertices, 72 tetrahedra); %s: the root's
+ * extra components, %s: the global solver. */
+static pl_sim *load_bar(const char *extra, const char *global, const char *policy)
+{
+    char xml[2048];
+    snprintf(xml, sizeof xml,
+             "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+             "  <RequiredPlugin name=\"cuda hyperelastic sparse_inverse\"/>\n%s"
+             "  <LocalGlobalSolver name=\"solver\" iterations=\"10\"/>\n  %s\n"
+             "  <Node name=\"bar\">\n"
+             "    <RegularGridTetrahedra name=\"grid\" min=\"0 -0.3 0\" max=\"0.1 0 0.1\" "
+             "n=\"3 4 3\"/>\n"
+             "    <MechanicalObject name=\"dofs\" src=\"@grid\"/>\n"
+             "    <DiagonalMass massDensity=\"1000\"/>\n"
+             "    <NeoHookean youngModulus=\"1e6\" poissonRatio=\"0.3\"/>\n"
+             "    <FixedConstraint box=\"-1 -0.001 -1  1 0.001 1\"/>\n"
+             "  </Node>\n</Node>\n",
+             extra, global);
+    setenv("PLIANT_PLUGIN_PATH", PL_FAKE_DEVICE_DIR ":" PL_BINARY_DIR "/plugins", 1);
+    pl_sim_options opt = {.device = policy};
+    log_text[0] = '\0';
+    pl_log_level level = pl_log_get_level();
+    pl_log_set_level(PL_LOG_INFO);
+    pl_log_set_sink(keep_log, NULL);
+    pl_sim *sim = pl_sim_load_string(xml, "bar.xml", &opt, &diag);
+    pl_log_set_sink(NULL, NULL);
+    pl_log_set_level(level);
+    return sim;
+}
+
+START_TEST(device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu)
+{
+    unsetenv("FAKE_GPU");
+    pl_sim *s = load_bar("", "<SparseInverseSolver name=\"global\"/>", "auto");
+    ck_assert_ptr_nonnull(s);
+    /* a GPU answers, but the model predicts the CPU faster: no device */
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    double gpu = -1, cpu_ms = 0, gpu_ms = 0, tets = 0;
+    pl_timers *t = pl_sim_timers(s);
+    ck_assert_int_eq(pl_stat_get(t, "device auto: GPU chosen", &gpu), 0);
+    ck_assert(gpu == 0);
+    ck_assert_int_eq(pl_stat_get(t, "predicted CPU [ms/step]", &cpu_ms), 0);
+    ck_assert_int_eq(pl_stat_get(t, "predicted GPU [ms/step]", &gpu_ms), 0);
+    ck_assert(cpu_ms > 0 && cpu_ms < gpu_ms);
+    /* the sizes the model read, and the log line that says why */
+    ck_assert_int_eq(pl_stat_get(t, "cost: Neo-Hookean tetrahedra", &tets), 0);
+    ck_assert_msg(tets == 2 * 3 * 2 * 6 || tets == 2 * 3 * 2 * 5, "%g tetrahedra", tets);
+    double verts = 0;
+    ck_assert_int_eq(pl_stat_get(t, "cost: vertices", &verts), 0);
+    ck_assert(verts == 36);
+    ck_assert_msg(strstr(log_text, "bar.xml: no device in the scene (device=auto): CPU chosen: "
+                                   "predicted") &&
+                      strstr(log_text, "tetrahedra Neo-Hookean"),
+                  "%s", log_text);
+    pl_error err;
+    ck_assert_int_eq(pl_sim_step(s, 2, &err), PL_OK);
+    pl_sim_free(s);
+}
+END_TEST
+
+START_TEST(a_declared_device_or_gpu_always_is_never_overridden)
+{
+    unsetenv("FAKE_GPU");
+    /* the scene's own CudaDevice stays, whatever the model predicts (the
+     * JacobiSolver keeps the stand-in device unused: it has no device path) */
+    pl_sim *s = load_bar("  <CudaDevice name=\"mine\"/>\n", "<JacobiSolver name=\"global\"/>",
+                         "auto");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_nonnull(pl_sim_component(s, "mine"));
+    double v;
+    ck_assert_int_ne(pl_stat_get(pl_sim_timers(s), "device auto: GPU chosen", &v), 0);
+    ck_assert_int_eq(pl_stat_get(pl_sim_timers(s), "predicted CPU [ms/step]", &v), 0);
+    ck_assert_ptr_null(strstr(log_text, "chosen"));
+    pl_sim_free(s);
+    /* gpu-always: the implicit device whenever a GPU answers */
+    s = load_bar("", "<JacobiSolver name=\"global\"/>", "gpu-always");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_nonnull(pl_sim_component(s, "cudaDevice"));
+    ck_assert_int_ne(pl_stat_get(pl_sim_timers(s), "device auto: GPU chosen", &v), 0);
+    pl_sim_free(s);
+    /* no GPU: never a device, the model's choice is not asked */
+    setenv("FAKE_GPU", "0", 1);
+    s = load_bar("", "<SparseInverseSolver name=\"global\"/>", "auto");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_ptr_null(pl_sim_component(s, "cudaDevice"));
+    ck_assert_int_ne(pl_stat_get(pl_sim_timers(s), "device auto: GPU chosen", &v), 0);
+    pl_sim_free(s);
+    unsetenv("FAKE_GPU");
+}
+END_TEST
+
 START_TEST(a_bad_device_policy_is_an_error)
 {
     ck_assert_ptr_null(load_with_device(GOOD, "gpu"));
@@ -273,6 +374,8 @@ int main(void)
     tcase_add_test(tc, a_scene_without_a_device_gets_one_when_a_gpu_answers);
     tcase_add_test(tc, no_implicit_device_without_a_gpu_with_cpu_or_a_declared_one);
     tcase_add_test(tc, a_bad_device_policy_is_an_error);
+    tcase_add_test(tc, device_auto_keeps_a_tiny_neohookean_scene_on_the_cpu);
+    tcase_add_test(tc, a_declared_device_or_gpu_always_is_never_overridden);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "dyn_test_util.h"
+#include "test_tmp.h"
 
 /* A bar hanging from its top face: size (wx, L, wz), vertices n, solver xml. */
 static pl_sim *hanging(const char *solver, const char *material, double E, double nu, double dt,
@@ -97,8 +98,8 @@ START_TEST(newton_damps_as_local_global_and_restores_its_state)
                     "undamped Newton %.3g\n", disp, diff, damped);
     ck_assert(damped > 1e-2 * disp);
     ck_assert_msg(diff < 1e-6 * disp, "relative difference %g", diff / disp);
-    char path[] = "/tmp/pliant_newton_state_XXXXXX";
-    int fd = mkstemp(path);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "newton_state");
     ck_assert_int_ge(fd, 0);
     close(fd);
     pl_error err;

@@ -108,7 +108,7 @@ int gpu_bar_rhs(gpu_bar *b, const double *q, double *rhs, pl_error *err)
         for (int c = 0; c < 3; ++c) rhs[3 * v + c] = b->mass[v] * q[3 * v + c];
     double *work = malloc(hyper_elements_work_size(&b->el[0]) * sizeof *work);
     if (!work) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    int rc = hyper_elements_project(&b->el[0], 0, b->h * b->h, q, NULL, work, rhs, NULL, err);
+    int rc = hyper_elements_project(&b->el[0], 0, b->h * b->h, q, NULL, NULL, work, rhs, NULL, err);
     free(work);
     return rc;
 }

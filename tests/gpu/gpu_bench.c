@@ -241,7 +241,7 @@ static void bench_local(gpu_bar *bar, int m, cudaStream_t st)
     if (!work) goto done;
     for (int r = 0; r < 11; ++r) {
         double t0 = omp_get_wtime();
-        hyper_elements_project(e, 0, bar->h * bar->h, q, admm ? u : NULL, work, rhs, NULL, &err);
+        hyper_elements_project(e, 0, bar->h * bar->h, q, admm ? u : NULL, NULL, work, rhs, NULL, &err);
         if (r) t[r - 1] = 1e3 * (omp_get_wtime() - t0);
     }
     free(work);

@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Writes scenes/grabbing_raptor.xml and scenes/grabbing_raptor_small.xml.
+"""Writes scenes/grabbing_raptor.xml, scenes/grabbing_raptor_small.xml and the
+paper's three sizes scenes/grabbing_raptor_10k.xml, _15k.xml, _20k.xml (the
+gmsh meshes of make_raptor_meshes.py; physics and timeline of the full scene).
 
 Run from anywhere (pure Python standard library):
     python3 tests/gripper/make_grabbing_raptor.py
@@ -168,9 +170,21 @@ def finger_xml(f, T, every, prefix):
 """
 
 
-def header(small, T, dt, iters, nsteps, prefix):
+# the paper's Table 3 sizes: raptor + 2 x 158 finger vertices = 10.3k, 15.3k, 20.4k
+SIZED = {"10k": ("raptor_10k.vtu", 10012, 44511, "10.3k / 34.7k"),
+         "15k": ("raptor_15k.vtu", 15005, 75792, "15.3k / 55.2k"),
+         "20k": ("raptor_20k.vtu", 20149, 107875, "20.4k / 77.8k")}
+
+
+def header(small, T, dt, iters, nsteps, prefix, size=None):
     s = RAPTOR_SCALE
-    if small:
+    if size:
+        mesh, nv, nt, paper = SIZED[size]
+        what = ("The raptor: %s (tests/gripper/make_raptor_meshes.py: gmsh fills the surface of\n"
+                "     raptorTetra_19409.vtu): %d vertices, %d tetrahedra; with the fingers %d vertices\n"
+                "     (the paper's Table 3: %s with the fingers).  %d local-global iterations."
+                % (mesh, nv, nt, nv + 316, paper, iters))
+    elif small:
         what = ("Small variant (the test's): the coarse raptor (raptorTetra_8418.vtu, 2993 vertices, "
                 "8418 tetrahedra),\n     a shorter timeline and %d local-global iterations." % iters)
     else:
@@ -202,15 +216,17 @@ def header(small, T, dt, iters, nsteps, prefix):
 """
 
 
-def scene(small, T=None, dt=0.0025, iters=None):
+def scene(small, T=None, dt=0.0025, iters=None, size=None):
     T = T or (SMALL_T if small else FULL_T)
     iters = iters or 10
     prefix = "grabbing_raptor_small" if small else "grabbing_raptor"
+    prefix += "_" + size if size else ""
     every = int(round(0.1 / dt)) if small else int(round(0.05 / dt))
     nsteps = int(round(T["end"] / dt))
     s = RAPTOR_SCALE
     rt = (RAPTOR_TORSO_Y * s, RAPTOR_HALF_X * s + RAPTOR_LIFTOFF, -RAPTOR_TORSO_Z * s)
-    sub = "" if small else ' subdivide="1"'
+    sub = "" if small or size else ' subdivide="1"'
+    mesh = SIZED[size][0] if size else "raptorTetra_8418.vtu"
     body = f"""<Node name="root" dt="{fmt(dt)}" gravity="0 -9.81 0">
   <RequiredPlugin name="hyperelastic"/>
   <RequiredPlugin name="sparse_inverse"/>
@@ -224,7 +240,7 @@ def scene(small, T=None, dt=0.0025, iters=None):
   <PlaneObstacle name="floor" point="0 0 0" normal="0 1 0" mu="1" alarmDistance="0.0005"
                  contactDistance="0.0002"/>
   <Node name="raptor">
-    <MeshLoader name="mesh" filename="meshes/raptorTetra_8418.vtu"{sub} onlyAttachedPoints="1"
+    <MeshLoader name="mesh" filename="meshes/{mesh}"{sub} onlyAttachedPoints="1"
                 scale3d="{vec((s, s, s))}" rotation="0 0 90" translation="{vec(rt)}"/>
     <MechanicalObject name="dofs"/>
     <DiagonalMass name="mass" massDensity="10"/>
@@ -235,7 +251,7 @@ def scene(small, T=None, dt=0.0025, iters=None):
 """
     for f in (Finger("finger1", +1), Finger("finger2", -1)):
         body += finger_xml(f, T, every, prefix)
-    return header(small, T, dt, iters, nsteps, prefix) + body + "</Node>\n"
+    return header(small, T, dt, iters, nsteps, prefix, size) + body + "</Node>\n"
 
 
 def main():
@@ -243,6 +259,9 @@ def main():
         name = "grabbing_raptor_small.xml" if small else "grabbing_raptor.xml"
         with open(os.path.join(ROOT, "scenes", name), "w") as f:
             f.write(scene(small))
+    for size in SIZED:
+        with open(os.path.join(ROOT, "scenes", "grabbing_raptor_%s.xml" % size), "w") as f:
+            f.write(scene(False, size=size))
 
 
 if __name__ == "__main__":

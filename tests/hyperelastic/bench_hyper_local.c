@@ -33,15 +33,15 @@ static void bench(const char *label, pl_hyper_material mat, int k, const int *ce
     for (int i = 0; i < 3 * nv; ++i) q[i] = 1.1 * rest[i] + 0.002 * ht_rand(&st);
     int nd = hyper_elements_dual_size(&el);
     double *u = calloc((size_t)ncells * (nd ? nd : 1), sizeof(double));
-    int stats[2];
+    hyper_prox_stats stats = {0};
     double *work = malloc(sizeof(double) * hyper_elements_work_size(&el));
-    hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL); /* warm up */
+    hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, NULL, work, rhs, &stats, NULL); /* warm up */
     double t0 = now();
     for (int r = 0; r < reps; ++r)
-        hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, work, rhs, stats, NULL);
+        hyper_elements_project(&el, 0, 1e-4, q, nd ? u : NULL, NULL, work, rhs, &stats, NULL);
     double dt = (now() - t0) / reps;
     printf("%-26s %8d elements  %8.3f ms/step  %7.1f ns/element  (max Newton its %d)\n", label,
-           ncells, 1e3 * dt, 1e9 * dt / ncells, stats[0]);
+           ncells, 1e3 * dt, 1e9 * dt / ncells, stats.max_iterations);
     free(q);
     free(rhs);
     free(u);

@@ -143,7 +143,7 @@ static int local_global(problem *P, int iters, int keep_dual, double tol, double
         if (!keep_dual) memset(u, 0, sizeof(double) * P->el.n * nd);
         for (int i = 0; i < n; ++i)
             for (int a = 0; a < 3; ++a) rhs[3 * i + a] = P->mass[i] * P->sn[3 * i + a];
-        ck_assert_int_eq(hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, work, rhs, NULL,
+        ck_assert_int_eq(hyper_elements_project(&P->el, 0, h2, x, nd ? u : NULL, NULL, work, rhs, NULL,
                                                    NULL),
                          PL_OK);
         if (P->bend.n) hyper_stencils_project(&P->bend, 0, h2, x, NULL, bwork, rhs, NULL);
@@ -341,7 +341,7 @@ START_TEST(local_step_is_deterministic_across_thread_counts)
             u[r] = calloc((size_t)nt * (nd ? nd : 1), sizeof(double));
             omp_set_num_threads(r + 1);
             for (int k = 0; k < 2; ++k) /* twice: the second uses non-zero duals */
-                ck_assert_int_eq(hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, work,
+                ck_assert_int_eq(hyper_elements_project(&el, 0, 1e-4, q, nd ? u[r] : NULL, NULL, work,
                                                            rhs[r], NULL, NULL),
                                  PL_OK);
         }

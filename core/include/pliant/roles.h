@@ -189,7 +189,7 @@ typedef struct pl_constraint_ops {
 } pl_constraint_ops;
 
 /* ---- pl_contact_solver: the constrained global step (Algorithm 4) -------- */
-#define PL_CONTACT_SOLVER_OPS_VERSION 2 /* 2: multipliers of a data */
+#define PL_CONTACT_SOLVER_OPS_VERSION 3 /* 2: multipliers of a data; 3: graph_epoch */
 typedef struct pl_contact_solver_ops {
     int version;
     /* once per step: rows are final; builds W (explicit or matrix-free) and
@@ -207,6 +207,12 @@ typedef struct pl_contact_solver_ops {
     /* the multipliers of the last iteration of d's step (one per row) [N],
      * kept in d (its workspace) */
     const double *(*multipliers)(const pl_component *c, pl_data *d, int *count);
+    /* version 3, optional (NULL: a graph holding iterate() on device
+     * buffers is good for one step only): a number that changes whenever a
+     * graph captured around iterate() on device buffers in an earlier step
+     * of d would no longer replay this step's rows; valid after the step's
+     * first iterate().  An animation loop keeps its graph while it stays. */
+    unsigned long (*graph_epoch)(const pl_component *c, pl_data *d);
 } pl_contact_solver_ops;
 
 /* ---- pl_collision_model: geometry that collides -------------------------- */

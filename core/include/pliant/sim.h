@@ -40,8 +40,11 @@ typedef struct pl_sim_options {
     const char *const *overrides; /* "path.field=value" applied before init */
     int noverrides;
     /* NULL: PLIANT_DEVICE, else "auto".  "auto": a scene that declares no
-     * device service gets a CudaDevice when the cuda plugin loads and a GPU
-     * answers (components with device="auto" then run on it); "cpu": never. */
+     * device service gets a CudaDevice when the cuda plugin loads, a GPU
+     * answers and a cost model predicts its step faster there (components
+     * with device="auto" then run on it; the choice and why are logged and
+     * in the timings' statistics); "gpu-always": whenever a GPU answers;
+     * "cpu": never. */
     const char *device;
     /* 0 (default): <RequiredPlugin> takes plugin names, found on the plugin
      * path; a name with '/' or '..' is an input error.  1: it may also name

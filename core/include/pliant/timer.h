@@ -31,7 +31,9 @@ PL_API void pl_timer_stop(pl_timers *t, int id);
 /* Adds seconds to a phase directly. */
 PL_API void pl_timer_add(pl_timers *t, int id, double seconds);
 /* Closes the frame: every phase's accumulated time becomes a sample (phases
- * that did not run this frame get no sample). */
+ * that did not run this frame get no sample).  It also appends one row to the
+ * per-frame table: every phase's time [ms] in this frame (0 if it did not
+ * run) and every pl_stat_max statistic's largest value given in this frame. */
 PL_API void pl_timers_end_frame(pl_timers *t);
 
 PL_API int pl_timers_count(const pl_timers *t);
@@ -43,7 +45,8 @@ PL_API double pl_timers_total_ms(const pl_timers *t, int id);
 
 /* Named statistics ("nnz(S)", "S memory [MB]", "contacts max"). */
 PL_API void pl_stat_set(pl_timers *t, const char *name, double value);
-/* Keeps the maximum of the values given. */
+/* Keeps the maximum of the values given (and, per frame, the maximum of the
+ * frame: the "frames" table, e.g. each frame's "contacts max"). */
 PL_API void pl_stat_max(pl_timers *t, const char *name, double value);
 /* Appends a value to a named series (e.g. "energy" after each iteration). */
 PL_API void pl_series_push(pl_timers *t, const char *name, double value);
@@ -51,7 +54,8 @@ PL_API int pl_stat_get(const pl_timers *t, const char *name, double *value);
 /* Values of a series; returns the count (0 if absent). */
 PL_API int pl_series_get(const pl_timers *t, const char *name, const double **values);
 
-/* {"phases": {name: {median_ms, max_ms, total_ms, samples}}, "stats": {...}, "series": {...}} */
+/* {"phases": {name: {median_ms, max_ms, total_ms, samples}}, "stats": {...}, "series": {...},
+ *  "frames": {"count": N, name: [N values, one per frame], ...}} */
 PL_API int pl_timers_write_json(const pl_timers *t, FILE *f);
 /* A human table of the phases. */
 PL_API void pl_timers_print(const pl_timers *t, FILE *f);

@@ -18,11 +18,14 @@ struct pl_hyper_cuda {
     int *vptr, *vinc;       /* nverts + 1, 4n */
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
     int *stats;             /* max iterations, missed, first non-finite element */
+    double *warm;           /* n x d: each element's last prox solution (zeros: cold) */
+    unsigned long long *acc;/* since begin_step: solves, Newton, halvings, capped, histogram */
 };
 
 namespace {
 
 constexpr int kThreads = 128;
+constexpr int kAcc = 4 + HYPER_PROX_HIST;
 
 int cuda_fail(pl_error *err, cudaError_t e, const char *what)
 {
@@ -61,12 +64,13 @@ __global__ void __launch_bounds__(kThreads)
     k_project(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
               const double *__restrict__ mu, const double *__restrict__ lambda,
               const double *__restrict__ w, int offset, double h2, const double *__restrict__ q,
-              double *__restrict__ dual, double *__restrict__ slots, double *__restrict__ rhs,
-              int atomic, int *__restrict__ stats)
+              double *__restrict__ dual, double *__restrict__ warm, double *__restrict__ slots,
+              double *__restrict__ rhs, int atomic, int *__restrict__ stats,
+              unsigned long long *__restrict__ acc)
 {
     constexpr int ND = 3 * Dd, KD = K * Dd;
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    int iters = 0, missed = 0, bad = INT_MAX;
+    int iters = 0, missed = 0, bad = INT_MAX, newton = 0, halvings = 0, bin = -1;
     if (i < n) {
         int v[K];
         load_verts<K>(verts, i, v);
@@ -95,7 +99,8 @@ __global__ void __launch_bounds__(kThreads)
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        const int it = hm_local_solve(Dd, material, m, la, what, z, p);
+        double *wl = material == PL_HYPER_NEOHOOKEAN ? warm + Dd * (size_t)i : NULL;
+        const int it = hm_local_solve(Dd, material, m, la, what, z, p, wl, &halvings);
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
@@ -107,6 +112,8 @@ __global__ void __launch_bounds__(kThreads)
             missed = 1;
         } else {
             iters = it;
+            newton = it;
+            bin = it < HYPER_PROX_HIST - 1 ? it : HYPER_PROX_HIST - 1;
         }
         if (u && finite) {
 #pragma unroll
@@ -134,11 +141,22 @@ __global__ void __launch_bounds__(kThreads)
     iters = __reduce_max_sync(0xffffffffu, iters);
     missed = __reduce_add_sync(0xffffffffu, missed);
     bad = __reduce_min_sync(0xffffffffu, bad);
+    const unsigned solves = __reduce_add_sync(0xffffffffu, i < n ? 1u : 0u);
+    const unsigned nsum = __reduce_add_sync(0xffffffffu, (unsigned)newton);
+    const unsigned hsum = __reduce_add_sync(0xffffffffu, (unsigned)halvings);
     if ((threadIdx.x & 31) == 0) {
         if (iters > 0) atomicMax(stats, iters);
         if (missed > 0) atomicAdd(stats + 1, missed);
         if (bad != INT_MAX) atomicMin(stats + 2, bad);
+        if (solves) atomicAdd(acc, (unsigned long long)solves);
+        if (nsum) atomicAdd(acc + 1, (unsigned long long)nsum);
+        if (hsum) atomicAdd(acc + 2, (unsigned long long)hsum);
+        if (missed) atomicAdd(acc + 3, (unsigned long long)missed);
     }
+    /* the histogram: one atomic per distinct bin of the warp */
+    const unsigned same = __match_any_sync(0xffffffffu, bin);
+    if (bin >= 0 && (threadIdx.x & 31) == (unsigned)(__ffs(same) - 1))
+        atomicAdd(acc + 4 + bin, (unsigned long long)__popc(same));
 }
 
 /* rhs[offset + v] += the sum of v's slots, in increasing slot order (as
@@ -192,11 +210,15 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         upload(g, &g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
         upload(g, &g->vinc, e->vinc, k * n, err) ||
         upload(g, &g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
-        upload(g, &g->stats, static_cast<const int *>(NULL), 3, err)) {
+        upload(g, &g->stats, static_cast<const int *>(NULL), 3, err) ||
+        upload(g, &g->warm, static_cast<const double *>(NULL), (size_t)e->d * n, err) ||
+        upload(g, &g->acc, static_cast<const unsigned long long *>(NULL), kAcc, err)) {
         hyper_cuda_destroy(g);
         return NULL;
     }
     cudaError_t ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
+    if (ce == cudaSuccess) ce = cudaMemset(g->warm, 0, (n > 0 ? n : 1) * e->d * sizeof(double));
+    if (ce == cudaSuccess) ce = cudaMemset(g->acc, 0, kAcc * sizeof(unsigned long long));
     if (ce != cudaSuccess) {
         cuda_fail(err, ce, "upload");
         hyper_cuda_destroy(g);
@@ -208,7 +230,8 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
 extern "C" void hyper_cuda_destroy(pl_hyper_cuda *g)
 {
     if (!g) return;
-    void *ptrs[] = {g->verts, g->D, g->mu, g->lambda, g->w, g->vptr, g->vinc, g->slots, g->stats};
+    void *ptrs[] = {g->verts, g->D,     g->mu,    g->lambda, g->w,  g->vptr,
+                    g->vinc,  g->slots, g->stats, g->warm,   g->acc};
     for (void *p : ptrs)
         if (p) cudaFree(p);
     free(g);
@@ -230,12 +253,12 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
         if (g->k == 4)
             k_project<4, 3><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
-                                                     g->lambda, g->w, offset, h2, q, dual,
-                                                     g->slots, rhs, atomic, g->stats);
+                                                     g->lambda, g->w, offset, h2, q, dual, g->warm,
+                                                     g->slots, rhs, atomic, g->stats, g->acc);
         else
             k_project<3, 2><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
-                                                     g->lambda, g->w, offset, h2, q, dual,
-                                                     g->slots, rhs, atomic, g->stats);
+                                                     g->lambda, g->w, offset, h2, q, dual, g->warm,
+                                                     g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)
             k_gather<<<(unsigned)((g->nverts + 255) / 256), 256, 0, st>>>(g->nverts, g->vptr, g->vinc,
                                                                          g->slots, offset, rhs);
@@ -257,3 +280,25 @@ extern "C" int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, in
     return PL_OK;
 }
 
+
+extern "C" int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err)
+{
+    size_t nw = (size_t)(g->n > 0 ? g->n : 1) * (g->k == 4 ? 3 : 2);
+    HC_CK(cudaMemsetAsync(g->warm, 0, nw * sizeof(double), stream), "warm start reset");
+    HC_CK(cudaMemsetAsync(g->acc, 0, kAcc * sizeof(unsigned long long), stream), "counts reset");
+    return PL_OK;
+}
+
+extern "C" int hyper_cuda_prox_stats(pl_hyper_cuda *g, struct CUstream_st *stream,
+                                        hyper_prox_stats *out, pl_error *err)
+{
+    unsigned long long h[kAcc];
+    HC_CK(cudaMemcpyAsync(h, g->acc, sizeof h, cudaMemcpyDeviceToHost, stream), "counts");
+    HC_CK(cudaStreamSynchronize(stream), "local step");
+    out->solves += (long long)h[0];
+    out->newton += (long long)h[1];
+    out->halvings += (long long)h[2];
+    out->capped += (long long)h[3];
+    for (int b = 0; b < HYPER_PROX_HIST; ++b) out->hist[b] += (long long)h[4 + b];
+    return PL_OK;
+}

@@ -55,6 +55,15 @@ int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
  * PL_EINTERNAL, naming the first element, if some F was not finite. */
 int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
 
+/* Queues the start of a step on stream: every element's prox starts cold
+ * (the warm-start rows, n x d on the device, zeroed: as the CPU's
+ * workspace, hyper_term_warm) and the counts restart. */
+int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err);
+/* Waits for the stream and adds the counts since begin_step (solves,
+ * Newton iterations, halvings, capped solves, histogram) to *out. */
+int hyper_cuda_prox_stats(pl_hyper_cuda *g, struct CUstream_st *stream, hyper_prox_stats *out,
+                             pl_error *err);
+
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,79 @@
+/* test_timer.c - the timers' per-frame table ("frames" in the timings JSON):
+ * one value per frame for every phase (0 where it did not run, a phase
+ * created late padded with zeros) and every pl_stat_max statistic (the largest
+ * value of each frame, while the statistic itself keeps the run's maximum). */
+#include <check.h>
+#include <pliant/pliant.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The JSON of t, in a malloc'd string. */
+static char *json_of(const pl_timers *t)
+{
+    FILE *f = tmpfile();
+    ck_assert_ptr_nonnull(f);
+    ck_assert_int_eq(pl_timers_write_json(t, f), 0);
+    long len = ftell(f);
+    char *buf = malloc((size_t)len + 1);
+    ck_assert_ptr_nonnull(buf);
+    rewind(f);
+    ck_assert_int_eq((long)fread(buf, 1, (size_t)len, f), len);
+    buf[len] = '\0';
+    fclose(f);
+    return buf;
+}
+
+START_TEST(frames_align_phases_and_frame_maxima)
+{
+    pl_timers *t = pl_timers_create();
+    int frame = pl_timer_id(t, "Frame");
+    /* frame 0: Frame 2 ms, contacts 3 then 5 */
+    pl_timer_add(t, frame, 0.002);
+    pl_stat_max(t, "contacts max", 3);
+    pl_stat_max(t, "contacts max", 5);
+    pl_stat_set(t, "nnz(S)", 7);
+    pl_timers_end_frame(t);
+    /* frame 1: Detection appears (1 ms), Frame 4 ms, contacts 2 */
+    int det = pl_timer_id(t, "Detection");
+    pl_timer_add(t, det, 0.001);
+    pl_timer_add(t, frame, 0.004);
+    pl_stat_max(t, "contacts max", 2);
+    pl_timers_end_frame(t);
+    /* frame 2: Frame 1 ms, no contact statistic, no detection */
+    pl_timer_add(t, frame, 0.001);
+    pl_timers_end_frame(t);
+
+    double v;
+    ck_assert_int_eq(pl_stat_get(t, "contacts max", &v), 0);
+    ck_assert(v == 5.0); /* the run's maximum is unchanged */
+    ck_assert_int_eq(pl_timers_samples(t, det), 1); /* samples: frames that ran */
+    char *js = json_of(t);
+    ck_assert_ptr_nonnull(strstr(js, "\"count\": 3"));
+    ck_assert_ptr_nonnull(strstr(js, "\"Frame\": [2, 4, 1]"));
+    ck_assert_ptr_nonnull(strstr(js, "\"Detection\": [0, 1, 0]"));
+    ck_assert_ptr_nonnull(strstr(js, "\"contacts max\": [5, 2, 0]"));
+    ck_assert_ptr_null(strstr(js, "\"nnz(S)\": [")); /* set, not max: no column */
+    free(js);
+
+    pl_timers_clear(t); /* a fresh table */
+    pl_timers_end_frame(t);
+    js = json_of(t);
+    ck_assert_ptr_nonnull(strstr(js, "\"count\": 1"));
+    free(js);
+    pl_timers_free(t);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("timer");
+    TCase *tc = tcase_create("frames");
+    tcase_add_test(tc, frames_align_phases_and_frame_maxima);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,171 @@
+/* gpu_graph.c - the device loop's CUDA graph is kept across steps with
+ * constraint rows (needs a GPU; ctest -L gpu runs it as gpu_graph_small).
+ *
+ *   gpu_graph CHECKS.md [steps]
+ *
+ * For constrained scenes whose rows change from step to step (a ball that
+ * lands, the gripper closing on the raptor, a cable, a sliding box), the
+ * loop runs `steps` steps (default 100) on the device twice from the
+ * start: with CudaDevice graph="1" and graph="0".  Checks:
+ *   - the graph run captured at most MAX_CAPTURES graphs (stat "device
+ *     graph captures"; before the graph was kept it captured one per step
+ *     with rows) and at least one (the graph was used);
+ *   - its positions equal those of the run without a graph (relative
+ *     1e-12; a graph replaying a former step's rows would differ far
+ *     more), so reuse changes nothing computed;
+ *   - a third run with a graph and PLIANT_NCP_FUSED_CR=1 (CR's loop in one
+ *     kernel where W is explicit and rows are few) gives those positions
+ *     too (relative 1e-12).
+ * Notes: the median wall time of a step of each run.
+ * Exit status: 0, 1 when a check failed, 77 without a GPU. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu_util.h"
+#include "test_tmp.h"
+#include "pliant/pliant.h"
+
+#define PROG "gpu_graph"
+#define MAX_CAPTURES 12.0
+
+static FILE *md;
+
+static pl_sim *load(const char *path, int graph)
+{
+    char *xml = gpu_scene_with_device(path);
+    /* the device loop refuses forceTolerance (cable fingers) and stickStart
+     * (stick_slip): off, as in gpu_scenes */
+    const char *ov[6] = {"solver.device=cuda", "global.device=cuda", "global.precision=float64",
+                         "solver.forceTolerance=0", NULL, NULL};
+    int nov = 4;
+    if (strstr(path, "stick_slip")) ov[nov++] = "contact.stickStart=0";
+    /* the fingers' 1000 iterations are for forceTolerance: 20 without it */
+    if (strstr(path, "cable_finger")) ov[nov++] = "solver.iterations=20";
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = test_tmp_dir();
+    opt.export_every = 1000000;
+    opt.overrides = ov;
+    opt.noverrides = nov;
+    pl_sim *sim = xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL;
+    if (!sim) pl_diag_print(&diag, stdout);
+    pl_diag_free(&diag);
+    free(xml);
+    pl_error err;
+    if (sim && pl_sim_set(sim, "gpu.graph", graph ? "1" : "0", &err) != PL_OK) {
+        printf("set: %s\n", err.msg);
+        pl_sim_free(sim);
+        return NULL;
+    }
+    return sim;
+}
+
+static int first_state(pl_component *c, void *user)
+{
+    *(pl_component **)user = c;
+    return 1;
+}
+
+/* Runs `steps` steps; the first body's positions (malloc'ed, *n values),
+ * the graph captures and the median step [ms]; NULL on failure. */
+static double *run(const char *path, int graph, int fused, int steps, size_t *n,
+                   double *captures, double *ms)
+{
+    setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1); /* read by the contact solver's device path */
+    pl_sim *sim = load(path, graph);
+    if (!sim) return NULL;
+    double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
+    pl_error err;
+    for (int k = 0; t && k < steps; ++k) {
+        double t0 = pl_now();
+        if (pl_sim_step(sim, 1, &err) != PL_OK) {
+            printf("%s: step %d: %s\n", path, k + 1, err.msg);
+            goto done;
+        }
+        t[k] = 1e3 * (pl_now() - t0);
+    }
+    *ms = t ? gpu_median(t, steps) : NAN;
+    *captures = 0.0;
+    pl_stat_get(pl_sim_timers(sim), "device graph captures", captures);
+    pl_component *c = NULL;
+    pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, first_state, &c);
+    const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
+    if (!ops) goto done;
+    pl_buffer p = ops->positions(c, pl_sim_data(sim));
+    *n = p.rows * 3;
+    x = malloc(*n * sizeof(double));
+    if (x) memcpy(x, p.data, *n * sizeof(double));
+done:
+    free(t);
+    pl_sim_free(sim);
+    return x;
+}
+
+static double rel(const double *a, const double *b, size_t n)
+{
+    double d = 0.0, r = 0.0;
+    for (size_t i = 0; i < n; ++i) d += (a[i] - b[i]) * (a[i] - b[i]), r += b[i] * b[i];
+    return n ? (r > 0 ? sqrt(d / r) : sqrt(d)) : 0.0;
+}
+
+static void check(const char *path, int steps)
+{
+    char what[256];
+    size_t na = 0, nb = 0;
+    size_t nc = 0;
+    double cap_a = 0, cap_b = 0, cap_c = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
+    double *a = run(path, 1, 0, steps, &na, &cap_a, &ms_a);
+    double *b = run(path, 0, 0, steps, &nb, &cap_b, &ms_b);
+    double *c = run(path, 1, 1, steps, &nc, &cap_c, &ms_c);
+    snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
+    gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
+    if (a && b && na == nb) {
+        snprintf(what, sizeof what, "%s: graph captures in %d steps (<= %g)", path, steps,
+                 MAX_CAPTURES);
+        gpu_check_line(md, what, cap_a, MAX_CAPTURES);
+        snprintf(what, sizeof what, "%s: a graph was captured (1 - min(captures, 1))", path);
+        gpu_check_line(md, what, 1.0 - fmin(cap_a, 1.0), 0.0);
+        snprintf(what, sizeof what, "%s: positions, graph vs no graph (relative)", path);
+        gpu_check_line(md, what, rel(a, b, na), 1e-12);
+        snprintf(what, sizeof what, "%s: median step ms with a graph", path);
+        gpu_note_line(md, what, ms_a);
+        snprintf(what, sizeof what, "%s: median step ms without a graph", path);
+        gpu_note_line(md, what, ms_b);
+    }
+    snprintf(what, sizeof what, "%s: PLIANT_NCP_FUSED_CR=1 with a graph vs no graph (relative)",
+             path);
+    gpu_check_line(md, what, c && b && nc == nb ? rel(c, b, nb) : INFINITY, 1e-12);
+    snprintf(what, sizeof what, "%s: median step ms, graph and PLIANT_NCP_FUSED_CR=1", path);
+    gpu_note_line(md, what, ms_c);
+    snprintf(what, sizeof what, "%s: graph captures with PLIANT_NCP_FUSED_CR=1", path);
+    gpu_note_line(md, what, cap_c);
+    free(a), free(b), free(c);
+    unsetenv("PLIANT_NCP_FUSED_CR");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s CHECKS.md [steps]\n", PROG);
+        return 2;
+    }
+    gpu_require(PROG);
+    int steps = argc > 2 ? atoi(argv[2]) : 100;
+    if (steps < 2) steps = 2;
+    md = fopen(argv[1], "w");
+    if (!md) {
+        perror(argv[1]);
+        return 2;
+    }
+    fprintf(md, "# gpu_graph: one CUDA graph kept across steps with rows\n\n| check | value | "
+                "tolerance | |\n|---|--:|--:|---|\n");
+    const char *scenes[] = {"scenes/ball_on_plane.xml", "scenes/stick_slip.xml",
+                            "scenes/cable_finger_small.xml", "scenes/grabbing_raptor_small.xml"};
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; ++k) check(scenes[k], steps);
+    fclose(md);
+    printf("%s: %d check(s) failed\n", PROG, gpu_failures());
+    return gpu_failures() ? 1 : 0;
+}
