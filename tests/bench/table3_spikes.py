@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""tests/bench/table3_spikes.py RES - issue 16 item 5's criterion on the runs of
+tests/bench/table3.sh: every frame (0.01 s: one step, four for the raptors) should
+stay within 1.5x the median of the frames whose contact count is within 10% of its
+own.  Reads the timings files RES/<gpu|cpu>_<scene>.json (their per-frame table,
+"frames"), leaves out the first frame (allocations, the first CUDA graph) and prints,
+per run, the worst frame against its peers' median and the two phases that grew most
+in it (against their medians over the same peers).  Python 3, standard library only.
+"""
+import json
+import os
+import statistics
+import sys
+
+
+def per_frame(path, steps_per_frame):
+    fr = json.load(open(path))["frames"]
+    step_times = fr["Frame"]
+    contacts = fr.get("contacts max", [0] * len(step_times))
+    phases = {k: v for k, v in fr.items()
+              if isinstance(v, list) and len(v) == len(step_times) and k != "Frame"
+              and "max" not in k and "memory" not in k}
+    m = len(step_times) // steps_per_frame
+
+    def frames(v):
+        return [sum(v[i * steps_per_frame:(i + 1) * steps_per_frame]) for i in range(m)]
+
+    count = [max(contacts[i * steps_per_frame:(i + 1) * steps_per_frame]) for i in range(m)]
+    return frames(step_times)[1:], count[1:], {k: frames(v)[1:] for k, v in phases.items()}
+
+
+def peers(count, c):
+    return [j for j, cj in enumerate(count) if abs(cj - c) <= 0.1 * c or (c == 0 and cj == 0)]
+
+
+def worst(path):
+    spf = 4 if "raptor" in os.path.basename(path) else 1
+    times, count, phases = per_frame(path, spf)
+    best = (0.0, 0, 0.0)
+    for i, (t, c) in enumerate(zip(times, count)):
+        med = statistics.median(times[j] for j in peers(count, c))
+        if med > 0 and t / med > best[0]:
+            best = (t / med, i, med)
+    ratio, i, med = best
+    p = peers(count, count[i])
+    grew = sorted(((v[i] - statistics.median(v[j] for j in p), k) for k, v in phases.items()),
+                  reverse=True)[:2]
+    return len(times), ratio, i + 2, times[i], med, count[i], grew
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    res = sys.argv[1]
+    print("| run | frames | worst / peers' median | frame | ms | peers' median ms | contacts "
+          "| grew most [ms] |")
+    print("|---|--:|--:|--:|--:|--:|--:|---|")
+    over = 0
+    for f in sorted(os.listdir(res)):
+        if not f.endswith(".json") or not f.startswith(("gpu_", "cpu_")):
+            continue
+        n, ratio, frame, ms, med, c, grew = worst(os.path.join(res, f))
+        over += ratio > 1.5
+        print("| %s | %d | %.2f | %d | %.2f | %.2f | %d | %s |" % (
+            f[:-5], n, ratio, frame, ms, med, c, ", ".join("%s +%.1f" % (k, g) for g, k in grew)))
+    print("\n%d run(s) with a frame over 1.5x its peers' median" % over)
+
+
+if __name__ == "__main__":
+    main()
