@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "../test_tmp.h"
 #include "obstacle.h"
 #include "pipeline.h"
 #include "pliant/pliant.h"
@@ -302,8 +303,11 @@ int main(int argc, char **argv)
     }
     /* exporters write under $TMPDIR (the scenes' VTK series are not wanted here) */
     char out[1024];
-    const char *tmp = getenv("TMPDIR");
-    snprintf(out, sizeof out, "%s/contact_census_out", tmp && *tmp ? tmp : "/tmp");
+    test_tmp_template(out, sizeof out, "contact_census");
+    if (!mkdtemp(out)) {
+        perror(out);
+        return 2;
+    }
     pl_sim *sim = bench_load(scene, NULL, sets, nsets, out);
     if (!sim) return 2;
     census best, cur;
@@ -315,6 +319,7 @@ int main(int argc, char **argv)
             char b[1600];
             fprintf(stderr, "%s: %s\n", scene, pl_error_format(&err, b, sizeof b));
             pl_sim_free(sim);
+            test_tmp_rmtree(out);
             return 1;
         }
         memset(&cur, 0, sizeof cur);
@@ -323,6 +328,7 @@ int main(int argc, char **argv)
         if (st == dump_step && !(s.dump = fopen(dump_path, "w"))) {
             fprintf(stderr, "contact_census: cannot write %s\n", dump_path);
             pl_sim_free(sim);
+            test_tmp_rmtree(out);
             return 2;
         }
         if (s.dump)
@@ -349,6 +355,7 @@ int main(int argc, char **argv)
     print_census("Step with the most contacts", &best);
     print_census("Last step", &cur);
     pl_sim_free(sim);
+    test_tmp_rmtree(out);
     free(rows_of);
     return 0;
 }
