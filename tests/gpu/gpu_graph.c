@@ -43,17 +43,7 @@ static pl_sim *load(const char *path, int graph)
     if (strstr(path, "stick_slip")) ov[nov++] = "contact.stickStart=0";
     /* the fingers' 1000 iterations are for forceTolerance: 20 without it */
     if (strstr(path, "cable_finger")) ov[nov++] = "solver.iterations=20";
-    pl_diag diag;
-    pl_diag_init(&diag);
-    pl_sim_options opt = {0};
-    opt.out_dir = test_tmp_dir();
-    opt.export_every = 1000000;
-    opt.overrides = ov;
-    opt.noverrides = nov;
-    pl_sim *sim = xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL;
-    if (!sim) pl_diag_print(&diag, stdout);
-    pl_diag_free(&diag);
-    free(xml);
+    pl_sim *sim = gpu_load_scene(xml, path, ov, nov, test_tmp_dir());
     pl_error err;
     if (sim && pl_sim_set(sim, "gpu.graph", graph ? "1" : "0", &err) != PL_OK) {
         printf("set: %s\n", err.msg);

@@ -86,17 +86,7 @@ static pl_sim *load(const char *path, int f32)
     snprintf(set, sizeof set, "%s", env ? env : "");
     for (char *save = NULL, *kv = strtok_r(set, ";", &save); kv && nov < 8; kv = strtok_r(NULL, ";", &save))
         ov[nov++] = kv;
-    pl_diag diag;
-    pl_diag_init(&diag);
-    pl_sim_options opt = {0};
-    opt.out_dir = test_tmp_dir();
-    opt.export_every = 1000000;
-    opt.overrides = ov;
-    opt.noverrides = nov;
-    pl_sim *sim = xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL;
-    if (!sim) pl_diag_print(&diag, stdout);
-    pl_diag_free(&diag);
-    free(xml);
+    pl_sim *sim = gpu_load_scene(xml, path, ov, nov, test_tmp_dir());
     return sim;
 }
 

@@ -136,3 +136,20 @@ char *gpu_scene_with_device(const char *path)
     free(s);
     return out;
 }
+
+pl_sim *gpu_load_scene(char *xml, const char *path, const char *const *ov, int nov,
+                       const char *out_dir)
+{
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = out_dir;
+    opt.export_every = 1000000;
+    opt.overrides = ov;
+    opt.noverrides = nov;
+    pl_sim *sim = xml ? pl_sim_load_string(xml, path, &opt, &diag) : NULL;
+    if (!sim) pl_diag_print(&diag, stdout);
+    pl_diag_free(&diag);
+    free(xml);
+    return sim;
+}

@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include "pliant/buffer.h"
+#include "pliant/pliant.h"
 
 /* The exit status ctest reads as "skipped" (SKIP_RETURN_CODE). */
 #define GPU_SKIP 77
@@ -34,5 +35,11 @@ double gpu_median(double *v, int n);
  * <CudaDevice name="gpu" graph="1"/> first in its root node (malloc'ed), or
  * NULL. */
 char *gpu_scene_with_device(const char *path);
+
+/* Loads the scene text xml (taken: freed here; NULL gives NULL) named path
+ * with the overrides ov[0..nov), exporters off, outputs under out_dir; a
+ * failed load prints its diagnostics and returns NULL. */
+pl_sim *gpu_load_scene(char *xml, const char *path, const char *const *ov, int nov,
+                       const char *out_dir);
 
 #endif
