@@ -41,6 +41,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gpu_scenes.h"
 #include "gpu_util.h"
 #include "test_tmp.h"
 #include "pliant/pliant.h"
@@ -56,12 +57,6 @@ static const char *state_file(void)
     return path;
 }
 
-typedef struct config {
-    const char *name;
-    int cuda;           /* LocalGlobalSolver and SparseInverseSolver on the device */
-    int f32;            /* S in float32 */
-    int graph, profile; /* CudaDevice (profile: set by time_run) */
-} config;
 
 /* Set while a contact scene is checked: its contact solver runs to
  * convergence (CONVERGED).  At the scenes' own settings (10 CR iterations,
@@ -92,7 +87,7 @@ static int set_converged(pl_sim *sim, char old[3][64])
     return 0;
 }
 
-static pl_sim *load(const char *path, const config *c)
+pl_sim *gpu_scenes_load(const char *path, const config *c)
 {
     char *xml = c->cuda ? gpu_scene_with_device(path) : NULL;
     /* forceTolerance (the cable fingers) and stickStart (stick_slip) keep
@@ -279,7 +274,7 @@ static void check_scene(const char *path)
                             {"cuda float64, graph", 1, 0, 1, 0},
                             {"cuda float32 S, graph", 1, 1, 1, 0}};
     converge = 0; /* the run-up at the scene's own settings */
-    pl_sim *ref = load(path, &cpu);
+    pl_sim *ref = gpu_scenes_load(path, &cpu);
     pl_error err;
     snap one = {0}, ten = {0}, s = {0}, s2 = {0};
     const int contact = has_contact(scene);
@@ -294,7 +289,7 @@ static void check_scene(const char *path)
     }
     converge = contact;
     for (int g = 0; g < 3; ++g) {
-        pl_sim *sim = load(path, &gpus[g]);
+        pl_sim *sim = gpu_scenes_load(path, &gpus[g]);
         int f32 = gpus[g].f32;
         if (!sim || step_from(sim, state_file(), 1, &s)) {
             snprintf(what, sizeof what, "%s, %s: loads and steps", scene, gpus[g].name);
@@ -354,7 +349,7 @@ static void check_scene(const char *path)
      * matrix-free (products through device solves), each against the CPU */
     static const char *const MODES[2] = {"explicit", "matrix-free"};
     for (int w = 0; contact && w < 2; ++w) {
-        pl_sim *sim = load(path, &gpus[1]);
+        pl_sim *sim = gpu_scenes_load(path, &gpus[1]);
         snprintf(what, sizeof what, "%s, 1 frame from a saved state, cuda float64, graph, "
                  "delassus=%s: positions", scene, MODES[w]);
         if (!sim || pl_sim_set(sim, "contact.delassus", MODES[w], &err) != PL_OK ||
@@ -368,7 +363,7 @@ static void check_scene(const char *path)
     converge = 0;
     if (contact) {
         /* a note: one frame at the scene's own contact settings */
-        pl_sim *sim = load(path, &gpus[1]);
+        pl_sim *sim = gpu_scenes_load(path, &gpus[1]);
         snap_free(&one);
         for (int k = 0; k < 3; ++k)
             if (pl_sim_set(ref, CONVERGED[k][0], own[k], &err) != PL_OK) printf("set: %s\n", err.msg);
@@ -388,81 +383,10 @@ done:
     pl_sim_free(ref);
 }
 
-/* Median frame (and phase) times over `frames` frames after 5 warm-up
- * frames, as the CudaDevice's graph / profile say (set at run time, so one
- * load, one factorisation, serves several runs). */
-static void time_run(FILE *tab, pl_sim *sim, const char *size, double paper, const char *name,
-                     int graph, int profile, int frames)
-{
-    pl_error err;
-    if (pl_sim_component(sim, "gpu") &&
-        (pl_sim_set(sim, "gpu.graph", graph ? "1" : "0", &err) != PL_OK ||
-         pl_sim_set(sim, "gpu.profile", profile ? "1" : "0", &err) != PL_OK))
-        printf("set: %s\n", err.msg);
-    pl_timers *t = pl_sim_timers(sim);
-    double *ms = malloc((size_t)(frames > 0 ? frames : 1) * sizeof *ms);
-    if (!ms || pl_sim_step(sim, 5, &err) != PL_OK) goto failed;
-    /* each frame timed here: the sim's own timers pool every run of this sim */
-    for (int k = 0; k < frames; ++k) {
-        double t0 = pl_now();
-        if (pl_sim_step(sim, 1, &err) != PL_OK) goto failed;
-        ms[k] = 1e3 * (pl_now() - t0);
-    }
-    double frame = gpu_median(ms, frames);
-    free(ms);
-    char ph[3][32] = {"", "", ""};
-    const char *names[3] = {"Local", "Assembly", "Global"};
-    for (int k = 0; k < 3; ++k) {
-        int id = pl_timer_id(t, names[k]);
-        if (pl_timers_samples(t, id) > 0)
-            snprintf(ph[k], sizeof ph[k], "%.3f", pl_timers_median_ms(t, id));
-    }
-    fprintf(tab, "| %s | %s | **%.3f** | %.2f | %.1fx | %s | %s | %s |\n", size, name, frame, paper,
-            paper / frame, ph[0], ph[1], ph[2]);
-    printf("%s %s: Frame %.3f ms (paper %.2f), Local %s Assembly %s Global %s\n", size, name, frame,
-           paper, ph[0], ph[1], ph[2]);
-    fflush(tab);
-    return;
-failed:
-    free(ms);
-    printf("%s %s: %s\n", size, name, err.msg);
-    fprintf(tab, "| %s | %s | failed | | | | | |\n", size, name);
-    gpu_check_line(NULL, "timed scene runs", INFINITY, 0.0);
-}
-
-static void time_bar(FILE *tab, const char *scene, const char *size, double paper, int frames)
-{
-    char path[256];
-    snprintf(path, sizeof path, "scenes/%s.xml", scene);
-    const config cfg[3] = {{"cpu", 0, 0, 0, 0}, {"f64", 1, 0, 1, 0}, {"f32", 1, 1, 1, 0}};
-    for (int k = 0; k < 3; ++k) {
-        pl_sim *sim = load(path, &cfg[k]);
-        if (!sim) {
-            fprintf(tab, "| %s | %s | load failed | | | | | |\n", size, cfg[k].name);
-            gpu_check_line(NULL, "timed scene loads", INFINITY, 0.0);
-            continue;
-        }
-        if (k == 0)
-            time_run(tab, sim, size, paper, "CPU (16 threads)", 0, 0, frames / 5);
-        else {
-            const char *p = k == 1 ? "float64" : "float32 S";
-            char name[96];
-            snprintf(name, sizeof name, "cuda %s, graph", p);
-            time_run(tab, sim, size, paper, name, 1, 0, frames);
-            snprintf(name, sizeof name, "cuda %s, no graph", p);
-            time_run(tab, sim, size, paper, name, 0, 0, frames);
-            /* last: the phase timers then hold only synced (profiled) frames */
-            snprintf(name, sizeof name, "cuda %s, profile (synced phases)", p);
-            time_run(tab, sim, size, paper, name, 0, 1, frames);
-        }
-        pl_sim_free(sim);
-    }
-}
-
 /* Centroid of every state's positions after `steps` steps from the start. */
 static int long_run(const char *path, const config *c, int steps, double cen[3], double *xmax)
 {
-    pl_sim *sim = load(path, c);
+    pl_sim *sim = gpu_scenes_load(path, c);
     pl_error err;
     snap s = {0};
     int rc = !sim || pl_sim_step(sim, steps, &err) != PL_OK || take(sim, pl_sim_data(sim), &s) ||
@@ -532,8 +456,8 @@ static void implicit_device_check(void)
     opt.out_dir = test_tmp_dir();
     opt.export_every = 1000000;
     opt.device = "auto";
-    pl_sim *sim = pl_sim_load_file(path, &opt, &diag), *ref = load(path, &declared),
-           *host = load(path, &cpu);
+    pl_sim *sim = pl_sim_load_file(path, &opt, &diag), *ref = gpu_scenes_load(path, &declared),
+           *host = gpu_scenes_load(path, &cpu);
     if (!sim) pl_diag_print(&diag, stdout);
     pl_diag_free(&diag);
     pl_error err;
@@ -559,7 +483,7 @@ static void two_data_check(void)
     snprintf(sa, sizeof sa, "%s/two_a.bin", test_tmp_dir());
     snprintf(sb, sizeof sb, "%s/two_b.bin", test_tmp_dir());
     const config gpu = {"cuda float64, graph", 1, 0, 1, 0};
-    pl_sim *sim = load(path, &gpu), *ref = load(path, &gpu);
+    pl_sim *sim = gpu_scenes_load(path, &gpu), *ref = gpu_scenes_load(path, &gpu);
     pl_data *other = sim ? pl_data_clone(pl_sim_data(sim)) : NULL;
     pl_error err = {0};
     snap a1 = {0}, b1 = {0}, a2 = {0}, b2 = {0};
@@ -630,7 +554,7 @@ int main(int argc, char **argv)
     const char *bars[3] = {"twisting_bar", "twisting_bar_11k", "twisting_bar_20k"};
     const char *sizes[3] = {"5.3k", "11.3k", "20.8k"};
     const double paper[3] = {6.23, 13.55, 28.55};
-    for (int b = 0; frames > 0 && b < 3; ++b) time_bar(tab, bars[b], sizes[b], paper[b], frames);
+    for (int b = 0; frames > 0 && b < 3; ++b) gpu_scenes_time_bar(tab, bars[b], sizes[b], paper[b], frames);
     if (md) fclose(md);
     if (tab != stdout) fclose(tab);
     printf("gpu_scenes: %d failed\n", gpu_failures());
