@@ -239,6 +239,7 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
     face_normals(m);
     sharp_edges(m);
     boxes(m, margin);
+    m->margin = margin;
     if (!m->built) {
         if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");

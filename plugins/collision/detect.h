@@ -109,6 +109,7 @@ typedef struct pl_coll_mesh {
     unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
     pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges */
     pl_bvh tbvh, ebvh;          /* over tbox and ebox */
+    double margin;              /* the boxes' margin of the last prepare [m] */
     int built;
 } pl_coll_mesh;
 
@@ -211,6 +212,35 @@ int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
  * identical results, possibly in another order. */
 int detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                          const pl_detect_params *prm, pl_proximities *out);
+
+/* Candidate pairs given from outside (the device's broad phase and filter,
+ * detect_cand.h): for each item i of a pass (a vertex, or an edge), its
+ * primitives idx[start[i] .. start[i + 1]) in increasing order. */
+typedef struct coll_cand_list {
+    int n;          /* items */
+    int *start;     /* n + 1 */
+    int *idx;
+    int cap_start, cap_idx;
+} coll_cand_list;
+
+void coll_cand_list_free(coll_cand_list *l);
+/* Sizes l for n items and m candidates; PL_OK or PL_EINTERNAL. */
+int coll_cand_list_fit(coll_cand_list *l, int n, int m);
+
+/* detect_pair over given candidates instead of the BVHs: given[0] A's
+ * vertices against B's triangles, given[1] B's vertices against A's (unused
+ * when A == B), given[2] A's edges against B's.  When each list holds every
+ * pair that detect_pair keeps (a superset of them), the result is
+ * detect_pair's, in its order. */
+int detect_pair_given(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                      const pl_detect_params *prm, const coll_cand_list given[3],
+                      pl_proximities *out);
+
+/* The candidate lists of detect_pair_given as the device makes them, by the
+ * same item bodies run on the host (detect_cand_host.c): A, B prepared.
+ * PL_OK or PL_EINTERNAL. */
+int coll_cand_host(const pl_coll_mesh *A, const pl_coll_mesh *B, const pl_detect_params *prm,
+                   coll_cand_list out[3]);
 
 /* ---- barycentric mapping into tetrahedra ------------------------------------ */
 

@@ -133,6 +133,7 @@ typedef struct pass {
     const pl_coll_mesh *P, *T; /* vertex-face: points of P, triangles of T; edge-edge: edges */
     int ip, it, self, edges, brute;
     const coll_vv_kept *second; /* the second direction of a pair: what the first kept */
+    const coll_cand_list *given; /* candidates from outside (NULL: the BVH's) */
     const pl_detect_params *prm;
 } pass;
 
@@ -145,7 +146,12 @@ static int run_item(const pass *ps, work *w, int i)
     double rank = 0.0;
     w->q.n = 0;
     int nt = ps->edges ? T->nedges : T->ntris;
-    if (!ps->brute) {
+    if (ps->given) {
+        const int *g = ps->given->idx + ps->given->start[i];
+        w->q.n = 0;
+        for (int k = 0; k < ps->given->start[i + 1] - ps->given->start[i]; ++k)
+            if (ivec_push(&w->q, g[k])) return PL_EINTERNAL;
+    } else if (!ps->brute) {
         const pl_bvh *b = ps->edges ? &T->ebvh : &T->tbvh;
         const pl_aabb *prims = ps->edges ? T->ebox : T->tbox;
         const pl_aabb *q = ps->edges ? &P->ebox[i] : &P->vbox[i];
@@ -221,10 +227,12 @@ static int run_pass(const pass *ps, pl_proximities *out)
 }
 
 static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
-                  const pl_detect_params *prm, pl_proximities *out, int brute)
+                  const pl_detect_params *prm, pl_proximities *out, int brute,
+                  const coll_cand_list *given)
 {
     int self = A == B;
     pass ps = {.prm = prm, .self = self, .brute = brute};
+    ps.given = given ? &given[0] : NULL;
     int rc = PL_OK;
     if (prm->vertex_face) {
         ps.P = A, ps.T = B, ps.ip = ia, ps.it = ib, ps.edges = 0;
@@ -234,6 +242,7 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
             coll_vv_kept kv;
             rc = coll_vv_collect(out, from, B->nverts, &kv);
             ps.P = B, ps.T = A, ps.ip = ib, ps.it = ia, ps.second = &kv;
+            ps.given = given ? &given[1] : NULL;
             if (rc == PL_OK) rc = run_pass(&ps, out);
             ps.second = NULL;
             free(kv.key);
@@ -241,6 +250,7 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
     }
     if (rc == PL_OK && prm->edge_edge) {
         ps.P = A, ps.T = B, ps.ip = ia, ps.it = ib, ps.edges = 1;
+        ps.given = given ? &given[2] : NULL;
         rc = run_pass(&ps, out);
     }
     return rc;
@@ -249,11 +259,18 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
 int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                    const pl_detect_params *prm, pl_proximities *out)
 {
-    return detect(A, ia, B, ib, prm, out, 0);
+    return detect(A, ia, B, ib, prm, out, 0, NULL);
 }
 
 int detect_pair_brute(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
                          const pl_detect_params *prm, pl_proximities *out)
 {
-    return detect(A, ia, B, ib, prm, out, 1);
+    return detect(A, ia, B, ib, prm, out, 1, NULL);
+}
+
+int detect_pair_given(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
+                      const pl_detect_params *prm, const coll_cand_list given[3],
+                      pl_proximities *out)
+{
+    return detect(A, ia, B, ib, prm, out, 0, given);
 }

@@ -150,6 +150,7 @@ static void cp_workspace_free(const pl_component *c, void *ws)
     side_hints_free(&w->hints);
     free(w->prev);
     free(w->work);
+    coll_detect_ws_free(w);
 }
 
 /* This data's workspace, its models made on first use (NULL: out of

@@ -57,6 +57,9 @@ typedef struct coll_ws {
     int capprev;
     coll_contact_record *work;
     int nwork, capwork;
+    struct coll_dev *dev;          /* device detection (pipeline_device.c), NULL: host */
+    int dev_state;                 /* 0 not yet chosen, 1 device, -1 host */
+    coll_cand_list cand[3];        /* the device's candidates of one pair */
 } coll_ws;
 
 extern const pl_type coll_pipeline_type;
@@ -68,6 +71,13 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
  * d holds the previous step's contacts (their sides are kept); h the step. */
 int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
                          pl_error *err);
+/* Models k and l's proximities appended to w->prox: detect_pair, or, with
+ * PLIANT_DETECT=cuda and a GPU, over the device's candidates
+ * (pipeline_device.c; the same proximities).  PL_OK or PL_EINTERNAL. */
+int coll_detect_models(const collision_pipeline *p, coll_ws *w, int k, int l,
+                       const pl_detect_params *prm, pl_error *err);
+void coll_detect_ws_free(coll_ws *w);
+
 /* Stage 3: rows and records (w->work) of the proximities. */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
                        pl_rows *rows, pl_error *err);

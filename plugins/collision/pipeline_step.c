@@ -202,9 +202,8 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
     prm.margin = 0.0;
     for (int k = 0; k < p->nmodels; ++k)
         for (int l = k; l < p->nmodels; ++l)
-            if (is_pair(p, w, k, l) &&
-                detect_pair(&w->models[k].mesh, k, &w->models[l].mesh, l, &prm, &w->prox))
-                return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+            if (is_pair(p, w, k, l) && coll_detect_models(p, w, k, l, &prm, err))
+                return PL_EINTERNAL;
     /* a model struck by a third one in this step may be pushed up to that
      * speed times h beyond its prediction: its pairs again, that much
      * farther (the boxes were prepared for the bound of impact.c, larger) */
@@ -216,8 +215,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
                                   struck_by_third(w, p->nmodels, l, k));
             if (!(prm.margin > 0.0)) continue;
             drop_pair(&w->prox, k, l);
-            if (detect_pair(&w->models[k].mesh, k, &w->models[l].mesh, l, &prm, &w->prox))
-                return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+            if (coll_detect_models(p, w, k, l, &prm, err)) return PL_EINTERNAL;
         }
     return PL_OK;
 }

@@ -1,0 +1,267 @@
+/* gpu_detect.c - detection's candidates on the GPU (detect_device.cu)
+ * against the host:
+ *   check: random sheets (look-ahead, margins, self-collision): the device's
+ *     lists equal the host replay's (coll_cand_host) item for item, and the
+ *     contacts made from them equal detect_pair's, bitwise and in order;
+ *     then the small contact scenes of scenes/ stepped twice on the CPU
+ *     loop, host detection against PLIANT_DETECT=cuda: after every step the
+ *     contact sets (the pipeline's contactPoints, contactNormals, in their
+ *     canonical order) must be equal.  Any difference fails.
+ *   bench: scenes given on the command line, N steps each, the median of
+ *     the pipeline's Detection timer with host and device candidates
+ *     (a markdown table).
+ * Usage: gpu_detect check [steps]   |   gpu_detect bench steps SCENE...
+ * Exit 0, 1 on a difference, 77 without a GPU. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "detect.h"
+#include "detect_device.h"
+#include "gpu_util.h"
+#include "test_tmp.h"
+
+static double urand(unsigned *s)
+{
+    *s = *s * 1103515245u + 12345u;
+    return ((*s >> 8) & 0xffffff) / (double)0xffffff;
+}
+
+typedef struct sheet {
+    int nv, nt, ne;
+    double *x0, *x1;
+    int *tris, *edges;
+} sheet;
+
+static int make_sheet(sheet *s, int n, double z0, double dz, unsigned *seed)
+{
+    s->nv = n * n;
+    s->nt = 2 * (n - 1) * (n - 1);
+    s->x0 = malloc((size_t)s->nv * 3 * sizeof(double));
+    s->x1 = malloc((size_t)s->nv * 3 * sizeof(double));
+    s->tris = malloc((size_t)s->nt * 3 * sizeof(int));
+    if (!s->x0 || !s->x1 || !s->tris) return -1;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            double *p = &s->x0[3 * (i + n * j)];
+            p[0] = (double)i / (n - 1) + 0.02 * (urand(seed) - 0.5);
+            p[1] = (double)j / (n - 1) + 0.02 * (urand(seed) - 0.5);
+            p[2] = z0 + 0.1 * (urand(seed) - 0.5);
+            for (int k = 0; k < 3; ++k)
+                s->x1[3 * (i + n * j) + k] = p[k] + (k == 2 ? dz : 0.0) + 0.02 * (urand(seed) - 0.5);
+        }
+    int t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            int a = i + n * j, b = a + 1, c = a + n, d = c + 1;
+            int *q = &s->tris[3 * t++];
+            q[0] = a, q[1] = b, q[2] = d;
+            q = &s->tris[3 * t++];
+            q[0] = a, q[1] = d, q[2] = c;
+        }
+    return triangle_edges(s->tris, s->nt, &s->edges, &s->ne);
+}
+
+static void mesh_of(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double margin)
+{
+    pl_error err;
+    coll_mesh_init(m);
+    m->nverts = s->nv, m->ntris = s->nt, m->nedges = s->ne;
+    m->x0 = s->x0, m->x1 = s->x1, m->tris = s->tris, m->edges = s->edges;
+    m->sides = sides;
+    if (coll_mesh_prepare(m, margin, &err)) printf("prepare: %s\n", err.msg);
+}
+
+/* Lists and contacts of one pair; returns the differences. */
+static int compare_pair(coll_dev *dev, const pl_coll_mesh *A, const pl_coll_mesh *B,
+                        const pl_detect_params *prm, long *cands, int *found)
+{
+    coll_cand_list h[3], g[3];
+    memset(h, 0, sizeof h);
+    memset(g, 0, sizeof g);
+    pl_error err;
+    int bad = 0;
+    if (coll_cand_host(A, B, prm, h) ||
+        coll_dev_candidates(dev, A, B, prm, g, NULL, &err)) {
+        printf("candidates failed: %s\n", err.msg);
+        return 1;
+    }
+    for (int l = 0; l < 3; ++l) {
+        if (h[l].n != g[l].n ||
+            memcmp(h[l].start, g[l].start, (size_t)(h[l].n + 1) * sizeof(int)) != 0 ||
+            memcmp(h[l].idx, g[l].idx, (size_t)h[l].start[h[l].n] * sizeof(int)) != 0) {
+            printf("list %d differs (host %d items %d candidates, device %d items %d)\n", l,
+                   h[l].n, h[l].start[h[l].n], g[l].n, g[l].start[g[l].n]);
+            bad++;
+        }
+        *cands += h[l].start[h[l].n];
+    }
+    pl_proximities p = {0}, q = {0};
+    int ib = A == B ? 0 : 1;
+    if (detect_pair(A, 0, B, ib, prm, &p) || detect_pair_given(A, 0, B, ib, prm, g, &q)) bad++;
+    if (p.n != q.n) bad++;
+    for (int k = 0; k < p.n && k < q.n; ++k)
+        if (memcmp(&p.items[k], &q.items[k], sizeof p.items[k]) != 0) bad++;
+    *found += p.n;
+    proximities_free(&p);
+    proximities_free(&q);
+    for (int l = 0; l < 3; ++l) coll_cand_list_free(&h[l]), coll_cand_list_free(&g[l]);
+    return bad;
+}
+
+static void check_sheets(coll_dev *dev, FILE *md)
+{
+    unsigned seed = 99u;
+    long cands = 0;
+    int found = 0, bad = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        double alarm = 0.01 + 0.03 * urand(&seed);
+        sheet a, b;
+        if (make_sheet(&a, 30 + 7 * trial, 0.0, 0.0, &seed) ||
+            make_sheet(&b, 25 + 5 * trial, 0.06, trial % 2 ? -0.12 : 0.0, &seed)) {
+            printf("out of memory\n");
+            exit(1);
+        }
+        double margin = alarm + (trial % 4 == 3 ? 0.04 : 0.0);
+        pl_coll_mesh ma, mb;
+        mesh_of(&a, &ma, trial % 3 ? PL_SIDES_TWO : PL_SIDES_ONE, margin);
+        mesh_of(&b, &mb, PL_SIDES_TWO, margin);
+        pl_detect_params prm = detect_defaults(alarm);
+        prm.contact = 0.5 * alarm;
+        prm.margin = trial % 4 == 3 ? 0.02 : 0.0;
+        bad += compare_pair(dev, &ma, &mb, &prm, &cands, &found);
+        bad += compare_pair(dev, &ma, &ma, &prm, &cands, &found);
+        coll_mesh_free(&ma);
+        coll_mesh_free(&mb);
+        free(a.x0), free(a.x1), free(a.tris), free(a.edges);
+        free(b.x0), free(b.x1), free(b.tris), free(b.edges);
+    }
+    printf("sheets: %ld candidates, %d contacts\n", cands, found);
+    gpu_check_line(md, "sheets: device lists and contacts != host's", bad, 0);
+    gpu_check_line(md, "sheets: no contacts found (test broken)", found > 1000 ? 0 : 1, 0);
+}
+
+static pl_sim *load(const char *path, int device_detect)
+{
+    if (device_detect)
+        setenv("PLIANT_DETECT", "cuda", 1);
+    else
+        unsetenv("PLIANT_DETECT");
+    pl_diag diag;
+    pl_diag_init(&diag);
+    pl_sim_options opt = {0};
+    opt.out_dir = test_tmp_dir();
+    opt.export_every = 1000000;
+    opt.device = "cpu";
+    pl_sim *sim = pl_sim_load_file(path, &opt, &diag);
+    if (!sim) pl_diag_print(&diag, stdout);
+    pl_diag_free(&diag);
+    pl_error err;
+    /* the choice is made at the first detection, while the variable is set */
+    if (sim && pl_sim_step(sim, 1, &err)) {
+        printf("%s: %s\n", path, err.msg);
+        pl_sim_free(sim);
+        sim = NULL;
+    }
+    unsetenv("PLIANT_DETECT");
+    return sim;
+}
+
+static char *get(pl_sim *sim, const char *path)
+{
+    size_t size = 1 << 24;
+    char *buf = malloc(size);
+    pl_error err;
+    if (buf && pl_sim_get(sim, path, buf, size, &err)) buf[0] = 0;
+    return buf;
+}
+
+/* Steps host and device-candidate runs side by side; differences. */
+static int check_scene(const char *path, int steps, FILE *md)
+{
+    pl_sim *h = load(path, 0), *g = load(path, 1);
+    int bad = 0, contacts = 0, with = 0;
+    if (!h || !g) bad = 1;
+    const char *fields[] = {"pipeline.contactPoints", "pipeline.contactNormals",
+                            "pipeline.contactCount"};
+    pl_error err;
+    for (int s = 1; s <= steps && !bad; ++s) {
+        if (s > 1 && (pl_sim_step(h, 1, &err) || pl_sim_step(g, 1, &err))) {
+            printf("%s: step %d: %s\n", path, s, err.msg);
+            bad = 1;
+            break;
+        }
+        for (int f = 0; f < 3; ++f) {
+            char *a = get(h, fields[f]), *b = get(g, fields[f]);
+            if (!a || !b || strcmp(a, b) != 0) {
+                printf("%s: step %d: %s differs\n", path, s, fields[f]);
+                bad++;
+            }
+            if (f == 2 && a) {
+                int n = atoi(a);
+                contacts += n;
+                with += n > 0;
+            }
+            free(a);
+            free(b);
+        }
+    }
+    char what[256];
+    snprintf(what, sizeof what, "%s: %d steps, %d with contacts, %d contacts: differences",
+             path, steps, with, contacts);
+    gpu_check_line(md, what, bad, 0);
+    if (!bad && with == 0) gpu_check_line(md, "  no step had contacts (test too short)", 1, 0);
+    pl_sim_free(h);
+    pl_sim_free(g);
+    return bad;
+}
+
+static double detect_median(const char *path, int device_detect, int steps, int *contacts)
+{
+    pl_sim *sim = load(path, device_detect);
+    pl_error err;
+    if (!sim || pl_sim_step(sim, steps, &err)) return -1.0;
+    pl_timers *t = pl_sim_timers(sim);
+    double ms = pl_timers_median_ms(t, pl_timer_id(t, "Detection"));
+    char *c = get(sim, "pipeline.contactCount");
+    *contacts = c ? atoi(c) : -1;
+    free(c);
+    pl_sim_free(sim);
+    return ms;
+}
+
+int main(int argc, char **argv)
+{
+    gpu_require("gpu_detect");
+    const char *mode = argc > 1 ? argv[1] : "check";
+    if (strcmp(mode, "bench") == 0) {
+        int steps = argc > 2 ? atoi(argv[2]) : 30;
+        printf("| scene | contacts (last step) | detection host ms | detection device ms | ratio |\n");
+        printf("|---|--:|--:|--:|--:|\n");
+        for (int k = 3; k < argc; ++k) {
+            int ch = 0, cg = 0;
+            double h = detect_median(argv[k], 0, steps, &ch);
+            double g = detect_median(argv[k], 1, steps, &cg);
+            printf("| %s | %d / %d | %.2f | %.2f | %.2f |\n", argv[k], ch, cg, h, g,
+                   g > 0.0 ? h / g : 0.0);
+            fflush(stdout);
+        }
+        return 0;
+    }
+    int steps = argc > 2 ? atoi(argv[2]) : 40;
+    coll_dev *dev = NULL;
+    pl_error err;
+    if (coll_dev_open(&dev, &err)) {
+        printf("gpu_detect: %s\n", err.msg);
+        return 1;
+    }
+    check_sheets(dev, NULL);
+    coll_dev_close(dev);
+    const char *scenes[] = {"scenes/cloth_on_knives_small.xml", "scenes/sharp_corner_small.xml",
+                            "scenes/gingerbread_small.xml", "scenes/pulling_through_gap_small.xml",
+                            "scenes/squeezing_ball_small.xml", "scenes/grabbing_raptor_small.xml"};
+    for (size_t k = 0; k < sizeof scenes / sizeof *scenes; ++k) check_scene(scenes[k], steps, NULL);
+    test_tmp_dir_remove();
+    printf("gpu_detect: %d failed\n", gpu_failures());
+    return gpu_failures() ? 1 : 0;
+}
