@@ -16,8 +16,9 @@
  * start of the step and the look-ahead's reach bound).  What passes is a
  * superset of what detection keeps: the host measures those pairs with the
  * full rules (sides, hints, per-vertex choice) and gets the very contacts
- * of detect_pair, in the same order (detect_pair_given).  The list of each
- * query is in increasing primitive order, like bvh_query's. */
+ * of detect_pair, in the same order (detect_pair_given).  Candidates are
+ * sort keys (item of A, primitive of B): sorted, they give every item's
+ * list in increasing primitive order, like bvh_query's. */
 #ifndef PLIANT_COLLISION_DETECT_CAND_H
 #define PLIANT_COLLISION_DETECT_CAND_H
 
@@ -35,12 +36,48 @@ typedef struct coll_cand_mesh {
 } coll_cand_mesh;
 
 /* One pass: items of P (vertices, or edges when edges) against primitives
- * of T (triangles, or edges). */
+ * of T (triangles, or edges).  swap (edges only): P is the pair's second
+ * mesh (B), queried against a tree over A's edges.  Edges are queried from
+ * the mesh with more of them: a long edge (an obstacle's) overlaps
+ * thousands of a cloth's small boxes, and one thread walking them all was
+ * the whole time of a step (sharp_corner_10k: 20 ms). */
 typedef struct coll_cand_pass {
     coll_cand_mesh P, T;
-    int edges, self;
+    int edges, self, swap;
     double alarm, reach; /* alarmDistance; alarm + margin (look-ahead's reach) */
 } coll_cand_pass;
+
+/* A candidate as a sort key: item of A (vertex or edge) times the number of
+ * B's primitives, plus the primitive.  Sorted keys give the lists of every
+ * item of A in increasing primitive order (bvh_query's order). */
+typedef unsigned long long coll_cand_key;
+
+/* The edge pass of a pair from its first vertex pass (A's vertices against
+ * B's triangles): B's edges query a tree over A's when B has more edges. */
+PL_HD coll_cand_pass coll_cand_edge_pass(const coll_cand_pass *vf)
+{
+    coll_cand_pass e = *vf;
+    e.edges = 1;
+    if (!vf->self && vf->T.nedges > vf->P.nedges) {
+        e.P = vf->T;
+        e.T = vf->P;
+        e.swap = 1;
+    }
+    return e;
+}
+
+/* The pass's items of A (the lists' count) and primitives of B. */
+PL_HD int coll_cand_na(const coll_cand_pass *ps)
+{
+    if (!ps->edges) return ps->P.nverts;
+    return ps->swap ? ps->T.nedges : ps->P.nedges;
+}
+
+PL_HD int coll_cand_nb(const coll_cand_pass *ps)
+{
+    if (!ps->edges) return ps->T.ntris;
+    return ps->swap ? ps->P.nedges : ps->T.nedges;
+}
 
 /* The implicit tree: leaves (a power of two), nodes 1 .. 2 leaves - 1. */
 typedef struct coll_cand_tree {
@@ -178,10 +215,11 @@ PL_HD int coll_cand_vf(const coll_cand_pass *ps, int p, int j)
     return coll_cand_reachable(ps, d0, coll_cand_motion(P, p) + lt);
 }
 
-/* Edge e of P against edge f of T. */
+/* Edge e of A against edge f of B (A, B: the pair's meshes, whichever is
+ * queried). */
 PL_HD int coll_cand_ee(const coll_cand_pass *ps, int e, int f)
 {
-    const coll_cand_mesh *A = &ps->P, *B = &ps->T;
+    const coll_cand_mesh *A = ps->swap ? &ps->T : &ps->P, *B = ps->swap ? &ps->P : &ps->T;
     int a0 = A->edges[2 * e], a1 = A->edges[2 * e + 1];
     int b0 = B->edges[2 * f], b1 = B->edges[2 * f + 1];
     if (ps->self && (f <= e || a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) return 0;
@@ -194,16 +232,17 @@ PL_HD int coll_cand_ee(const coll_cand_pass *ps, int e, int f)
     return coll_cand_reachable(ps, d0, la + lb);
 }
 
-/* The candidates of item i: walks the tree over T's primitive boxes, keeps
- * the primitives whose boxes overlap i's and that pass the filter; writes
- * the first cap of them (out may be NULL with cap 0) in increasing order
- * and returns how many there are. */
+/* The candidates of query i: walks the tree over T's primitive boxes,
+ * keeps the primitives whose boxes overlap i's and that pass the filter;
+ * writes the keys of the first cap of them (out may be NULL with cap 0), in
+ * the tree's order, and returns how many there are. */
 PL_HD int coll_cand_query(const coll_cand_pass *ps, const coll_cand_tree *t,
-                                        const pl_aabb *prims, int i, int *out, int cap)
+                          const pl_aabb *prims, int i, coll_cand_key *out, int cap)
 {
     if (t->n == 0) return 0;
     pl_aabb q;
     coll_cand_qbox(ps, i, &q);
+    coll_cand_key nb = (coll_cand_key)coll_cand_nb(ps);
     int stack[64], top = 0, count = 0;
     stack[top++] = 1;
     while (top > 0) {
@@ -218,16 +257,11 @@ PL_HD int coll_cand_query(const coll_cand_pass *ps, const coll_cand_tree *t,
         for (int k = lo; k < lo + COLL_CAND_LEAF && k < t->n; ++k) {
             int j = t->order[k];
             if (!coll_cand_overlap(&prims[j], &q)) continue;
-            if (!(ps->edges ? coll_cand_ee(ps, i, j) : coll_cand_vf(ps, i, j))) continue;
-            if (count < cap) out[count] = j;
+            int a = ps->swap ? j : i, b = ps->swap ? i : j;
+            if (!(ps->edges ? coll_cand_ee(ps, a, b) : coll_cand_vf(ps, i, j))) continue;
+            if (count < cap) out[count] = (coll_cand_key)a * nb + (coll_cand_key)b;
             count++;
         }
-    }
-    int m = count < cap ? count : cap;
-    for (int a = 1; a < m; ++a) { /* few: insertion sort */
-        int x = out[a], b = a - 1;
-        for (; b >= 0 && out[b] > x; --b) out[b + 1] = out[b];
-        out[b + 1] = x;
     }
     return count;
 }

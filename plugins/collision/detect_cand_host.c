@@ -51,16 +51,37 @@ static coll_cand_mesh view_of(const pl_coll_mesh *m)
     return v;
 }
 
+static int cmp_key(const void *x, const void *y)
+{
+    coll_cand_key a = *(const coll_cand_key *)x, b = *(const coll_cand_key *)y;
+    return (a > b) - (a < b);
+}
+
+/* The lists from the keys, sorted: counts per item of A, their offsets, the
+ * primitives.  PL_OK or PL_EINTERNAL. */
+static int lists_of_keys(const coll_cand_key *key, int total, int na, int nb, coll_cand_list *out)
+{
+    if (coll_cand_list_fit(out, na, total)) return PL_EINTERNAL;
+    memset(out->start, 0, (size_t)(na + 1) * sizeof *out->start);
+    for (int k = 0; k < total; ++k) out->start[key[k] / (coll_cand_key)nb + 1]++;
+    for (int i = 0; i < na; ++i) out->start[i + 1] += out->start[i];
+    for (int k = 0; k < total; ++k) out->idx[k] = (int)(key[k] % (coll_cand_key)nb);
+    return PL_OK;
+}
+
 /* One pass into out; PL_OK or PL_EINTERNAL. */
 static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
 {
-    int n = ps->edges ? ps->T.nedges : ps->T.ntris, items = ps->edges ? ps->P.nedges : ps->P.nverts;
+    int n = ps->edges ? ps->T.nedges : ps->T.ntris;
+    int queries = ps->edges ? ps->P.nedges : ps->P.nverts;
     int leaves = coll_cand_leaves(n);
     pl_aabb *prims = malloc((size_t)(n > 0 ? n : 1) * sizeof *prims);
     pl_aabb *node = malloc((size_t)(2 * leaves) * sizeof *node);
     code_idx *ci = malloc((size_t)(n > 0 ? n : 1) * sizeof *ci);
     int *order = malloc((size_t)(n > 0 ? n : 1) * sizeof *order);
-    int rc = (prims && node && ci && order) ? PL_OK : PL_EINTERNAL;
+    int *off = malloc((size_t)(queries + 1) * sizeof *off);
+    coll_cand_key *key = NULL;
+    int rc = (prims && node && ci && order && off) ? PL_OK : PL_EINTERNAL, total = 0;
     if (rc == PL_OK) {
         pl_aabb root;
         coll_cand_empty(&root);
@@ -73,42 +94,43 @@ static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
         for (int j = 0; j < n; ++j) order[j] = ci[j].idx;
         coll_cand_tree t = {n, leaves, order, node};
         for (int i = 2 * leaves - 1; i >= 1; --i) coll_cand_refit(&t, prims, i);
-        /* count, then write (the device's two passes) */
-        rc = coll_cand_list_fit(out, items, 0);
-        int total = 0;
-        for (int i = 0; i < items && rc == PL_OK; ++i) {
-            out->start[i] = total;
+        /* count, then write the keys (the device's two passes), then sort */
+        for (int i = 0; i < queries; ++i) {
+            off[i] = total;
             total += coll_cand_query(ps, &t, prims, i, NULL, 0);
         }
-        if (rc == PL_OK) {
-            out->start[items] = total;
-            rc = coll_cand_list_fit(out, items, total);
-        }
-        for (int i = 0; i < items && rc == PL_OK; ++i)
-            coll_cand_query(ps, &t, prims, i, out->idx + out->start[i],
-                            out->start[i + 1] - out->start[i]);
+        off[queries] = total;
+        key = malloc((size_t)(total > 0 ? total : 1) * sizeof *key);
+        if (!key) rc = PL_EINTERNAL;
+        for (int i = 0; i < queries && rc == PL_OK; ++i)
+            coll_cand_query(ps, &t, prims, i, key + off[i], off[i + 1] - off[i]);
+        if (rc == PL_OK) qsort(key, (size_t)total, sizeof *key, cmp_key);
     }
+    if (rc == PL_OK) rc = lists_of_keys(key, total, coll_cand_na(ps), coll_cand_nb(ps), out);
     free(prims);
     free(node);
     free(ci);
     free(order);
+    free(off);
+    free(key);
     return rc;
 }
 
 int coll_cand_host(const pl_coll_mesh *A, const pl_coll_mesh *B, const pl_detect_params *prm,
                    coll_cand_list out[3])
 {
-    coll_cand_pass ps = {view_of(A), view_of(B), 0, A == B, prm->alarm,
+    coll_cand_pass ps = {view_of(A), view_of(B), 0, A == B, 0, prm->alarm,
                          prm->alarm + prm->margin};
     int rc = host_pass(&ps, &out[0]);
     if (rc == PL_OK && A != B) {
-        coll_cand_pass r = {view_of(B), view_of(A), 0, 0, prm->alarm, prm->alarm + prm->margin};
+        coll_cand_pass r = {view_of(B), view_of(A), 0, 0, 0, prm->alarm,
+                            prm->alarm + prm->margin};
         rc = host_pass(&r, &out[1]);
     } else if (rc == PL_OK) {
         rc = coll_cand_list_fit(&out[1], 0, 0);
         if (rc == PL_OK) out[1].start[0] = 0;
     }
-    ps.edges = 1;
-    if (rc == PL_OK) rc = host_pass(&ps, &out[2]);
+    coll_cand_pass e = coll_cand_edge_pass(&ps);
+    if (rc == PL_OK) rc = host_pass(&e, &out[2]);
     return rc;
 }

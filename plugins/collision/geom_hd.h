@@ -26,7 +26,7 @@ PL_HD void coll_hd_sub3(const double a[3], const double b[3], double r[3])
 }
 
 PL_HD double coll_hd_dist2_bary(const double p[3], const double a[3], const double b[3],
-                         const double c[3], const double w[3])
+                                const double c[3], const double w[3])
 {
     double d2 = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -56,8 +56,8 @@ PL_HD double coll_hd_segment_param(const double p[3], const double a[3], const d
 }
 
 /* A degenerate triangle (zero area): the best of its three edges. */
-PL_HD double coll_hd_degenerate_triangle(const double p[3], const double a[3], const double b[3],
-                                  const double c[3], double w[3])
+PL_HD double coll_hd_degenerate_triangle(const double p[3], const double a[3],
+                                         const double b[3], const double c[3], double w[3])
 {
     double t, best, d2, cand[3];
     t = coll_hd_segment_param(p, a, b);
@@ -78,8 +78,9 @@ PL_HD double coll_hd_degenerate_triangle(const double p[3], const double a[3], c
     return best;
 }
 
-PL_HD double coll_hd_closest_point_triangle(const double p[3], const double a[3], const double b[3],
-                                 const double c[3], double w[3])
+PL_HD double coll_hd_closest_point_triangle(const double p[3], const double a[3],
+                                            const double b[3], const double c[3],
+                                            double w[3])
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], n[3];
     coll_hd_sub3(b, a, ab);
@@ -88,7 +89,8 @@ PL_HD double coll_hd_closest_point_triangle(const double p[3], const double a[3]
     n[1] = ab[2] * ac[0] - ab[0] * ac[2];
     n[2] = ab[0] * ac[1] - ab[1] * ac[0];
     double scale = coll_hd_dot3(ab, ab) + coll_hd_dot3(ac, ac);
-    if (!(coll_hd_dot3(n, n) > 1e-24 * scale * scale)) return coll_hd_degenerate_triangle(p, a, b, c, w);
+    if (!(coll_hd_dot3(n, n) > 1e-24 * scale * scale))
+        return coll_hd_degenerate_triangle(p, a, b, c, w);
     coll_hd_sub3(p, a, ap);
     double d1 = coll_hd_dot3(ab, ap), d2 = coll_hd_dot3(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) { /* vertex a */
@@ -133,8 +135,9 @@ PL_HD double coll_hd_closest_point_triangle(const double p[3], const double a[3]
 
 PL_HD double coll_hd_clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
-PL_HD double coll_hd_closest_segments(const double p0[3], const double p1[3], const double q0[3],
-                           const double q1[3], double *s, double *t)
+PL_HD double coll_hd_closest_segments(const double p0[3], const double p1[3],
+                                      const double q0[3], const double q1[3],
+                                      double *s, double *t)
 {
     double d1[3], d2[3], r[3];
     coll_hd_sub3(p1, p0, d1);

@@ -224,8 +224,12 @@ static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     if (!w) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
     pl_timer_start(ctx->timers, p->t_detect);
     w->nwork = 0;
+    w->pairs_ms = w->cand_ms = 0.0;
     int rc = coll_pipeline_update_models(p, w, ctx, sys, q, err);
     if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, sys->h, err);
+    if (rc == PL_OK) pl_series_push(ctx->timers, "detection pairs ms", w->pairs_ms);
+    if (rc == PL_OK && w->dev_state > 0)
+        pl_series_push(ctx->timers, "detection candidates ms", w->cand_ms);
     if (rc == PL_OK) rc = coll_pipeline_emit(p, w, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;

@@ -60,6 +60,8 @@ typedef struct coll_ws {
     struct coll_dev *dev;          /* device detection (pipeline_device.c), NULL: host */
     int dev_state;                 /* 0 not yet chosen, 1 device, -1 host */
     coll_cand_list cand[3];        /* the device's candidates of one pair */
+    double pairs_ms;               /* this step's time in coll_detect_models [ms] */
+    double cand_ms;                /* of which the device's candidates [ms] */
 } coll_ws;
 
 extern const pl_type coll_pipeline_type;

@@ -10,6 +10,7 @@
 
 #include "pipeline.h"
 #include "pliant/log.h"
+#include "pliant/timer.h"
 #ifdef PLIANT_HAVE_CUDA
 #include "detect_device.h"
 #endif
@@ -42,18 +43,23 @@ int coll_detect_models(const collision_pipeline *p, coll_ws *w, int k, int l,
                        const pl_detect_params *prm, pl_error *err)
 {
     const pl_coll_mesh *A = &w->models[k].mesh, *B = &w->models[l].mesh;
+    double t0 = pl_now();
     if (choose(p, w) < 0) {
         if (detect_pair(A, k, B, l, prm, &w->prox))
             return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        w->pairs_ms += 1e3 * (pl_now() - t0);
         return PL_OK;
     }
 #ifdef PLIANT_HAVE_CUDA
     pl_error e;
-    if (coll_dev_candidates(w->dev, A, B, prm, w->cand, NULL, &e))
+    double ms = 0.0;
+    if (coll_dev_candidates(w->dev, A, B, prm, w->cand, &ms, &e))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "%s", e.msg);
+    w->cand_ms += ms;
     if (detect_pair_given(A, k, B, l, prm, w->cand, &w->prox))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
 #endif
+    w->pairs_ms += 1e3 * (pl_now() - t0);
     return PL_OK;
 }
 

@@ -41,7 +41,8 @@ static void make_sheet(sheet *s, int n, double z0, double bump, double dz, doubl
             p[1] = (double)j / (n - 1) + 0.2 * bump * (urand(seed) - 0.5);
             p[2] = z0 + bump * (urand(seed) - 0.5);
             for (int k = 0; k < 3; ++k)
-                s->x1[3 * (i + n * j) + k] = p[k] + (k == 2 ? dz : 0.0) + noise * (urand(seed) - 0.5);
+                s->x1[3 * (i + n * j) + k] =
+                    p[k] + (k == 2 ? dz : 0.0) + noise * (urand(seed) - 0.5);
         }
     int t = 0;
     for (int j = 0; j + 1 < n; ++j)
@@ -141,7 +142,8 @@ START_TEST(test_given_candidates_equal_detection)
         double dz = trial % 2 ? -0.12 : 0.0;
         sheet a, b;
         make_sheet(&a, 13 + trial % 5, 0.0, 0.1, 0.0, 0.02, &seed);
-        make_sheet(&b, 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
+        /* 20: B has more edges than A (the swapped edge pass) */
+        make_sheet(&b, trial % 3 == 2 ? 20 : 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
         double margin = alarm + (trial % 4 == 3 ? 0.04 : 0.0);
         pl_coll_mesh ma, mb;
         to_mesh(&a, &ma, trial % 3 ? PL_SIDES_TWO : PL_SIDES_ONE, margin);
