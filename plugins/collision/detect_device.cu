@@ -210,6 +210,7 @@ static int build_tree(coll_dev *d, const coll_cand_pass *ps, int n, coll_cand_tr
     pl_aabb *prims = (pl_aabb *)d->prims.p, empty;
     coll_cand_empty(&empty);
     k_pbox<<<blocks(n), TPB, 0, d->s>>>(ps->T, ps->edges, n, prims);
+    CK(cudaGetLastError(), "box kernel");
     size_t tb = 0, tb2 = 0;
     CK(cub::DeviceReduce::Reduce(NULL, tb, prims, (pl_aabb *)d->root.p, n, box_union(), empty),
        "bounds");
@@ -238,6 +239,7 @@ static int write_keys(coll_dev *d, const coll_cand_pass *ps, const coll_cand_tre
     const pl_aabb *prims = (const pl_aabb *)d->prims.p;
     CK(cudaMemsetAsync(count + queries, 0, sizeof(int), d->s), "memset");
     k_count<<<blocks(queries), TPB, 0, d->s>>>(*ps, *t, prims, queries, count);
+    CK(cudaGetLastError(), "count kernel");
     size_t tb = 0;
     CK(cub::DeviceScan::ExclusiveSum(NULL, tb, count, off, queries + 1), "scan");
     GROW(d->temp, tb);
@@ -259,6 +261,11 @@ static int lists_of_keys(coll_dev *d, int total, int na, int nb, coll_cand_list 
                          pl_error *err)
 {
     coll_cand_key *k0 = (coll_cand_key *)d->key[0].p, *k1 = (coll_cand_key *)d->key[1].p;
+    if (total == 0) { /* no kernel over nothing: a launch of 0 blocks is an error */
+        if (coll_cand_list_fit(out, na, 0)) return fail(err, cudaErrorMemoryAllocation, "host");
+        memset(out->start, 0, (size_t)(na + 1) * sizeof(int));
+        return PL_OK;
+    }
     int bits = 1;
     while (bits < 64 && ((coll_cand_key)1 << bits) < (coll_cand_key)na * (coll_cand_key)nb) bits++;
     size_t tb = 0, tb2 = 0;
@@ -271,6 +278,7 @@ static int lists_of_keys(coll_dev *d, int total, int na, int nb, coll_cand_list 
     k_hist<<<blocks(total), TPB, 0, d->s>>>(k1, total, (coll_cand_key)nb, count);
     CK(cub::DeviceScan::ExclusiveSum(d->temp.p, tb2, count, start, na + 1, d->s), "scan");
     k_idx<<<blocks(total), TPB, 0, d->s>>>(k1, total, (coll_cand_key)nb, (int *)d->idx.p);
+    CK(cudaGetLastError(), "list kernels");
     if (coll_cand_list_fit(out, na, total)) return fail(err, cudaErrorMemoryAllocation, "host");
     CK(cudaMemcpyAsync(out->start, start, (size_t)(na + 1) * sizeof(int), cudaMemcpyDeviceToHost,
                        d->s), "offsets");

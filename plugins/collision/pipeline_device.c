@@ -53,8 +53,15 @@ int coll_detect_models(const collision_pipeline *p, coll_ws *w, int k, int l,
 #ifdef PLIANT_HAVE_CUDA
     pl_error e;
     double ms = 0.0;
-    if (coll_dev_candidates(w->dev, A, B, prm, w->cand, &ms, &e))
-        return pl_component_fail(&p->base, err, PL_EINTERNAL, "%s", e.msg);
+    if (coll_dev_candidates(w->dev, A, B, prm, w->cand, &ms, &e)) {
+        /* the host finds the same contacts: go on there */
+        pl_log_warn("CollisionPipeline '%s': detection goes back to the host: %s", p->base.name,
+                    e.msg);
+        coll_dev_close(w->dev);
+        w->dev = NULL;
+        w->dev_state = -1;
+        return coll_detect_models(p, w, k, l, prm, err);
+    }
     w->cand_ms += ms;
     if (detect_pair_given(A, k, B, l, prm, w->cand, &w->prox))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");

@@ -212,6 +212,11 @@ static int check_scene(const char *path, int steps, FILE *md)
     snprintf(what, sizeof what, "%s: %d steps, %d with contacts, %d contacts: differences",
              path, steps, with, contacts);
     gpu_check_line(md, what, bad, 0);
+    /* every step's pairs went through the device (no fall back to the host) */
+    const double *v;
+    int on_device = g ? pl_series_get(pl_sim_timers(g), "detection candidates ms", &v) : 0;
+    snprintf(what, sizeof what, "  steps detected on the host instead (of %d)", steps);
+    if (!bad) gpu_check_line(md, what, steps - on_device, 0);
     if (!bad && with == 0) gpu_check_line(md, "  no step had contacts (test too short)", 1, 0);
     pl_sim_free(h);
     pl_sim_free(g);
