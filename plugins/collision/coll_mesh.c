@@ -239,6 +239,7 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
     face_normals(m);
     sharp_edges(m);
     boxes(m, margin);
+    m->margin = margin;
     if (!m->built) {
         if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
@@ -248,4 +249,15 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         bvh_refit(&m->ebvh, m->ebox);
     }
     return PL_OK;
+}
+
+/* The inflation is symmetric: the boxes' centres, and so the trees built
+ * from them, do not depend on it. */
+void coll_mesh_inflate(pl_coll_mesh *m, double margin)
+{
+    if (!m->built || margin == m->margin) return;
+    boxes(m, margin);
+    m->margin = margin;
+    bvh_refit(&m->tbvh, m->tbox);
+    bvh_refit(&m->ebvh, m->ebox);
 }
