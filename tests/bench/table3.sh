@@ -9,7 +9,8 @@
 #   bash tests/bench/table3.sh BUILD_DIR half1      # GPU runs + first CPU half (~8 min)
 #   bash tests/bench/table3.sh BUILD_DIR half2 table  # second CPU half (~8 min), tables
 # PARTS (any order, several allowed): gpu, cpu1, cpu2 (the runs), half1 (= gpu cpu1),
-#   half2 (= cpu2), all (every run), table (the tables from what RES holds),
+#   half2 (= cpu2), all (every run), cpu2t (the 2-thread CPU table: the smaller
+#   sizes, each run pinned to 2 cores, PAIRS at once), table (the tables from what RES holds),
 #   plan (the runs and their estimated times), clean (empties RES: results of
 #   earlier calls stay there and enter the tables until then).
 # Environment (optional):
@@ -19,6 +20,7 @@
 #   FRAMES     frames of 0.01 s per scene (default 150); RAPTOR_FRAMES for the
 #              raptors (default 100: 400 steps of 2.5 ms)
 #   THREADS    CPU threads (default: this host's cores)
+#   PAIRS      runs of part cpu2t at once, each on its own 2 cores (default: cores / 2 - 1)
 #   SCENES     comma-separated filters of the scene names (e.g. "_small,knives": tests)
 #   LIMIT_S    seconds this call may take (default 560): runs that would pass it
 #              are skipped and listed ("table" shows them as not run)
@@ -44,6 +46,7 @@ PY="python3 $ROOT/tests/bench/table3.py"
 LIMIT_S=${LIMIT_S:-560}
 NCPU=$(getconf _NPROCESSORS_ONLN 2>/dev/null || nproc)
 THREADS=${THREADS:-$NCPU}
+PAIRS=${PAIRS:-$(( NCPU / 2 > 1 ? NCPU / 2 - 1 : 1 ))}
 DOC=${DOC:-$ROOT/docs/benchmarks.md}
 export LD_LIBRARY_PATH="${GPU_LIBS:-$B}/lib:$B/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}"
 export PLIANT_PLUGIN_PATH="$B/plugins"
@@ -82,32 +85,60 @@ run_part() { # the runs of part $1
         fi
         [ "$tmo" -gt "$left" ] && tmo=$left
         name=${dev}_${scene%.xml}
-        if [ "$dev" = gpu ]; then
+        if [ "$dev" = cpu2t ]; then
+            : # below
+        elif [ "$dev" = gpu ]; then
             args=(--device auto)
             echo "${P#"$ROOT"/} run scenes/SCENE -n STEPS --device auto --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_gpu.txt"
         else
             args=(--device cpu -j "$THREADS")
             echo "${P#"$ROOT"/} run scenes/SCENE -n STEPS --device cpu -j $THREADS --timings F.json --set solver.computeResidual=off" > "$RES/meta_command_cpu.txt"
         fi
-        s0=$(date +%s)
-        timeout "$tmo" "$P" run "scenes/$scene" -n "$steps" "${args[@]}" --timings "$RES/$name.json" \
-            --set solver.computeResidual=off --export-every "$steps" -o "$RES/out/$name" --progress 0 \
-            > "$RES/$name.log" 2>&1
-        rc=$?
-        [ "$rc" = 0 ] || { status=1; rm -f "$RES/$name.json"; }
-        echo "$dev $scene: $steps steps, exit $rc, $(( $(date +%s) - s0 )) s [$(( $(date +%s) - t0 )) s]"
-        save "$RES/$name.json" "$RES/$name.log" "$RES"/meta_command_*.txt
+        if [ "$dev" = cpu2t ]; then # 2 threads pinned to a free pair of cores, PAIRS at once
+            args=(--device cpu -j 2)
+            echo "taskset -c 2k,2k+1 ${P#"$ROOT"/} run scenes/SCENE -n STEPS --device cpu -j 2 --timings F.json --set solver.computeResidual=off ($PAIRS runs at once)" > "$RES/meta_command_cpu2t.txt"
+            while [ "$(jobs -rp | wc -l)" -ge "$PAIRS" ]; do wait -n; done
+            slot=$(free_slot)
+            touch "$RES/slot$slot"
+            ( one_run taskset -c $((2 * slot)),$((2 * slot + 1)) < /dev/null; rm -f "$RES/slot$slot" ) &
+            sleep 1
+            continue
+        fi
+        one_run
     done < "$RES/jobs_$1.txt"
-    rm -rf "$RES/out"; mkdir -p "$RES/out"
+    wait
+    [ -f "$RES/failed" ] && status=1
+    rm -rf "$RES/out" "$RES"/slot* "$RES/failed"; mkdir -p "$RES/out"
+}
+
+one_run() { # one run of the loop's job ($dev $scene $steps $tmo $name args), prefixed by "$@"
+    local s0 rc
+    s0=$(date +%s)
+    timeout "$tmo" "$@" "$P" run "scenes/$scene" -n "$steps" "${args[@]}" --timings "$RES/$name.json" \
+        --set solver.computeResidual=off --export-every "$steps" -o "$RES/out/$name" --progress 0 \
+        > "$RES/$name.log" 2>&1
+    rc=$?
+    [ "$rc" = 0 ] || { touch "$RES/failed"; status=1; rm -f "$RES/$name.json"; }
+    echo "$dev $scene: $steps steps, exit $rc, $(( $(date +%s) - s0 )) s [$(( $(date +%s) - t0 )) s]"
+    save "$RES/$name.json" "$RES/$name.log" "$RES"/meta_command_*.txt
+}
+
+free_slot() { # the first pair of cores no run holds
+    local k=0
+    while [ -f "$RES/slot$k" ]; do k=$((k + 1)); done
+    echo $k
 }
 
 for part in "$@"; do
     case "$part" in
         plan) FRAMES=${FRAMES:-150} $PY plan ;;
         clean) rm -rf "$RES"; mkdir -p "$RES/out" ;;
-        gpu|cpu1|cpu2|half1|half2|all|cpu)
+        gpu|cpu1|cpu2|half1|half2|all|cpu|cpu2t)
             [ -x "$P" ] || { echo "table3.sh: no $P (build first)" >&2; exit 2; }
-            meta
+            if [ "$part" = cpu2t ]; then # the other tables' context stays as it is
+                echo "$(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -1), $NCPU cores; each run on 2 of them, $PAIRS runs at once; $(date -u '+%Y-%m-%d %H:%M UTC'), ${COMMIT:-$(git rev-parse --short HEAD 2>/dev/null || echo "?")}" > "$RES/meta_cpu2t.txt"
+                save "$RES/meta_cpu2t.txt"
+            else meta; fi
             echo "== $part (results in $RES)"
             run_part "$part" ;;
         table)
