@@ -43,25 +43,21 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, 
     return ynnz * ynnz / (double)n <= PRODUCTS_PER_STEP * 6.0 * nnz_s;
 }
 
-/* The exact work of W (ncpc_delassus_auto) refuses W when it passes the
- * step's matrix-free products this many times.  One multiply-add of the
- * build cost 3.4 entries of a matrix-free product on one core here
- * (pulling_through_gap_small: 2.3 against 0.68 ns), so parity would be
- * about 0.3; but which path a frame takes changes its round-off, and
- * cloth_on_knives_small.xml's tunnelling check is that sensitive (all
- * frames explicit: a cloth edge 0.11 m through a blade; all matrix-free
- * or today's mix: none; one frame at 1.14x refused: 0.11 m again), so the
- * gate only catches frames far beyond the estimate (docs/benchmarks.md,
- * spikes). */
-#define BUILD_REFUSE_FACTOR 2.0
-
-/* The most multiply-adds that building W on the CPU may cost (infinite
- * without nnz(S): the memory rule alone). */
-static double max_build_work(pl_timers *timers)
+/* The most multiply-adds that building W on the CPU may cost: maxExplicitWork
+ * times the step's matrix-free products (infinite without nnz(S): the
+ * memory rule alone).  One multiply-add of the build cost 3.4 entries of a
+ * matrix-free product on one core here (pulling_through_gap_small: 2.3
+ * against 0.68 ns), so parity is about 0.3; the default, 2, keeps today's
+ * choices in the test scenes: which path a frame takes changes its
+ * round-off, and cloth_on_knives_small.xml's tunnelling check is that
+ * sensitive (all frames explicit: a cloth edge 0.11 m through a blade; all
+ * matrix-free or today's mix: none; one frame at 1.14x refused: 0.11 m
+ * again).  docs/benchmarks.md, spikes. */
+static double max_build_work(const ncp_contact_solver *s, pl_timers *timers)
 {
     double nnz_s;
     if (pl_stat_get(timers, "nnz(S)", &nnz_s) != 0) return INFINITY;
-    return BUILD_REFUSE_FACTOR * PRODUCTS_PER_STEP * 6.0 * nnz_s;
+    return s->max_explicit_work * PRODUCTS_PER_STEP * 6.0 * nnz_s;
 }
 
 /* W explicit or matrix-free (see the delassus field). */
@@ -123,7 +119,7 @@ int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
      * budget (the estimate from the average column of S misses where the
      * contacts gather: their etree paths share the top of the tree) */
     if (explicit_w)
-        return ncpc_delassus_auto(&w->D, sys, &w->rows, max_build_work(ctx->timers), inv, err);
+        return ncpc_delassus_auto(&w->D, sys, &w->rows, max_build_work(s, ctx->timers), inv, err);
     return ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
 }
 
