@@ -124,7 +124,26 @@ static double w_work(const y_rows *t, int n)
     return s;
 }
 
-/* W from Y and its rows (OpenMP over the rows of W, deterministic). */
+/* The first entry of row rr of Y (entries by increasing column) whose
+ * column is at least i. */
+static int first_from(const y_rows *t, size_t rr, int i)
+{
+    int lo = t->rp[rr], hi = t->rp[rr + 1];
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (t->rj[mid] < i)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* W from Y and its rows (OpenMP over the rows of W, deterministic): the
+ * upper triangle, then mirrored.  W_ij and W_ji are the same products
+ * summed in the same order (over the shared rows of Y by increasing index),
+ * so the mirror is bitwise what the lower triangle's own sums were; it
+ * halves the build, the Schur phase of the explicit frames. */
 static int form_w(pl_ncpc_delassus *D, const pl_csc *Y, const y_rows *t, pl_error *err)
 {
     int m = D->m;
@@ -134,16 +153,19 @@ static int form_w(pl_ncpc_delassus *D, const pl_csc *Y, const y_rows *t, pl_erro
 #pragma omp parallel for schedule(dynamic, 16) if (m > 64)
     for (int i = 0; i < m; ++i) {
         double *row = W + (size_t)i * (size_t)m;
-        memset(row, 0, sizeof(double) * (size_t)m);
+        memset(row + i, 0, sizeof(double) * (size_t)(m - i));
         for (int k = 0; k < 3; ++k) {
             int c = k * m + i;
             for (int p = Y->p[c]; p < Y->p[c + 1]; ++p) {
                 size_t rr = 3 * (size_t)Y->i[p] + (size_t)k;
                 double y = Y->x[p];
-                for (int q = t->rp[rr]; q < t->rp[rr + 1]; ++q) row[t->rj[q]] += y * t->rx[q];
+                for (int q = first_from(t, rr, i); q < t->rp[rr + 1]; ++q) row[t->rj[q]] += y * t->rx[q];
             }
         }
     }
+#pragma omp parallel for schedule(static) if (m > 64)
+    for (int j = 1; j < m; ++j)
+        for (int i = 0; i < j; ++i) W[(size_t)j * (size_t)m + (size_t)i] = W[(size_t)i * (size_t)m + (size_t)j];
     for (int j = 0; j < m; ++j) D->diag[j] = W[(size_t)j * (size_t)m + (size_t)j];
     return PL_OK;
 }
