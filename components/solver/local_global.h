@@ -16,6 +16,7 @@ typedef struct lg_device {
     int *free_vertex;          /* nfree */
     pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
     int fp_nnz;                /* its entries (0: nothing prescribed) */
+    pl_csr A_f;                /* [A_ff A_fp] (nfree x n): forceTolerance only */
 } lg_device;
 
 /* One data's device vectors (float64, n x 3 unless said) and graph, in the
@@ -27,6 +28,8 @@ typedef struct lg_device_ws {
     double *q, *sn, *rhs;
     double *b_free, *q_free;   /* nfree x 3 */
     double *change;            /* 1: largest position change of an iteration */
+    double *grad, *t, *residual; /* forceTolerance: gradient (n x 3), rhs_f - A_f* q
+                                  * (nfree x 3), the force residual (1) */
     void *graph[2];            /* one iteration, captured (PL_DEVICE_GRAPHS): [0] for
                                   steps without rows, [1] with the contact iterate */
     unsigned long graph_epoch; /* the contact solver's graph_epoch at graph[1]'s capture */
@@ -84,6 +87,17 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
 void pl_lg_device_ws_free(lg_ws *ws);
 /* One time step with the iterations on the device. */
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err);
+/* forceTolerance on the device (local_global_device_residual.c): why it
+ * cannot run there appended to why (nothing when it can or is 0); the
+ * model's A_f* up; its per-data vectors; the residual of the iterate g->q
+ * queued into g->residual. */
+void pl_lg_device_residual_refusals(const local_global_solver *s, char *why, size_t size);
+int pl_lg_device_residual_setup(local_global_solver *s, pl_error *err);
+void pl_lg_device_residual_free(lg_device *g);
+int pl_lg_device_residual_ws_alloc(const local_global_solver *s, lg_device_ws *g, pl_error *err);
+void pl_lg_device_residual_ws_free(lg_device_ws *g);
+int pl_lg_device_residual_queue(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
+                                pl_error *err);
 /* The step's constraint rows and the contact solver's begin (host, q_t):
  * the number of rows, or minus an error code.  local_global_solver.c. */
 int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,

@@ -68,9 +68,7 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
     pl_dynamics *d = &s->dyn;
     char path[256];
     why[0] = '\0';
-    if (s->force_tolerance > 0)
-        say(why, size, "forceTolerance > 0 evaluates the force residual on the CPU after every "
-                       "iteration");
+    pl_lg_device_residual_refusals(s, why, size); /* forceTolerance */
     if (s->contact) {
         const pl_field *f = pl_component_field(s->contact, "device");
         char v[64] = "";
@@ -80,13 +78,6 @@ static void device_refusals(local_global_solver *s, char *why, size_t size)
                 "in a CUDA build with device=\"auto\" has one)",
                 why[0] ? "; " : "", pl_component_path(s->contact, path, sizeof path),
                 s->contact->type->name);
-        /* its first step from rest is computed on the host only: on the
-         * device it would be skipped without a word */
-        const pl_field *st = pl_component_field(s->contact, "stickStart");
-        if (st && pl_field_format(st, s->contact, v, sizeof v) == PL_OK && strcmp(v, "0"))
-            say(why, size, "%sthe contact solver %s has stickStart=\"1\" (the first step of a "
-                "resting contact is solved on the CPU only)", why[0] ? "; " : "",
-                pl_component_path(s->contact, path, sizeof path));
     }
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
     if (!(gs->version >= 2 && gs->accepts && gs->accepts(s->solver, PL_DEVICE, PL_F64)))
@@ -215,6 +206,7 @@ static int allocate(local_global_solver *s, pl_error *err)
     put(g, g->A_fp.x, R.x, (size_t)nnz * sizeof(double), &rc, err);
     pl_csr_free(&R);
     if (!rc) rc = g->ops->sync(g->dev, err); /* the host arrays above may go */
+    if (!rc) rc = pl_lg_device_residual_setup(s, err);
     return rc;
 }
 
@@ -235,6 +227,7 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->change = dalloc(g->dev, g->ops, sizeof(double), &rc, err);
+    if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
     if (rc) {
         pl_lg_device_ws_free(ws);
         return rc;
@@ -263,6 +256,7 @@ void pl_lg_device_ws_free(lg_ws *ws)
         if (g->graph[k]) o->graph_free(g->dev, g->graph[k]);
     void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
+    pl_lg_device_residual_ws_free(g);
     if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
     if (g->pinned_sn) o->unpin(g->dev, g->pinned_sn);
     memset(g, 0, sizeof *g);
@@ -307,6 +301,7 @@ void pl_lg_device_free(local_global_solver *s)
     o->sync(g->dev, &err); /* nothing may still use the buffers */
     void *bufs[] = {g->mass, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
+    pl_lg_device_residual_free(g);
     memset(g, 0, sizeof *g);
 }
 
@@ -357,6 +352,10 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
         if (profile && !rc) rc = phase_end(g, ctx, s->t_global, err);
     }
     if (!rc) rc = o->scatter_rows(dev, d->nfree, m->free_vertex, g->q_free, g->q, g->change, err);
+    if (rc || !(s->force_tolerance > 0)) return rc;
+    if (profile) pl_timer_start(ctx->timers, s->t_residual);
+    rc = pl_lg_device_residual_queue(s, g, ctx, err);
+    if (profile && !rc) rc = phase_end(g, ctx, s->t_residual, err);
     return rc;
 }
 
@@ -455,14 +454,18 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
     rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
     if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
-    int done = 0;
+    int done = 0, ftol = s->force_tolerance > 0 && d->nfree > 0;
+    double residual = NAN;
     for (int it = 0; !rc && it < s->iterations; ++it) {
         rc = run_iteration(s, g, ctx, it, err);
         done = it + 1;
-        if (rc || !(s->tolerance > 0 || s->compute_energy) || d->nfree == 0) continue;
+        if (rc || !(s->tolerance > 0 || ftol || s->compute_energy) || d->nfree == 0) continue;
         double change = 0.0;
         if (s->tolerance > 0)
             rc = o->copy(g->dev, &change, PL_HOST, g->change, PL_DEVICE, sizeof change, err);
+        /* the CPU's rule after every iteration: one double back (a wait) */
+        if (!rc && ftol)
+            rc = o->copy(g->dev, &residual, PL_HOST, g->residual, PL_DEVICE, sizeof residual, err);
         if (!rc && s->compute_energy) {
             rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
             if (!rc)
@@ -473,7 +476,9 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
             return pl_component_fail(c, err, PL_EINTERNAL,
                                      "the solution became NaN/inf at iteration %d of step %ld",
                                      it + 1, ctx->data->step + 1);
-        if (s->tolerance > 0 && change < s->tolerance * scale) break;
+        if ((s->tolerance > 0 || ftol) && (s->tolerance <= 0 || change < s->tolerance * scale) &&
+            (!ftol || residual < s->force_tolerance))
+            break;
     }
     if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
     if (rc) return rc;
@@ -484,13 +489,12 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
                                      "the solution became NaN/inf during step %ld (vertex %d)",
                                      ctx->data->step + 1, d->free_vertex[f]);
     }
-    if (s->report_residual) { /* on the host, at the step's q and multipliers */
-        double residual;
+    if (s->report_residual && isnan(residual)) { /* on the host, at the step's q and multipliers */
         const pl_contact_solver_ops *cs =
             g->nrows > 0 ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
         if ((rc = pl_lg_residual(s, ws, ctx, cs, &residual, err))) return rc;
-        pl_lg_record_residual(s, ctx, residual, done);
     }
+    pl_lg_record_residual(s, ctx, residual, done); /* as the CPU loop: NaN is not recorded */
     if (g->nrows > 0)
         pl_lg_end_constraints(s, ws, ctx);
     else if (s->nconstraints)

@@ -30,10 +30,16 @@
  * factorisation: it is estimated from the bodies' sizes (S_TET n^(4/3) for a
  * body of n vertices with tetrahedra, S_TRI n log2 n with triangles: the
  * fill of nested dissection in 3D and 2D).  When the iterations cannot run
- * on the device (device_path = 0: forceTolerance, stickStart, ...) only the
- * global solves go there, and the GPU step is PARTIAL times the CPU step
- * (the median ratio of those scenes).  A forceTolerance scene's iteration
+ * on the device (device_path = 0: a term without a device step, a CPU
+ * contact solver, forceTolerance with a term without a device gradient)
+ * only the global solves go there, and the GPU step is PARTIAL times the
+ * CPU step (the median ratio of those scenes, fitted when forceTolerance
+ * and stickStart had no device path).  A forceTolerance scene's iteration
  * count is unknown ahead: the model takes min(iterations, FT_ITERATIONS).
+ * Since forceTolerance and stickStart run in the device loop, stick_slip
+ * and cable_finger are predicted by the full model (GPU, as measured on the
+ * H100: 2.6 vs 5.4 and 7.5 vs 19.5 ms per frame, docs/benchmarks.md); the
+ * constants were not refitted for them.
  *
  * The constants between the FITTED markers are written by
  * tests/bench/device_cost_fit.py (docs/benchmarks.md: command, machine,

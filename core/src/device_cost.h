@@ -36,8 +36,9 @@ typedef struct pl_device_sizes {
     int cr_iterations;          /* the contact solver's crIterations (0: none) */
     int surface_vertices;       /* of the deformable collision models */
     int device_path;            /* 1: the iterations can run on the device; 0: only the
-                                 * global solves go there (forceTolerance, stickStart,
-                                 * a term without a device step, a CPU contact solver) */
+                                 * global solves go there (a term without a device step,
+                                 * a CPU contact solver; forceTolerance with a term
+                                 * without a device gradient or rayleighStiffness) */
     int sparse_inverse;         /* the global solver is a SparseInverseSolver */
 } pl_device_sizes;
 

@@ -138,9 +138,18 @@ static int has_device_step(const char *type)
     return 0;
 }
 
+/* Local terms whose gradient takes device buffers (the device force
+ * residual of forceTolerance, local_global_device_residual.c). */
+static int has_device_gradient(const char *type)
+{
+    return !strcmp(type, "ARAP") || !strcmp(type, "Corotational") || !strcmp(type, "NeoHookean");
+}
+
 typedef struct gathered {
     pl_device_sizes z;
     int cuda_asked; /* a component says device="cuda": the device stays */
+    int host_gradient; /* a local term without a device gradient (forceTolerance: the CPU) */
+    int rayleigh;      /* rayleighStiffness > 0 (forceTolerance: the CPU) */
 } gathered;
 
 static int gather(pl_component *c, void *user)
@@ -167,6 +176,7 @@ static int gather(pl_component *c, void *user)
         if (law >= 0 && m && m->ntets > 0) z->tets[law] += m->ntets;
         else if (law >= 0 && m) z->tris[law] += m->ntris;
         if (!has_device_step(type)) z->device_path = 0;
+        if (!has_device_gradient(type)) g->host_gradient = 1;
     }
     if (pl_component_role(c, PL_ROLE_CONSTRAINT)) z->constraints++;
     if (pl_component_role(c, PL_ROLE_COLLISION_MODEL) && pl_node_find_role(c->node, PL_ROLE_STATE)) {
@@ -175,17 +185,16 @@ static int gather(pl_component *c, void *user)
     }
     if (pl_component_role(c, PL_ROLE_CONTACT_SOLVER)) {
         z->cr_iterations = (int)field_num(c, "crIterations", 10);
-        if (!strcmp(field_text(c, "device", v, sizeof v), "cpu") || !v[0] ||
-            field_num(c, "stickStart", 0) != 0)
-            z->device_path = 0;
+        /* stickStart runs in the device loop (its first iterate) */
+        if (!strcmp(field_text(c, "device", v, sizeof v), "cpu") || !v[0]) z->device_path = 0;
     }
     if (pl_component_role(c, PL_ROLE_GLOBAL_SOLVER) && !z->sparse_inverse)
         z->sparse_inverse = !strcmp(type, "SparseInverseSolver") ? 1 : -1;
     if (pl_component_role(c, PL_ROLE_ANIMATION_LOOP) && !strcmp(type, "LocalGlobalSolver")) {
         z->iterations_max = (int)field_num(c, "iterations", 5);
         z->force_tolerance = field_num(c, "forceTolerance", 0) > 0;
-        if (z->force_tolerance || !strcmp(field_text(c, "device", v, sizeof v), "cpu"))
-            z->device_path = 0;
+        g->rayleigh = field_num(c, "rayleighStiffness", 0) > 0;
+        if (!strcmp(field_text(c, "device", v, sizeof v), "cpu")) z->device_path = 0;
     }
     return 0;
 }
@@ -224,6 +233,9 @@ int pl_sim_device_cost(pl_node *root, pl_component *dev, int forced, pl_model *m
     g.z.device_path = 1;
     walk_pre(root, gather, &g);
     pl_device_sizes z = g.z;
+    /* forceTolerance runs on the device when every term has a device
+     * gradient and there is no Rayleigh damping (local_global_device.c) */
+    if (z.force_tolerance && (g.host_gradient || g.rayleigh)) z.device_path = 0;
     /* the scene asks for the GPU by name somewhere (device="cuda"): its
      * word, as a declared CudaDevice's */
     forced = forced || g.cuda_asked;

@@ -174,6 +174,14 @@ static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double
                     err);
 }
 
+static int dev_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
+                            const double *x, const double *y, const double *g, const double *t,
+                            double *out, pl_error *err)
+{
+    return launched(c, cuda_residual_max(STREAM(c), m, map, s, h2, x, y, g, t, out),
+                    "residual_max", err);
+}
+
 static int dev_capture_begin(pl_component *c, pl_error *err)
 {
     CK(c, cudaStreamBeginCapture(STREAM(c), cudaStreamCaptureModeThreadLocal),
@@ -225,4 +233,5 @@ const pl_device_ops pl_cuda_device_ops = {
     .capture_end = dev_capture_end,
     .replay = dev_replay,
     .graph_free = dev_graph_free,
+    .residual_max = dev_residual_max,
 };

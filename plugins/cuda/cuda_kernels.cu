@@ -85,7 +85,52 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
     y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
 }
 
+/* The force residual's 3-vector of unknown f (vertex v = map[f]):
+ * r = s[v] (x[v] - y[v]) / h2 + g[v] + t[f] / h2 (t NULL: no last term; in
+ * force_residual.c's order of operations), and
+ * *out = max(*out, |r|) by the bit-pattern atomicMax of k_scatter_rows;
+ * +inf when an r is not finite. */
+__global__ void k_residual_max(int m, const int *__restrict__ map, const double *__restrict__ s,
+                               double h2, const double *__restrict__ x, const double *__restrict__ y,
+                               const double *__restrict__ g, const double *__restrict__ t,
+                               double *__restrict__ out)
+{
+    __shared__ double red[kThreads / 32];
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    double d = 0.0;
+    if (f < m) {
+        const size_t v = (size_t)map[f];
+        const double sv = s[v];
+        double r2 = 0.0;
+#pragma unroll
+        for (int k = 0; k < 3; ++k) {
+            double r = sv * (x[3 * v + k] - y[3 * v + k]) / h2 + g[3 * v + k];
+            if (t) r += t[3 * (size_t)f + k] / h2;
+            r2 += r * r;
+        }
+        d = isfinite(r2) ? sqrt(r2) : INFINITY;
+    }
+    for (int o = 16; o > 0; o >>= 1) d = fmax(d, __shfl_down_sync(0xffffffffu, d, o));
+    if ((threadIdx.x & 31) == 0) red[threadIdx.x >> 5] = d;
+    __syncthreads();
+    if (threadIdx.x == 0) {
+        for (int w = 1; w < kThreads / 32; ++w) d = fmax(d, red[w]);
+        if (d > 0.0)
+            atomicMax(reinterpret_cast<unsigned long long *>(out),
+                      (unsigned long long)__double_as_longlong(d));
+    }
+}
+
 } // namespace
+
+extern "C" int cuda_residual_max(struct CUstream_st *st, int m, const int *map, const double *s,
+                                 double h2, const double *x, const double *y, const double *g,
+                                 const double *t, double *out)
+{
+    if (m <= 0) return 0;
+    k_residual_max<<<blocks(m), kThreads, 0, st>>>(m, map, s, h2, x, y, g, t, out);
+    return (int)cudaGetLastError();
+}
 
 extern "C" int cuda_scale_rows(struct CUstream_st *st, int n, const double *s, const double *x,
                                   double *y)

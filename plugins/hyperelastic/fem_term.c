@@ -262,6 +262,15 @@ static int fem_add_gradient(const pl_component *c, const pl_data *d, int offset,
                             pl_buffer *grad, pl_error *err)
 {
     const hyper_fem *f = (const hyper_fem *)c;
+    if (q->location == PL_DEVICE || grad->location == PL_DEVICE) {
+#ifdef PLIANT_HAVE_CUDA
+        /* the data's workspace holds the device copy (per-data scratch) */
+        return hyper_fem_gradient_device(f, (pl_data *)d, offset, q, grad, err);
+#else
+        return pl_component_fail(c, err, PL_EINPUT,
+                                 "add_gradient: device buffers, but this build has no CUDA");
+#endif
+    }
     (void)d;
     const double *x = hyper_term_block(c, q, offset, f->el.nverts, "positions", err);
     double *g = x ? hyper_term_block(c, grad, offset, f->el.nverts, "gradient", err) : NULL;
@@ -286,10 +295,15 @@ static int fem_add_hessian(const pl_component *c, const pl_data *d, int offset, 
 }
 
 /* Host float64 always; device float64 (tetrahedra and triangles) in CUDA
- * builds. */
+ * builds, for project() and (PL_ACCEPTS_GRADIENT) add_gradient, which the
+ * edge rotation does not have. */
 static int fem_accepts(const pl_component *c, pl_location where, pl_precision prec)
 {
-    (void)c;
+    const hyper_fem *f = (const hyper_fem *)c;
+    if ((int)prec == (PL_F64 | PL_ACCEPTS_GRADIENT)) {
+        if (f->el.edge_rotation) return 0;
+        prec = PL_F64;
+    }
     if (prec != PL_F64) return 0;
     if (where == PL_HOST) return 1;
 #ifdef PLIANT_HAVE_CUDA

@@ -74,6 +74,10 @@ void hyper_fem_destroy(pl_component *c);
  * without being called). */
 int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double h2,
                              const pl_buffer *q, pl_buffer *rhs, pl_error *err);
+/* grad += d psi / dq at q, both device n x 3 blocks (the force residual of
+ * a device loop); the element data goes up at the first call with d. */
+int hyper_fem_gradient_device(const hyper_fem *f, pl_data *d, int offset, const pl_buffer *q,
+                              pl_buffer *grad, pl_error *err);
 /* Duals back into d's slot, the local step's statistics checked. */
 int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err);
 /* Next device project() with d uploads the duals again. */

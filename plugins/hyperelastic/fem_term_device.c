@@ -17,9 +17,11 @@
 
 #include "fem_term.h"
 #include "hyper_cuda.h"
+#include "hyper_cuda_gradient.h"
 
 typedef struct hyper_fem_gpu {
     pl_hyper_cuda *g;
+    pl_hyper_cuda_grad *grad;  /* the gradient's device data, made on first use */
     struct CUstream_st *stream;
     double *dual;              /* device n x 3d (ADMM materials), or NULL */
     size_t dual_bytes;
@@ -116,6 +118,25 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
     return PL_OK;
 }
 
+int hyper_fem_gradient_device(const hyper_fem *f, pl_data *d, int offset, const pl_buffer *q,
+                              pl_buffer *grad, pl_error *err)
+{
+    hyper_fem_gpu **slot = gpu_of(f, d);
+    if (!slot) return pl_component_fail(&f->base, err, PL_EINTERNAL, "out of memory (workspace)");
+    int rc = check_block(f, q, offset, "positions", err);
+    if (!rc) rc = check_block(f, grad, offset, "gradient", err);
+    if (!rc) rc = prepare(f, slot, err);
+    if (rc) return rc;
+    hyper_fem_gpu *gpu = *slot;
+    pl_error e;
+    pl_error_clear(&e);
+    if (!gpu->grad && !(gpu->grad = hyper_cuda_grad_create(&f->el, &e)))
+        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+    if (hyper_cuda_grad_add(gpu->grad, offset, q->data, grad->data, gpu->stream, &e) != PL_OK)
+        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
+    return PL_OK;
+}
+
 int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
 {
     hyper_fem_gpu **slot = gpu_of(f, d), *gpu = slot ? *slot : NULL;
@@ -160,6 +181,7 @@ void hyper_fem_device_free(hyper_fem_gpu **slot)
     hyper_fem_gpu *gpu = *slot;
     if (!gpu) return;
     hyper_cuda_destroy(gpu->g);
+    hyper_cuda_grad_destroy(gpu->grad);
     if (gpu->dual) cudaFree(gpu->dual);
     free(gpu);
     *slot = NULL;

@@ -444,6 +444,22 @@ static int lap(pl_ncpc_device *g, pl_ctx *ctx, int profile, int id, int start, p
     return rc;
 }
 
+/* stickStart: delta_free down, the host's stick start (st->stick), lambda
+ * up.  A step's first iterate only, which the loop runs eagerly (never in
+ * a graph): the copy down waits for the device. */
+static int stick_start(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_error *err)
+{
+    size_t bytes = sizeof(double) * (size_t)g->R.m;
+    double *df = malloc(bytes ? bytes : 1);
+    if (!df) return fail(g, err, PL_EINTERNAL, "out of memory");
+    int rc = g->ops->copy(g->dev, df, PL_HOST, g->V.delta_free, PL_DEVICE, bytes, err);
+    int n = rc ? 0 : st->stick(st->stick_user, df, err);
+    free(df);
+    if (!rc && n < 0) rc = -n;
+    if (!rc && n > 0) rc = g->ops->copy(g->dev, g->V.lambda, PL_DEVICE, st->lambda, PL_HOST, bytes, err);
+    return rc;
+}
+
 /* The constraint update: dlambda (CR), step length, lambda, projection. */
 static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
 {
@@ -523,6 +539,7 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     if (e) return cuda_fail(g, err, e, "row values");
     if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
     lap(g, ctx, profile, st->t_solve, 1, err);
+    if (st->stick && (rc = stick_start(g, st, err))) return rc;
     rc = constraint_update(g, sys, err);
     if (!rc) rc = lap(g, ctx, profile, st->t_solve, 0, err);
     if (rc) return rc;

@@ -38,6 +38,12 @@ typedef struct pl_ncpc_device_step {
     double cr_tolerance, damping, fb_eps;
     /* timer ids (used with the device's profile flag) */
     int t_global, t_assembly, t_solve, t_corr, t_cglobal;
+    /* stickStart, at the step's first iterate only (NULL otherwise): given
+     * the row values at q_free (m, host), it updates the host multipliers
+     * `lambda` (this struct's) and returns how many rows it set (>= 0), or
+     * minus an error code; they then go up before the constraint update. */
+    int (*stick)(void *user, const double *delta_free, pl_error *err);
+    void *stick_user;
 } pl_ncpc_device_step;
 
 /* The device path of contact solver c, on the device service found in its

@@ -134,6 +134,43 @@ void ncpc_statistics(const ncpc_ws *w, pl_timers *t)
     pl_stat_max(t, "Schur W work max", w->D.work);
 }
 
+#ifdef PLIANT_HAVE_CUDA
+typedef struct stick_user {
+    const ncp_contact_solver *s;
+    ncpc_ws *w;
+} stick_user;
+
+/* stickStart for the device path: the CPU's ncpc_stick_start on the host
+ * copies (rows, warm start) with the row values computed on the device; W
+ * built on the device comes down once for it (kept as the host W of the
+ * step, freed with the Delassus at the next begin). */
+static int stick_on_host(void *user, const double *delta_free, pl_error *err)
+{
+    stick_user *u = user;
+    ncpc_ws *w = u->w;
+    pl_ncpc_delassus *D = &w->D;
+    int m = w->rows.m;
+    if (D->explicit_w && !D->W && D->W_dev) {
+        pl_component *dev = pl_util_device(&u->s->base);
+        const pl_device_ops *ops = dev ? pl_component_role(dev, PL_ROLE_DEVICE) : NULL;
+        size_t bytes = sizeof(double) * (size_t)m * (size_t)m;
+        if (!ops) return -pl_component_fail(&u->s->base, err, PL_EINTERNAL, "no device service");
+        if (!(D->W = malloc(bytes ? bytes : 1)))
+            return -pl_component_fail(&u->s->base, err, PL_EINTERNAL, "out of memory");
+        int rc = ops->copy(dev, D->W, PL_HOST, D->W_dev, PL_DEVICE, bytes, err);
+        if (rc) return -rc;
+    }
+    pl_ncp_operator op = ncpc_delassus_operator(D);
+    D->status = PL_OK;
+    int got = ncpc_stick_start(&w->rows, &op, w->h, delta_free, w->lambda, u->s->cr_iterations, err);
+    if (got >= 0 && D->status != PL_OK) {
+        *err = D->err;
+        return -D->status;
+    }
+    return got;
+}
+#endif
+
 /* iterate() on device buffers: contact_device.c (CUDA builds). */
 int ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
@@ -157,6 +194,9 @@ int ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
         .t_solve = w->t_solve, .t_corr = w->t_corr, .t_cglobal = w->t_cglobal};
     pl_ncp_work empty = {0};
     if (!st.work) st.work = &empty; /* no active row */
+    stick_user su = {s, w};
+    if (w->first_iteration && s->stick_start) st.stick = stick_on_host, st.stick_user = &su;
+    w->first_iteration = 0;
     return ncpc_device_iterate(w->gpu, &st, ctx, sys, q_k, b, q_next, err);
 #else
     (void)w, (void)ctx, (void)sys, (void)q_k, (void)b, (void)q_next;

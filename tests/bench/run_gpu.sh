@@ -140,7 +140,8 @@ if has grasp; then
         -e 's/<SparseInverseSolver name="global"/& device="cuda" precision="float64"/' \
         -e 's/filename="grabbing_raptor/filename="gpu_grabbing_raptor/' \
         "scenes/$v.xml" > "scenes/.gpu_$v.xml"
-    GRASP_SCENE="scenes/.gpu_$v.xml" CK_RUN_CASE=grasp CK_DEFAULT_TIMEOUT=0 \
+    # the scenes run side by side: idle OpenMP threads must sleep, not spin on shared cores
+    OMP_WAIT_POLICY=PASSIVE GRASP_SCENE="scenes/.gpu_$v.xml" CK_RUN_CASE=grasp CK_DEFAULT_TIMEOUT=0 \
       timeout ${T_GRASP:-400} "$GRIP" > "$OUT/grasp_$v.log" 2>&1 &
   done
   wait

@@ -35,8 +35,8 @@ static FILE *md;
 static pl_sim *load(const char *path, int graph)
 {
     char *xml = gpu_scene_with_device(path);
-    /* the device loop refuses forceTolerance (cable fingers) and stickStart
-     * (stick_slip): off, as in gpu_scenes */
+    /* forceTolerance (cable fingers) and stickStart (stick_slip) off: a
+     * fixed iteration count here (gpu_loop runs them with those on) */
     const char *ov[6] = {"solver.device=cuda", "global.device=cuda", "global.precision=float64",
                          "solver.forceTolerance=0", NULL, NULL};
     int nov = 4;

@@ -106,6 +106,25 @@ static int hd_sub_csr(pl_component *c, const pl_csr *A, const double *x, double 
             for (int k = 0; k < 3; ++k) y[3 * r + k] -= A->x[p] * x[3 * A->j[p] + k];
     return PL_OK;
 }
+/* force_residual.c's expression, in its order: bitwise the CPU's value */
+static int hd_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
+                           const double *x, const double *y, const double *g, const double *t,
+                           double *out, pl_error *err)
+{
+    (void)err;
+    ((host_device *)c)->calls++;
+    for (int f = 0; f < m; ++f) {
+        int v = map[f];
+        double r[3];
+        for (int k = 0; k < 3; ++k) {
+            r[k] = s[v] * (x[3 * v + k] - y[3 * v + k]) / h2 + g[3 * v + k];
+            if (t) r[k] += t[3 * f + k] / h2;
+        }
+        double n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        *out = isfinite(n) ? fmax(*out, n) : INFINITY;
+    }
+    return PL_OK;
+}
 static int hd_no_graphs(pl_component *c, pl_error *err)
 {
     return pl_component_fail(c, err, PL_EINTERNAL, "HostDevice records no graphs");
@@ -144,6 +163,7 @@ static const pl_device_ops HD_OPS = {
     .capture_end = hd_capture_end,
     .replay = hd_replay,
     .graph_free = hd_graph_free,
+    .residual_max = hd_residual_max,
 };
 
 static const pl_field HD_FIELDS[] = {
@@ -180,6 +200,7 @@ typedef struct springs {
     pl_component base;
     double stiffness;
     int device_ok; /* field: accept device buffers */
+    int device_gradient; /* field: add_gradient takes device buffers */
     pl_component *state;
     int nedges, *edges;
     double *rest;
@@ -275,9 +296,35 @@ static double sp_energy(const pl_component *c, const pl_data *d, int off, const 
     }
     return e;
 }
+/* grad += k (|v| - rest) v / |v| at a, minus that at b (v = x_a - x_b). */
+static int sp_gradient(const pl_component *c, const pl_data *d, int off, const pl_buffer *q,
+                       pl_buffer *grad, pl_error *err)
+{
+    const springs *s = (const springs *)c;
+    (void)d;
+    if ((q->location == PL_DEVICE || grad->location == PL_DEVICE) && !s->device_gradient)
+        return pl_component_fail(c, err, PL_EINPUT, "device buffers refused (gradient)");
+    const double *x = q->data;
+    double *g = grad->data;
+    for (int k = 0; k < s->nedges; ++k) {
+        int a = off + s->edges[2 * k], e = off + s->edges[2 * k + 1];
+        double v[3], len = 0;
+        for (int i = 0; i < 3; ++i) v[i] = x[3 * a + i] - x[3 * e + i], len += v[i] * v[i];
+        len = sqrt(len);
+        double f = s->stiffness * (len - s->rest[k]) / len;
+        for (int i = 0; i < 3; ++i) {
+            g[3 * a + i] += f * v[i];
+            g[3 * e + i] -= f * v[i];
+        }
+    }
+    return PL_OK;
+}
 static int sp_accepts(const pl_component *c, pl_location where, pl_precision prec)
 {
-    return prec == PL_F64 && (where == PL_HOST || ((const springs *)c)->device_ok);
+    const springs *s = (const springs *)c;
+    if ((int)prec == (PL_F64 | PL_ACCEPTS_GRADIENT))
+        return where == PL_HOST || (s->device_ok && s->device_gradient);
+    return prec == PL_F64 && (where == PL_HOST || s->device_ok);
 }
 
 static const pl_local_term_ops SP_OPS = {.version = PL_LOCAL_TERM_OPS_VERSION,
@@ -285,10 +332,13 @@ static const pl_local_term_ops SP_OPS = {.version = PL_LOCAL_TERM_OPS_VERSION,
                                          .add_matrix = sp_add_matrix,
                                          .project = sp_project,
                                          .energy = sp_energy,
+                                         .add_gradient = sp_gradient,
                                          .accepts = sp_accepts};
 static const pl_field SP_FIELDS[] = {
     PL_FIELD(springs, stiffness, "stiffness", PL_F_DOUBLE, "100", "[N/m]", 0),
     PL_FIELD(springs, device_ok, "deviceOk", PL_F_BOOL, "1", "take device buffers", 0),
+    PL_FIELD(springs, device_gradient, "deviceGradient", PL_F_BOOL, "1",
+             "add_gradient takes device buffers", 0),
 };
 const pl_type fake_springs_type = {
     .abi_version = PL_ABI_VERSION,
@@ -296,7 +346,7 @@ const pl_type fake_springs_type = {
     .help = "test springs on tetrahedron edges",
     .size = sizeof(springs),
     .fields = SP_FIELDS,
-    .nfields = 2,
+    .nfields = 3,
     .ops = {.init = sp_init, .bind = sp_bind, .destroy = sp_destroy},
     .roles = {[PL_ROLE_LOCAL_TERM] = &SP_OPS},
 };

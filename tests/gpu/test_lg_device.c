@@ -9,7 +9,8 @@
  * the device service alone); two pl_data of one model, each with its own
  * device vectors (in its workspace), stepped interleaved with different
  * damping and spin of the prescribed end (input fields) end bitwise where
- * each ends alone; and every
+ * each ends alone; forceTolerance stops at the CPU's iteration with the
+ * CPU's residual; and every
  * part that cannot run on the device is refused at load with its name, or
  * (auto) sends the loop back to the CPU. */
 #include <check.h>
@@ -346,27 +347,92 @@ START_TEST(cuda_refuses_what_cannot_run_on_the_device_by_name)
 }
 END_TEST
 
-/* NonSmoothNewtonContactSolver's stickStart (the first step of a resting
- * contact) is solved on the host only: a loop that would run on the device
- * is refused by name (cuda), or stays on the CPU (auto), never skips it. */
-START_TEST(stick_start_keeps_the_loop_on_the_cpu)
+/* NonSmoothNewtonContactSolver's stickStart runs in the device path too
+ * (the step's first iterate, contact_solver_step.c): it no longer keeps the
+ * loop on the CPU. */
+START_TEST(stick_start_no_longer_keeps_the_loop_on_the_cpu)
 {
     pl_registry *r = registry();
     char msg[1024];
     setup s = plain("cuda");
     s.before = "<RequiredPlugin name=\"ncp_contact\"/><HostDevice name=\"dev\"/>";
     s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"1\"/>";
-    assert_refused(r, &s, "stickStart", "root/contact");
-    s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"0\"/>";
     pl_sim *sim = load(r, &s, msg, sizeof msg);
-    ck_assert_msg(strstr(msg, "stickStart") == NULL, "refused for stickStart=0: %s", msg);
+    ck_assert_msg(strstr(msg, "stickStart") == NULL, "refused for stickStart=1: %s", msg);
+    if (sim) { /* a CUDA build (else the contact solver has no device path at all) */
+        pl_sim_free(sim);
+        s.device = "auto";
+        static result dev;
+        run(r, &s, 2, &dev, &sim);
+        ck_assert_int_gt(fake_device_calls(pl_sim_component(sim, "dev")), 0);
+    }
     pl_sim_free(sim);
+    pl_registry_free(r);
+}
+END_TEST
+
+/* A series of the run's timings, copied (n values at most). */
+static int series(pl_sim *sim, const char *name, double *out, int n)
+{
+    const double *v = NULL;
+    int got = pl_series_get(pl_sim_timers(sim), name, &v);
+    if (got > n) got = n;
+    if (v) memcpy(out, v, (size_t)got * sizeof(double));
+    return got;
+}
+
+/* forceTolerance on the device (local_global_device_residual.c): the
+ * residual is computed by the device service after every iteration, with
+ * the CPU's expression, so the same iterations stop at the same count and
+ * the states, residuals and counts are bitwise the CPU's. */
+START_TEST(force_tolerance_on_the_device_stops_where_the_cpu_stops)
+{
+    pl_registry *r = registry();
+    static result cpu, dev;
+    static double it_cpu[64], it_dev[64], res_cpu[64], res_dev[64];
+    setup s = plain("cpu");
+    s.scheme = "forceTolerance=\"3\"";
+    pl_sim *sim;
+    run(r, &s, 8, &cpu, &sim);
+    int n = series(sim, "iterations", it_cpu, 64);
+    int nr = series(sim, "force residual", res_cpu, 64);
+    pl_sim_free(sim);
+    ck_assert_int_eq(n, 8);
+    ck_assert_int_eq(nr, 8);
+    /* the tolerance did decide: some step stopped early, some did not */
+    double lo = 99, hi = 0;
+    for (int k = 0; k < n; ++k) lo = fmin(lo, it_cpu[k]), hi = fmax(hi, it_cpu[k]);
+    ck_assert_msg(lo < 6 && hi > 1, "iterations %g .. %g: the tolerance decided nothing", lo, hi);
+    s.device = "cuda";
+    run(r, &s, 8, &dev, &sim);
+    ck_assert_int_eq(series(sim, "iterations", it_dev, 64), n);
+    ck_assert_int_eq(series(sim, "force residual", res_dev, 64), nr);
+    ck_assert_msg(!memcmp(it_dev, it_cpu, (size_t)n * sizeof(double)), "iteration counts differ");
+    /* the residuals to round-off: the device sums the gradient from zero and
+     * adds the inertia term after it, the CPU adds the gradient onto it */
+    for (int k = 0; k < nr; ++k)
+        ck_assert_msg(fabs(res_dev[k] - res_cpu[k]) <= 1e-12 * res_cpu[k],
+                      "step %d: residual %.17g on the device, %.17g on the CPU", k, res_dev[k],
+                      res_cpu[k]);
+    assert_same(&dev, &cpu);
+    ck_assert_int_gt(fake_device_calls(pl_sim_component(sim, "dev")), 0);
+    pl_sim_free(sim);
+    ck_assert_int_eq(fake_device_leaks, 0);
+    /* a term whose gradient cannot take device buffers: refused by name
+     * (cuda), the CPU (auto); Rayleigh damping's L q: refused */
+    s.springs_ok = "1\" deviceGradient=\"0";
+    char msg[1024];
+    ck_assert_ptr_null(load(r, &s, msg, sizeof msg));
+    ck_assert_msg(strstr(msg, "root/bar/springs (TestSprings) has no gradient on device"),
+                  "not named: %s", msg);
     s.device = "auto";
-    s.after = "<NonSmoothNewtonContactSolver name=\"contact\" stickStart=\"1\"/>";
-    static result cpu;
-    run(r, &s, 2, &cpu, &sim);
+    run(r, &s, 2, &dev, &sim);
     ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 0);
     pl_sim_free(sim);
+    s = plain("cuda");
+    s.scheme = "forceTolerance=\"0.05\" rayleighStiffness=\"0.01\"";
+    ck_assert_ptr_null(load(r, &s, msg, sizeof msg));
+    ck_assert_msg(strstr(msg, "rayleighStiffness"), "not named: %s", msg);
     pl_registry_free(r);
 }
 END_TEST
@@ -383,7 +449,8 @@ int main(void)
     tcase_add_test(tc, constant_force_field_on_the_device_equals_the_cpu_bitwise);
     tcase_add_test(tc, two_data_on_the_device_interleave_exactly);
     tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
-    tcase_add_test(tc, stick_start_keeps_the_loop_on_the_cpu);
+    tcase_add_test(tc, stick_start_no_longer_keeps_the_loop_on_the_cpu);
+    tcase_add_test(tc, force_tolerance_on_the_device_stops_where_the_cpu_stops);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);
     srunner_run_all(sr, CK_NORMAL);

@@ -112,9 +112,16 @@ typedef struct pl_local_term_ops {
     /* optional: the term changes A when this returns non-zero (refactor) */
     int (*matrix_changed)(const pl_component *c);
     /* version 2, optional: non-zero when project() takes q and rhs in `where`
-     * with element type `prec` (NULL: host float64 only) */
+     * with element type `prec` (NULL: host float64 only).  Asked with
+     * prec = PL_F64 | PL_ACCEPTS_GRADIENT: whether add_gradient takes q and
+     * grad there (terms written before this question compare prec with
+     * PL_F64 and answer 0) */
     int (*accepts)(const pl_component *c, pl_location where, pl_precision prec);
 } pl_local_term_ops;
+
+/* Or'ed into accepts()' prec: the question is about add_gradient (a device
+ * force residual, LocalGlobalSolver forceTolerance), not project(). */
+#define PL_ACCEPTS_GRADIENT 0x100
 
 /* ---- pl_system: what the animation loop shares with solvers -------------- */
 typedef struct pl_system {
@@ -283,7 +290,11 @@ typedef struct pl_animation_loop_ops {
  * one stream, in call order, and returns without waiting unless it says so;
  * other components queue their own kernels on stream().  The vector kernels
  * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
+#if PL_ABI_TARGET_MINOR >= 4
+#define PL_DEVICE_OPS_VERSION 2 /* 2: residual_max */
+#else
 #define PL_DEVICE_OPS_VERSION 1
+#endif
 enum {
     PL_DEVICE_GRAPHS = 1, /* callers should capture repeated work (an iteration) as a graph */
     PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
@@ -336,6 +347,15 @@ typedef struct pl_device_ops {
     int (*replay)(pl_component *c, void *graph, pl_error *err);
     /* frees a graph from capture_end (NULL: nothing) */
     void (*graph_free)(pl_component *c, void *graph);
+#if PL_ABI_TARGET_MINOR >= 4
+    /* version 2: *out (device) = max(*out, the largest |r_f| over rows f < m)
+     * with r_f = s[v] (x[v] - y[v]) / h2 + g[v] + t[f] / h2, v = map[f] (t
+     * NULL: no t term), +inf if one is not finite: a force residual
+     * (force_residual.h), evaluated in that order */
+    int (*residual_max)(pl_component *c, int m, const int *map, const double *s, double h2,
+                        const double *x, const double *y, const double *g, const double *t,
+                        double *out, pl_error *err);
+#endif
 } pl_device_ops;
 
 #if PL_ABI_TARGET_MINOR >= 2

@@ -280,6 +280,15 @@ extern "C" int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, in
     return PL_OK;
 }
 
+extern "C" int hyper_cuda_gather(int nverts, const int *vptr, const int *vinc, const double *slots,
+                                 int offset, double *out, struct CUstream_st *stream, pl_error *err)
+{
+    if (nverts > 0)
+        k_gather<<<(unsigned)((nverts + 255) / 256), 256, 0, (cudaStream_t)stream>>>(
+            nverts, vptr, vinc, slots, offset, out);
+    HC_CK(cudaGetLastError(), "gather");
+    return PL_OK;
+}
 
 extern "C" int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err)
 {

@@ -64,6 +64,11 @@ int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error
 int hyper_cuda_prox_stats(pl_hyper_cuda *g, struct CUstream_st *stream, hyper_prox_stats *out,
                              pl_error *err);
 
+/* Queues out[offset + v] += the sum of vertex v's slots (n x 3k corner
+ * 3-vectors, incidence vptr/vinc as in pl_hyper_elements), in increasing
+ * slot order (hyper_incidence_gather's order; also the device gradient's). */
+int hyper_cuda_gather(int nverts, const int *vptr, const int *vinc, const double *slots,
+                      int offset, double *out, struct CUstream_st *stream, pl_error *err);
 
 #ifdef __cplusplus
 }
