@@ -250,3 +250,14 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
     }
     return PL_OK;
 }
+
+/* The inflation is symmetric: the boxes' centres, and so the trees built
+ * from them, do not depend on it. */
+void coll_mesh_inflate(pl_coll_mesh *m, double margin)
+{
+    if (!m->built || margin == m->margin) return;
+    boxes(m, margin);
+    m->margin = margin;
+    bvh_refit(&m->tbvh, m->tbox);
+    bvh_refit(&m->ebvh, m->ebox);
+}

@@ -139,12 +139,10 @@ typedef struct pl_obstacle_contact {
 
 /* A collision model's points over a step, summarised: their swept box from
  * the start of the step to the prediction (x + h v + h^2 g for a body; an
- * obstacle's pose at t and t + h), their mean velocity and how far the
- * velocities spread around it. */
+ * obstacle's pose at t and t + h) and their mean velocity. */
 typedef struct pl_reach {
     pl_aabb box;      /* [m] */
     double v[3];      /* mean velocity [m/s] */
-    double spread;    /* largest |v_i - v| [m/s] */
     unsigned groups;
     int n;            /* points */
 } pl_reach;
@@ -153,17 +151,16 @@ typedef struct pl_reach {
  * (NULL: at rest), a body's gravity grav. */
 void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
                  double h, const double grav[3], pl_reach *r);
-/* The largest relative speed [m/s] at which another of the n models (not
- * model `except`, -1 for none; not sharing a group) can strike model k in
- * this step: their boxes come within alarm of each other.  Model k's
- * points may move that speed times h beyond their prediction.  With
- * spreads, the bound on any two of their points (the mean velocities'
- * difference plus both spreads: a spinning body's rim): the detection
- * boxes; without, the mean velocities' difference alone: what an analytic
- * obstacle, which sees the other models only as boxes, takes as the
- * strike (with spreads, a body gripped by a turning gripper looked struck
- * at the rim speed and got rows up to that speed times h from the floor). */
-double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int spreads);
+/* The relative speed [m/s] at which another of the n models (not model
+ * `except`, -1 for none; not sharing a group) can strike model k in this
+ * step, as the largest difference of their mean velocities among those
+ * whose boxes come within alarm of each other: what an analytic obstacle
+ * takes as the strike (a bound that adds the velocity spreads, a spinning
+ * rim, made a body gripped by a turning gripper look struck at the rim
+ * speed and get rows up to that speed times h from the floor; as the
+ * CollisionPipeline's box inflation it made detection's spikes,
+ * docs/benchmarks.md). */
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm);
 
 /* ---- messy obstacle meshes (mesh_clean.c) ------------------------------- */
 

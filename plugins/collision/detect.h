@@ -109,7 +109,7 @@ typedef struct pl_coll_mesh {
     unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
     pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges */
     pl_bvh tbvh, ebvh;          /* over tbox and ebox */
-    double margin;              /* the boxes' margin of the last prepare [m] */
+    double margin;              /* what the boxes are inflated by now [m] */
     int built;
 } pl_coll_mesh;
 
@@ -123,6 +123,10 @@ void coll_mesh_free(pl_coll_mesh *m);
  * The topology (counts, tris, edges) must not change between calls.
  * PL_OK, PL_EINPUT (an index out of range), PL_EINTERNAL. */
 int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
+/* After coll_mesh_prepare, in the same step: the swept boxes inflated by
+ * margin / 2 instead (BVHs refitted), for a detection that keeps pairs
+ * that much farther apart; nothing done when they already are. */
+void coll_mesh_inflate(pl_coll_mesh *m, double margin);
 
 /* ---- proximities ------------------------------------------------------------ */
 
@@ -178,6 +182,13 @@ const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *
  * share), not the side it has reached by now. */
 const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proximity *p);
 
+/* What detection did (summed over calls; the pipeline reports it per
+ * frame): the candidate pairs of primitives the broad phase gave the
+ * narrow phase. */
+typedef struct pl_detect_counts {
+    long long candidates;
+} pl_detect_counts;
+
 typedef struct pl_detect_params {
     double alarm;        /* alarmDistance [m] */
     double contact;      /* contactDistance [m]: a pair far apart at the start of the step is
@@ -190,6 +201,7 @@ typedef struct pl_detect_params {
     int max_per_vertex;  /* vertex-face proximities kept per vertex and mesh pair (>= 1) */
     double normal_cos;   /* a vertex keeps a further proximity only if its normal differs from
                             the kept ones by more than acos(normal_cos) */
+    pl_detect_counts *counts; /* NULL, or added to (deterministic sums) */
 } pl_detect_params;
 
 /* Default parameters for an alarm distance. */

@@ -46,6 +46,7 @@ typedef struct work {
     cand *c;
     int nc, capc;
     int fail;
+    long long candidates;
 } work;
 
 /* Nearest first: |gap| (an inside point's way out is its nearest face),
@@ -158,6 +159,7 @@ static int run_item(const pass *ps, work *w, int i)
         if (bvh_query(b, prims, q, &w->q)) return PL_EINTERNAL;
     }
     int count = ps->brute ? nt : w->q.n;
+    w->candidates += count;
     for (int k = 0; k < count; ++k) {
         int j = ps->brute ? k : w->q.v[k];
         if (ps->edges) {
@@ -213,6 +215,7 @@ static int run_pass(const pass *ps, pl_proximities *out)
     }
     int rc = PL_OK;
     for (int t = 0; t < used; ++t) {
+        if (ps->prm->counts) ps->prm->counts->candidates += w[t].candidates;
         if (w[t].fail) rc = PL_EINTERNAL;
         for (int k = 0; k < w[t].out.n && rc == PL_OK; ++k)
             rc = coll_prox_push(out, &w[t].out.items[k]);

@@ -3,13 +3,10 @@
  * while nothing touches it; a body struck in this step by another (a ball
  * dropped on a resting one, a moving obstacle) is pushed by up to their
  * relative speed times h more than predicted, and its points near a third
- * surface must already have rows there.  The relative speed of any two
- * points of two models is at most the difference of their mean velocities
- * plus the spreads of both (a spinning body's rim): the bound that sizes the
- * detection boxes.  The margin itself is the speed of the strike: the
- * CollisionPipeline measures it at the proximities of the struck pair
- * (pipeline_step.c), an analytic obstacle takes the mean velocities'
- * difference. */
+ * surface must already have rows there.  The CollisionPipeline measures
+ * that speed at the proximities of the struck pair (pipeline_step.c); an
+ * analytic obstacle, which sees the other models only as boxes, takes the
+ * difference of their mean velocities (this file). */
 #include <math.h>
 #include <string.h>
 
@@ -32,11 +29,6 @@ void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned
             r->box.hi[k] = fmax(r->box.hi[k], fmax(a, b));
             r->v[k] += u / n;
         }
-    for (int i = 0; i < n && v; ++i) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; ++k) d2 += (v[3 * i + k] - r->v[k]) * (v[3 * i + k] - r->v[k]);
-        r->spread = fmax(r->spread, sqrt(d2));
-    }
 }
 
 /* Whether the boxes come within d of each other. */
@@ -47,7 +39,7 @@ static int near(const pl_aabb *a, const pl_aabb *b, double d)
     return 1;
 }
 
-double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int spreads)
+double hit_speed(const pl_reach *r, int n, int k, int except, double alarm)
 {
     double u = 0.0;
     if (r[k].n == 0) return 0.0;
@@ -56,7 +48,7 @@ double hit_speed(const pl_reach *r, int n, int k, int except, double alarm, int 
         if (!near(&r[j].box, &r[k].box, alarm)) continue;
         double d2 = 0.0;
         for (int i = 0; i < 3; ++i) d2 += (r[j].v[i] - r[k].v[i]) * (r[j].v[i] - r[k].v[i]);
-        u = fmax(u, sqrt(d2) + (spreads ? r[j].spread + r[k].spread : 0.0));
+        u = fmax(u, sqrt(d2));
     }
     return u;
 }

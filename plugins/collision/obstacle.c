@@ -331,7 +331,7 @@ static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
         /* geometry without DOFs cannot respond; groups opt out */
         if (g->is_obstacle || (groups & g->groups)) continue;
         pl_node_gravity(o->models[k]->node, ps.g);
-        ps.margin = sys->h * hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance, 0);
+        ps.margin = sys->h * hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance);
         int rc = model_contacts(o, ws, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }

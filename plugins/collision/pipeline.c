@@ -144,7 +144,6 @@ static void cp_workspace_free(const pl_component *c, void *ws)
         free(w->models[k].active);
     }
     free(w->models);
-    free(w->reach);
     free(w->struck);
     proximities_free(&w->prox);
     side_hints_free(&w->hints);
@@ -161,9 +160,8 @@ static coll_ws *workspace(const collision_pipeline *p, pl_data *d)
     coll_ws *w = pl_data_workspace(d, &p->base);
     if (!w || w->models) return w;
     w->models = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->models);
-    w->reach = calloc((size_t)(p->nmodels ? p->nmodels : 1), sizeof *w->reach);
     w->struck = calloc((size_t)(p->nmodels ? p->nmodels * p->nmodels : 1), sizeof *w->struck);
-    if (!w->models || !w->reach || !w->struck) return NULL;
+    if (!w->models || !w->struck) return NULL;
     for (int k = 0; k < p->nmodels; ++k) {
         w->models[k].c = p->models[k];
         coll_mesh_init(&w->models[k].mesh);
@@ -234,6 +232,8 @@ static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;
     pl_stat_max(ctx->timers, "detection contacts max", w->nwork);
+    pl_stat_max(ctx->timers, "detection candidates max", (double)w->counts.candidates);
+    pl_stat_max(ctx->timers, "detection margin max [mm]", 1e3 * w->margin_max);
     if (pl_data_store(ctx->data, p->slot, w->work, (size_t)w->nwork * sizeof *w->work))
         return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
     return PL_OK;

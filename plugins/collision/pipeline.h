@@ -49,7 +49,6 @@ typedef struct collision_pipeline {
  * structures, and the step's lists. */
 typedef struct coll_ws {
     pipe_model *models;            /* nmodels, made on first use */
-    pl_reach *reach;               /* per model: its motion over the step (impact.c) */
     double *struck;                /* nmodels x nmodels: speed at which model j strikes k [m/s] */
     pl_proximities prox;
     pl_side_hints hints;           /* sides of the previous step's contacts */
@@ -62,6 +61,8 @@ typedef struct coll_ws {
     coll_cand_list cand[3];        /* the device's candidates of one pair */
     double pairs_ms;               /* this step's time in coll_detect_models [ms] */
     double cand_ms;                /* of which the device's candidates [ms] */
+    pl_detect_counts counts;       /* this step's detection work (statistics) */
+    double margin_max;             /* the largest margin of a second pass this step [m] */
 } coll_ws;
 
 extern const pl_type coll_pipeline_type;

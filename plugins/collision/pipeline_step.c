@@ -73,10 +73,6 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
                                      m->c->name);
         if (fit_model(m)) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         fill_positions(m, sys);
-        double grav[3] = {0.0, 0.0, 0.0};
-        if (!m->g.is_obstacle) pl_node_gravity(m->c->node, grav);
-        reach_of(m->g.x, m->g.v, m->g.nverts, m->g.is_obstacle, m->g.groups, sys->h, grav,
-                    &w->reach[k]);
     }
     for (int k = 0; k < p->nmodels; ++k) {
         pipe_model *m = &w->models[k];
@@ -90,12 +86,17 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
         cm->edges = m->g.edges;
         cm->active = m->active;
         cm->sides = coll_model_sides(m->c);
-        /* boxes reach alarm / 2 and how far a body struck by another may
-         * move beyond its prediction */
-        double hit = sys->h * hit_speed(w->reach, p->nmodels, k, -1, p->alarm, 1);
+        /* boxes reach alarm / 2: what the first pass of detection keeps
+         * (coll_pipeline_detect widens them for the pairs it measures
+         * again).  They were inflated by the largest speed at which another
+         * body might strike this one, bounded by the models' velocity
+         * spreads: a cookie's arms springing back after a plate's hole
+         * (gingerbread_small.xml) made boxes of 86 mm instead of 10, 17x
+         * the candidates and 15x the time of detection, in steps where no
+         * third body struck anything (docs/benchmarks.md, spikes). */
         pl_error e;
         int rc;
-        if ((rc = coll_mesh_prepare(cm, p->alarm + 2.0 * hit, &e)))
+        if ((rc = coll_mesh_prepare(cm, p->alarm, &e)))
             return pl_component_fail(&p->base, err, rc, "collision model '%s': %s", m->c->name,
                                      e.msg);
     }
@@ -140,8 +141,8 @@ static int is_pair(const collision_pipeline *p, const coll_ws *w, int k, int l)
  * points of their proximities at the predictions (0 when they only
  * separate).  It is measured where they touch, so a body gripped by
  * another and turning with it is not struck, however fast its rim moves
- * (the models' boxes and velocity spreads, impact.c, bound it from above:
- * they made every pair of a turning gripper look struck at the rim speed). */
+ * (a bound from the models' velocity spreads made every pair of a turning
+ * gripper look struck at the rim speed). */
 static void struck_speeds(const collision_pipeline *p, coll_ws *w, double h)
 {
     int n = p->nmodels;
@@ -190,6 +191,8 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
                          pl_error *err)
 {
     w->prox.n = 0;
+    memset(&w->counts, 0, sizeof w->counts);
+    w->margin_max = 0.0;
     if (build_hints(p, w, d))
         return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
     pl_detect_params prm = detect_defaults(p->alarm);
@@ -198,6 +201,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
     prm.vertex_face = p->vertex_face;
     prm.edge_edge = p->edge_edge;
     prm.max_per_vertex = p->max_per_vertex;
+    prm.counts = &w->counts;
     /* every pair at its prediction */
     prm.margin = 0.0;
     for (int k = 0; k < p->nmodels; ++k)
@@ -206,7 +210,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
                 return PL_EINTERNAL;
     /* a model struck by a third one in this step may be pushed up to that
      * speed times h beyond its prediction: its pairs again, that much
-     * farther (the boxes were prepared for the bound of impact.c, larger) */
+     * farther */
     struck_speeds(p, w, h);
     for (int k = 0; k < p->nmodels; ++k)
         for (int l = k; l < p->nmodels; ++l) {
@@ -214,6 +218,11 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
             prm.margin = h * fmax(struck_by_third(w, p->nmodels, k, l),
                                   struck_by_third(w, p->nmodels, l, k));
             if (!(prm.margin > 0.0)) continue;
+            /* a pair is kept when it comes within alarm + margin during the
+             * step: boxes inflated by half that each overlap then */
+            coll_mesh_inflate(&w->models[k].mesh, p->alarm + prm.margin);
+            coll_mesh_inflate(&w->models[l].mesh, p->alarm + prm.margin);
+            w->margin_max = fmax(w->margin_max, prm.margin);
             drop_pair(&w->prox, k, l);
             if (coll_detect_models(p, w, k, l, &prm, err)) return PL_EINTERNAL;
         }

@@ -78,6 +78,8 @@ typedef struct pl_ncpc_delassus {
     double *X;                /* nfree x 3 scratch */
     int status;               /* first failure of a matrix-free product */
     pl_error err;             /* its message */
+    double work;              /* multiply-adds that forming W from Y costs (sum over the rows
+                                 of Y of nnz^2), when Y was formed on the host; else 0 */
 } pl_ncpc_delassus;
 
 void ncpc_delassus_init(pl_ncpc_delassus *D);
@@ -100,6 +102,13 @@ int ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
  * when the solver cannot apply its inverse to rows. */
 int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
                                  const pl_ncpc_rows *r, const double *inv_diag, pl_error *err);
+/* delassus=auto on the host: forms Y for all rows and counts the exact
+ * work of W = Y^T Y from its pattern (D->work); W explicit (as
+ * ncpc_delassus_explicit) when that is at most max_work, else matrix-free
+ * with the diagonal of ncpc_delassus_matrix_free (the same values, the
+ * squared norms of the Y columns taken from this Y). */
+int ncpc_delassus_auto(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                       double max_work, const double *inv_diag, pl_error *err);
 /* The core's operator (dense or matrix-free) over D. */
 pl_ncp_operator ncpc_delassus_operator(pl_ncpc_delassus *D);
 /* y = W x (matrix-free: scatter, solve, gather). */

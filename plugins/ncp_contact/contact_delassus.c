@@ -108,37 +108,89 @@ static int compute_y(const pl_ncpc_delassus *D, const pl_ncpc_rows *r, const int
     return st;
 }
 
-int ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
-                              pl_error *err)
+/* The multiply-adds of W = Y^T Y from the rows of Y: each nonzero of a
+ * row meets every other nonzero of it.  Contacts gathered in one region
+ * share the etree paths up to the root: those rows hold nearly all 3 m
+ * columns and the work nears m^2 times their count, far beyond an
+ * estimate from the average column of S (pulling_through_gap_12k: 473 ms
+ * for 2739 rows against 200 ms for the matrix-free step beside it). */
+static double w_work(const y_rows *t, int n)
 {
-    int st = prepare(D, sys, r, err), m = r->m;
-    if (st != PL_OK) return st;
+    double s = 0.0;
+    for (size_t a = 0; a < 3 * (size_t)n; ++a) {
+        double c = (double)(t->rp[a + 1] - t->rp[a]);
+        s += c * c;
+    }
+    return s;
+}
+
+/* The first entry of row rr of Y (entries by increasing column) whose
+ * column is at least i. */
+static int first_from(const y_rows *t, size_t rr, int i)
+{
+    int lo = t->rp[rr], hi = t->rp[rr + 1];
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (t->rj[mid] < i)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* W from Y and its rows (OpenMP over the rows of W, deterministic): the
+ * upper triangle, then mirrored.  W_ij and W_ji are the same products
+ * summed in the same order (over the shared rows of Y by increasing index),
+ * so the mirror is bitwise what the lower triangle's own sums were; it
+ * halves the build, the Schur phase of the explicit frames. */
+static int form_w(pl_ncpc_delassus *D, const pl_csc *Y, const y_rows *t, pl_error *err)
+{
+    int m = D->m;
+    if (!(D->W = malloc(sizeof(double) * (size_t)(m > 0 ? m : 1) * (size_t)(m > 0 ? m : 1)))) return oom(err);
+    D->explicit_w = 1;
+    double *W = D->W;
+#pragma omp parallel for schedule(dynamic, 16) if (m > 64)
+    for (int i = 0; i < m; ++i) {
+        double *row = W + (size_t)i * (size_t)m;
+        memset(row + i, 0, sizeof(double) * (size_t)(m - i));
+        for (int k = 0; k < 3; ++k) {
+            int c = k * m + i;
+            for (int p = Y->p[c]; p < Y->p[c + 1]; ++p) {
+                size_t rr = 3 * (size_t)Y->i[p] + (size_t)k;
+                double y = Y->x[p];
+                for (int q = first_from(t, rr, i); q < t->rp[rr + 1]; ++q) row[t->rj[q]] += y * t->rx[q];
+            }
+        }
+    }
+#pragma omp parallel for schedule(static) if (m > 64)
+    for (int j = 1; j < m; ++j)
+        for (int i = 0; i < j; ++i) W[(size_t)j * (size_t)m + (size_t)i] = W[(size_t)i * (size_t)m + (size_t)j];
+    for (int j = 0; j < m; ++j) D->diag[j] = W[(size_t)j * (size_t)m + (size_t)j];
+    return PL_OK;
+}
+
+/* Y of all rows and its rows; D->work its exact cost. */
+static int y_all(pl_ncpc_delassus *D, const pl_ncpc_rows *r, pl_csc *Y, y_rows *t, pl_error *err)
+{
     if (!D->ops->apply_inverse_to_rows)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
                             "delassus=explicit needs a global solver that applies its inverse to rows "
                             "(SparseInverseSolver); use delassus=matrix-free");
-    if (!(D->W = malloc(sizeof(double) * (size_t)(m > 0 ? m : 1) * (size_t)(m > 0 ? m : 1)))) return oom(err);
-    D->explicit_w = 1;
-    pl_csc Y;
-    if ((st = compute_y(D, r, NULL, m, &Y, err)) != PL_OK) return st;
+    int st = compute_y(D, r, NULL, r->m, Y, err);
+    if (st != PL_OK) return st;
+    if ((st = y_rows_build(Y, r->m > 0 ? r->m : 1, t, err)) == PL_OK) D->work = w_work(t, Y->nrows);
+    return st;
+}
+
+int ncpc_delassus_explicit(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                              pl_error *err)
+{
+    int st = prepare(D, sys, r, err);
+    if (st != PL_OK) return st;
+    pl_csc Y = {0};
     y_rows t = {NULL, NULL, NULL};
-    if ((st = y_rows_build(&Y, m > 0 ? m : 1, &t, err)) == PL_OK) {
-        double *W = D->W;
-#pragma omp parallel for schedule(dynamic, 16) if (m > 64)
-        for (int i = 0; i < m; ++i) {
-            double *row = W + (size_t)i * (size_t)m;
-            memset(row, 0, sizeof(double) * (size_t)m);
-            for (int k = 0; k < 3; ++k) {
-                int c = k * m + i;
-                for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) {
-                    size_t rr = 3 * (size_t)Y.i[p] + (size_t)k;
-                    double y = Y.x[p];
-                    for (int q = t.rp[rr]; q < t.rp[rr + 1]; ++q) row[t.rj[q]] += y * t.rx[q];
-                }
-            }
-        }
-        for (int j = 0; j < m; ++j) D->diag[j] = W[(size_t)j * (size_t)m + (size_t)j];
-    }
+    if ((st = y_all(D, r, &Y, &t, err)) == PL_OK) st = form_w(D, &Y, &t, err);
     y_rows_free(&t);
     pl_csc_free(&Y);
     return st;
@@ -217,14 +269,12 @@ static int diag_from_products(pl_ncpc_delassus *D, const int *list, int cnt, pl_
     return st;
 }
 
-int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
-                                 const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
+/* The rows of several unknowns into multi (count returned); the others'
+ * diagonal from inv_diag. */
+static int split_rows(pl_ncpc_delassus *D, const pl_ncpc_rows *r, const double *inv_diag, int *multi)
 {
-    int st = prepare(D, sys, r, err), m = r->m, nmulti = 0;
-    if (st != PL_OK) return st;
-    int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
-    if (!multi) return oom(err);
-    for (int j = 0; j < m; ++j) {
+    int nmulti = 0;
+    for (int j = 0; j < r->m; ++j) {
         int e = r->fstart[j];
         if (inv_diag && r->fstart[j + 1] - e == 1) {
             /* one unknown a: W_jj = |c|^2 [A^-1]_aa (PAPER_NOTES 5) */
@@ -236,10 +286,55 @@ int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
             multi[nmulti++] = j;
         }
     }
+    return nmulti;
+}
+
+int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
+                                 const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
+{
+    int st = prepare(D, sys, r, err), m = r->m;
+    if (st != PL_OK) return st;
+    int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
+    if (!multi) return oom(err);
+    int nmulti = split_rows(D, r, inv_diag, multi);
     if (nmulti > 0)
         st = D->ops->apply_inverse_to_rows ? diag_from_y(D, r, multi, nmulti, err)
                                            : diag_from_products(D, multi, nmulti, err);
     free(multi);
+    return st;
+}
+
+int ncpc_delassus_auto(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                       double max_work, const double *inv_diag, pl_error *err)
+{
+    int st = prepare(D, sys, r, err), m = r->m;
+    if (st != PL_OK) return st;
+    pl_csc Y = {0};
+    y_rows t = {NULL, NULL, NULL};
+    int *multi = NULL;
+    if ((st = y_all(D, r, &Y, &t, err)) != PL_OK) goto done;
+    if (D->work <= max_work) {
+        st = form_w(D, &Y, &t, err);
+        goto done;
+    }
+    /* matrix-free: the multi rows' diagonal from their columns of this Y
+     * (each column is computed alone: the values diag_from_y gets) */
+    if (!(multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)))) {
+        st = oom(err);
+        goto done;
+    }
+    int nmulti = split_rows(D, r, inv_diag, multi);
+    for (int u = 0; u < nmulti; ++u) {
+        int j = multi[u];
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k)
+            for (int p = Y.p[k * m + j]; p < Y.p[k * m + j + 1]; ++p) s += Y.x[p] * Y.x[p];
+        D->diag[j] = s;
+    }
+done:
+    free(multi);
+    y_rows_free(&t);
+    pl_csc_free(&Y);
     return st;
 }
 

@@ -73,6 +73,12 @@ static const pl_field FIELDS[] = {
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),
+    PL_FIELD(ncp_contact_solver, max_explicit_work, "maxExplicitWork", PL_F_DOUBLE, "2",
+             "delassus=auto with W built on the CPU: W is built only while the exact work of "
+             "Y^T Y (sum over the rows of Y of nnz^2, statistic 'Schur W work max') is at most "
+             "this many times a step's matrix-free products (65 x 6 nnz(S)); else matrix-free. "
+             "Cost parity was about 0.3 on one core (docs/benchmarks.md, spikes)",
+             PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, warm_start, "warmStart", PL_F_BOOL, "1",
              "start each step from the multipliers of the rows that persist (same emitter, kind, "
              "first vertex and direction within 30 degrees; friction by its contact's force vector)",
@@ -137,6 +143,8 @@ static int check_fields(const ncp_contact_solver *s, char *msg, size_t size)
         return snprintf(msg, size, "crTolerance must be in [0, 1), got %g", s->cr_tolerance), PL_EINPUT;
     if (!(s->max_explicit_mb >= 0.0))
         return snprintf(msg, size, "maxExplicitMB must be >= 0, got %g", s->max_explicit_mb), PL_EINPUT;
+    if (!(s->max_explicit_work >= 0.0))
+        return snprintf(msg, size, "maxExplicitWork must be >= 0, got %g", s->max_explicit_work), PL_EINPUT;
     if (!(s->damping > 0.0 && s->damping <= 1.0))
         return snprintf(msg, size, "damping must be in (0, 1], got %g", s->damping), PL_EINPUT;
     if (!(s->fb_eps >= 0.0 && isfinite(s->fb_eps)))

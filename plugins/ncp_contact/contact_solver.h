@@ -21,6 +21,7 @@ typedef struct ncp_contact_solver {
     int preconditioner;       /* 0 delassus, 1 mass */
     int delassus;             /* 0 auto, 1 explicit, 2 matrix-free */
     double max_explicit_mb;
+    double max_explicit_work; /* maxExplicitWork: W's exact build work against a step's matrix-free products */
     int warm_start;
     double damping;
     double fb_eps;

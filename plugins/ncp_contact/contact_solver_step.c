@@ -2,6 +2,7 @@
  * W explicit or matrix-free (delassus="auto", also with the global step on
  * a GPU), its build, the step's statistics, and iterate() on device
  * buffers handed to contact_device.c. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "contact_solver.h"
@@ -36,9 +37,27 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, 
      * nnz^2: with a column of S holding nnz(S) / n entries on average, the
      * 3m columns of Y hold 3 m nnz(S) / n spread over n rows.  A dense S
      * makes it dominate (squeezing_ball.xml, 3.4k rows, S 72 MB: 10.5 s a
-     * frame on one core, docs/scenes.md). */
+     * frame on one core, docs/scenes.md).  This estimate only screens: the
+     * exact count from Y decides (max_build_work). */
     double ynnz = 3.0 * (double)m * nnz_s / (double)n;
     return ynnz * ynnz / (double)n <= PRODUCTS_PER_STEP * 6.0 * nnz_s;
+}
+
+/* The most multiply-adds that building W on the CPU may cost: maxExplicitWork
+ * times the step's matrix-free products (infinite without nnz(S): the
+ * memory rule alone).  One multiply-add of the build cost 3.4 entries of a
+ * matrix-free product on one core here (pulling_through_gap_small: 2.3
+ * against 0.68 ns), so parity is about 0.3; the default, 2, keeps today's
+ * choices in the test scenes: which path a frame takes changes its
+ * round-off, and cloth_on_knives_small.xml's tunnelling check is that
+ * sensitive (all frames explicit: a cloth edge 0.11 m through a blade; all
+ * matrix-free or today's mix: none; one frame at 1.14x refused: 0.11 m
+ * again).  docs/benchmarks.md, spikes. */
+static double max_build_work(const ncp_contact_solver *s, pl_timers *timers)
+{
+    double nnz_s;
+    if (pl_stat_get(timers, "nnz(S)", &nnz_s) != 0) return INFINITY;
+    return s->max_explicit_work * PRODUCTS_PER_STEP * 6.0 * nnz_s;
 }
 
 /* W explicit or matrix-free (see the delassus field). */
@@ -85,7 +104,7 @@ int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                                                    auto_explicit(s, ctx->timers, w->rows.m, sys->nfree, dev_w) &&
                                                    (w->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));
     if (explicit_w && dev_w) return device_w(s, w, sys, err);
-    if (explicit_w) return ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
+    if (explicit_w && s->delassus == W_EXPLICIT) return ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
     if (!w->inv_diag_ok && ops && ops->inverse_diagonal) {
         free(w->inv_diag);
         w->inv_diag = malloc(sizeof(double) * (size_t)(sys->nfree > 0 ? sys->nfree : 1));
@@ -96,6 +115,11 @@ int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
         w->inv_diag_ok = 1;
     }
     const double *inv = w->inv_diag_ok && w->inv_diag_n == sys->nfree ? w->inv_diag : NULL;
+    /* auto on the CPU: Y first, then W only if its exact work is within
+     * budget (the estimate from the average column of S misses where the
+     * contacts gather: their etree paths share the top of the tree) */
+    if (explicit_w)
+        return ncpc_delassus_auto(&w->D, sys, &w->rows, max_build_work(s, ctx->timers), inv, err);
     return ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
 }
 
@@ -107,6 +131,7 @@ void ncpc_statistics(const ncpc_ws *w, pl_timers *t)
     pl_stat_max(t, "constraint rows max", w->rows.m);
     if (w->D.explicit_w)
         pl_stat_max(t, "W memory [MB]", (double)w->rows.m * w->rows.m * sizeof(double) / (1024.0 * 1024.0));
+    pl_stat_max(t, "Schur W work max", w->D.work);
 }
 
 #ifdef PLIANT_HAVE_CUDA
