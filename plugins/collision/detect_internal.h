@@ -41,7 +41,9 @@ void coll_at(const pl_coll_mesh *m, int v, double s, double out[3]);
 /* For a pair farther apart than alarm at the start of the step (distance
  * d0): whether it comes within alarm + margin during the step, and *s the
  * instant at which to measure it: the first at which it is within the
- * kept gap (contactDistance), else its nearest.  1 or 0. */
+ * kept gap (contactDistance), or the last instant the advancement reached
+ * before it (never past it) when that is within alarm + margin; else the
+ * end of the step when it is nearer.  1 or 0. */
 int coll_vf_lookahead(const pl_coll_mesh *P, int p, const pl_coll_mesh *T, const int *tri,
                       double d0, const pl_detect_params *prm, double *s);
 int coll_ee_lookahead(const pl_coll_mesh *A, const int *ea, const pl_coll_mesh *B,
