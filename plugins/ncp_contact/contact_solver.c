@@ -73,11 +73,12 @@ static const pl_field FIELDS[] = {
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),
-    PL_FIELD(ncp_contact_solver, max_explicit_work, "maxExplicitWork", PL_F_DOUBLE, "2",
+    PL_FIELD(ncp_contact_solver, max_explicit_work, "maxExplicitWork", PL_F_DOUBLE, "0.3",
              "delassus=auto with W built on the CPU: W is built only while the exact work of "
              "Y^T Y (sum over the rows of Y of nnz^2, statistic 'Schur W work max') is at most "
              "this many times a step's matrix-free products (65 x 6 nnz(S)); else matrix-free. "
-             "Cost parity was about 0.3 on one core (docs/benchmarks.md, spikes)",
+             "The default is cost parity on one core, measured on the same states "
+             "(tests/bench/bench_w_parity.c, docs/benchmarks.md)",
              PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, warm_start, "warmStart", PL_F_BOOL, "1",
              "start each step from the multipliers of the rows that persist (same emitter, kind, "

@@ -45,14 +45,12 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, 
 
 /* The most multiply-adds that building W on the CPU may cost: maxExplicitWork
  * times the step's matrix-free products (infinite without nnz(S): the
- * memory rule alone).  One multiply-add of the build cost 3.4 entries of a
- * matrix-free product on one core here (pulling_through_gap_small: 2.3
- * against 0.68 ns), so parity is about 0.3; the default, 2, keeps today's
- * choices in the test scenes: which path a frame takes changes its
- * round-off, and cloth_on_knives_small.xml's tunnelling check is that
- * sensitive (all frames explicit: a cloth edge 0.11 m through a blade; all
- * matrix-free or today's mix: none; one frame at 1.14x refused: 0.11 m
- * again).  docs/benchmarks.md, spikes. */
+ * memory rule alone).  The default, 0.3, is parity on one core: the same
+ * states stepped both ways (tests/bench/bench_w_parity.c) cost 0.8-0.96x
+ * explicit against matrix-free at 0.2-0.3, 1.1-1.4x at 0.3-0.45, on the
+ * four small scenes that build W.  It was 2 while a look-ahead decided by
+ * round-off made cloth_on_knives_small.xml's check fail on some W paths
+ * (lookahead.c).  docs/benchmarks.md, spikes and knives. */
 static double max_build_work(const ncp_contact_solver *s, pl_timers *timers)
 {
     double nnz_s;
