@@ -11,72 +11,18 @@
 #include <string.h>
 
 #include "detect.h"
+#include "sheet_fixture.h"
 
-static double urand(unsigned *s)
+static void make_sheet_ck(sheet *s, int n, double z0, double bump, double dz, double noise,
+                          unsigned *seed)
 {
-    *s = *s * 1103515245u + 12345u;
-    return ((*s >> 8) & 0xffffff) / (double)0xffffff;
-}
-
-typedef struct sheet {
-    int nv, nt, ne;
-    double *x0, *x1;
-    int *tris, *edges;
-} sheet;
-
-/* n x n vertices over [0,1]^2 at z0, random bumps; x1 = x0 + dz + noise. */
-static void make_sheet(sheet *s, int n, double z0, double bump, double dz, double noise,
-                       unsigned *seed)
-{
-    s->nv = n * n;
-    s->nt = 2 * (n - 1) * (n - 1);
-    s->x0 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->x1 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->tris = malloc((size_t)s->nt * 3 * sizeof(int));
-    ck_assert(s->x0 && s->x1 && s->tris);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            double *p = &s->x0[3 * (i + n * j)];
-            p[0] = (double)i / (n - 1) + 0.2 * bump * (urand(seed) - 0.5);
-            p[1] = (double)j / (n - 1) + 0.2 * bump * (urand(seed) - 0.5);
-            p[2] = z0 + bump * (urand(seed) - 0.5);
-            for (int k = 0; k < 3; ++k)
-                s->x1[3 * (i + n * j) + k] =
-                    p[k] + (k == 2 ? dz : 0.0) + noise * (urand(seed) - 0.5);
-        }
-    int t = 0;
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            int a = i + n * j, b = a + 1, c = a + n, d = c + 1;
-            int *q = &s->tris[3 * t++];
-            q[0] = a, q[1] = b, q[2] = d;
-            q = &s->tris[3 * t++];
-            q[0] = a, q[1] = d, q[2] = c;
-        }
-    ck_assert_int_eq(triangle_edges(s->tris, s->nt, &s->edges, &s->ne), PL_OK);
-}
-
-static void free_sheet(sheet *s)
-{
-    free(s->x0);
-    free(s->x1);
-    free(s->tris);
-    free(s->edges);
+    ck_assert_int_eq(sheet_make(s, n, z0, bump, dz, noise, seed), PL_OK);
 }
 
 static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double margin)
 {
-    coll_mesh_init(m);
-    m->nverts = s->nv;
-    m->ntris = s->nt;
-    m->nedges = s->ne;
-    m->x0 = s->x0;
-    m->x1 = s->x1;
-    m->tris = s->tris;
-    m->edges = s->edges;
-    m->sides = sides;
     pl_error err;
-    ck_assert_int_eq(coll_mesh_prepare(m, margin, &err), PL_OK);
+    ck_assert_int_eq(sheet_mesh(s, m, sides, margin, &err), PL_OK);
 }
 
 /* Every list sorted and within the BVH's hits; returns the candidates kept
@@ -137,13 +83,13 @@ START_TEST(test_given_candidates_equal_detection)
     long kept = 0, hits = 0;
     int found = 0, lookahead = 0;
     for (int trial = 0; trial < 16; ++trial) {
-        double alarm = 0.01 + 0.03 * urand(&seed);
+        double alarm = 0.01 + 0.03 * sheet_urand(&seed);
         /* every other trial: B crosses A's plane within the step (look-ahead) */
         double dz = trial % 2 ? -0.12 : 0.0;
         sheet a, b;
-        make_sheet(&a, 13 + trial % 5, 0.0, 0.1, 0.0, 0.02, &seed);
+        make_sheet_ck(&a, 13 + trial % 5, 0.0, 0.1, 0.0, 0.02, &seed);
         /* 20: B has more edges than A (the swapped edge pass) */
-        make_sheet(&b, trial % 3 == 2 ? 20 : 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
+        make_sheet_ck(&b, trial % 3 == 2 ? 20 : 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
         double margin = alarm + (trial % 4 == 3 ? 0.04 : 0.0);
         pl_coll_mesh ma, mb;
         to_mesh(&a, &ma, trial % 3 ? PL_SIDES_TWO : PL_SIDES_ONE, margin);
@@ -157,8 +103,8 @@ START_TEST(test_given_candidates_equal_detection)
         expect_given_equal(&ma, &ma, &prm, &kept, &hits, &found); /* self */
         coll_mesh_free(&ma);
         coll_mesh_free(&mb);
-        free_sheet(&a);
-        free_sheet(&b);
+        sheet_free(&a);
+        sheet_free(&b);
     }
     ck_assert_int_gt(found, 1000);
     ck_assert_int_gt(lookahead, 4);
@@ -173,7 +119,7 @@ START_TEST(test_empty_meshes)
 {
     unsigned seed = 5u;
     sheet a;
-    make_sheet(&a, 6, 0.0, 0.1, 0.0, 0.0, &seed);
+    make_sheet_ck(&a, 6, 0.0, 0.1, 0.0, 0.0, &seed);
     pl_coll_mesh ma, none;
     to_mesh(&a, &ma, PL_SIDES_TWO, 0.01);
     coll_mesh_init(&none);
@@ -188,7 +134,7 @@ START_TEST(test_empty_meshes)
     for (int l = 0; l < 3; ++l) coll_cand_list_free(&g[l]);
     coll_mesh_free(&ma);
     coll_mesh_free(&none);
-    free_sheet(&a);
+    sheet_free(&a);
 }
 END_TEST
 

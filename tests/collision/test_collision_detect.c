@@ -18,70 +18,19 @@
 
 #include "collision.h"
 #include "detect.h"
+#include "sheet_fixture.h"
 
-static double urand(unsigned *s)
+/* A sheet of n x n vertices over [0,1]^2 at height z0 with random bumps, moved
+ * by `motion` at random in each coordinate (sheet_fixture.h). */
+static void make_sheet_ck(sheet *s, int n, double z0, double bump, double motion, unsigned *seed)
 {
-    *s = *s * 1103515245u + 12345u;
-    return ((*s >> 8) & 0xffffff) / (double)0xffffff;
-}
-
-/* A sheet of n x n vertices over [0,1]^2 at height z0 with random bumps. */
-typedef struct sheet {
-    int nv, nt, ne;
-    double *x0, *x1;
-    int *tris, *edges;
-} sheet;
-
-static void make_sheet(sheet *s, int n, double z0, double bump, double motion, unsigned *seed)
-{
-    s->nv = n * n;
-    s->nt = 2 * (n - 1) * (n - 1);
-    s->x0 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->x1 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->tris = malloc((size_t)s->nt * 3 * sizeof(int));
-    ck_assert(s->x0 && s->x1 && s->tris);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            double *p = &s->x0[3 * (i + n * j)];
-            p[0] = (double)i / (n - 1) + 0.2 * bump * (urand(seed) - 0.5);
-            p[1] = (double)j / (n - 1) + 0.2 * bump * (urand(seed) - 0.5);
-            p[2] = z0 + bump * (urand(seed) - 0.5);
-            for (int k = 0; k < 3; ++k)
-                s->x1[3 * (i + n * j) + k] = p[k] + motion * (urand(seed) - 0.5);
-        }
-    int t = 0;
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            int a = i + n * j, b = a + 1, c = a + n, d = c + 1;
-            int *q = &s->tris[3 * t++];
-            q[0] = a, q[1] = b, q[2] = d;
-            q = &s->tris[3 * t++];
-            q[0] = a, q[1] = d, q[2] = c;
-        }
-    ck_assert_int_eq(triangle_edges(s->tris, s->nt, &s->edges, &s->ne), PL_OK);
-}
-
-static void free_sheet(sheet *s)
-{
-    free(s->x0);
-    free(s->x1);
-    free(s->tris);
-    free(s->edges);
+    ck_assert_int_eq(sheet_make(s, n, z0, bump, 0.0, motion, seed), PL_OK);
 }
 
 static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double alarm)
 {
-    coll_mesh_init(m);
-    m->nverts = s->nv;
-    m->ntris = s->nt;
-    m->nedges = s->ne;
-    m->x0 = s->x0;
-    m->x1 = s->x1;
-    m->tris = s->tris;
-    m->edges = s->edges;
-    m->sides = sides;
     pl_error err;
-    ck_assert_int_eq(coll_mesh_prepare(m, alarm, &err), PL_OK);
+    ck_assert_int_eq(sheet_mesh(s, m, sides, alarm, &err), PL_OK);
 }
 
 static int cmp_prox(const void *a, const void *b)
@@ -110,10 +59,10 @@ START_TEST(test_bvh_detection_equals_brute_force)
 {
     unsigned seed = 2024u;
     for (int trial = 0; trial < 12; ++trial) {
-        double alarm = 0.02 + 0.03 * urand(&seed);
+        double alarm = 0.02 + 0.03 * sheet_urand(&seed);
         sheet a, b;
-        make_sheet(&a, 14 + trial % 5, 0.0, 0.15, trial % 3 ? 0.05 : 0.0, &seed);
-        make_sheet(&b, 11 + trial % 4, 0.02, 0.15, 0.05, &seed);
+        make_sheet_ck(&a, 14 + trial % 5, 0.0, 0.15, trial % 3 ? 0.05 : 0.0, &seed);
+        make_sheet_ck(&b, 11 + trial % 4, 0.02, 0.15, 0.05, &seed);
         pl_coll_mesh ma, mb;
         to_mesh(&a, &ma, trial % 2 ? PL_SIDES_TWO : PL_SIDES_AUTO, alarm);
         to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
@@ -136,8 +85,8 @@ START_TEST(test_bvh_detection_equals_brute_force)
         proximities_free(&q);
         coll_mesh_free(&ma);
         coll_mesh_free(&mb);
-        free_sheet(&a);
-        free_sheet(&b);
+        sheet_free(&a);
+        sheet_free(&b);
     }
 }
 END_TEST
@@ -209,8 +158,8 @@ START_TEST(test_static_detection_is_complete)
     unsigned seed = 31u;
     const double alarm = 0.04;
     sheet a, b;
-    make_sheet(&a, 12, 0.0, 0.1, 0.0, &seed);
-    make_sheet(&b, 9, 0.05, 0.1, 0.0, &seed);
+    make_sheet_ck(&a, 12, 0.0, 0.1, 0.0, &seed);
+    make_sheet_ck(&b, 9, 0.05, 0.1, 0.0, &seed);
     pl_coll_mesh ma, mb;
     to_mesh(&a, &ma, PL_SIDES_TWO, alarm);
     to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
@@ -284,8 +233,8 @@ START_TEST(test_static_detection_is_complete)
     proximities_free(&p);
     coll_mesh_free(&ma);
     coll_mesh_free(&mb);
-    free_sheet(&a);
-    free_sheet(&b);
+    sheet_free(&a);
+    sheet_free(&b);
 }
 END_TEST
 

@@ -19,59 +19,20 @@
 
 #include "detect.h"
 #include "detect_device.h"
+#include "collision/sheet_fixture.h"
 #include "gpu_util.h"
 #include "test_tmp.h"
 
-static double urand(unsigned *s)
-{
-    *s = *s * 1103515245u + 12345u;
-    return ((*s >> 8) & 0xffffff) / (double)0xffffff;
-}
-
-typedef struct sheet {
-    int nv, nt, ne;
-    double *x0, *x1;
-    int *tris, *edges;
-} sheet;
-
+/* The sheets of the check: bumps of 0.1, noise of 0.02 (sheet_fixture.h). */
 static int make_sheet(sheet *s, int n, double z0, double dz, unsigned *seed)
 {
-    s->nv = n * n;
-    s->nt = 2 * (n - 1) * (n - 1);
-    s->x0 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->x1 = malloc((size_t)s->nv * 3 * sizeof(double));
-    s->tris = malloc((size_t)s->nt * 3 * sizeof(int));
-    if (!s->x0 || !s->x1 || !s->tris) return -1;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            double *p = &s->x0[3 * (i + n * j)];
-            p[0] = (double)i / (n - 1) + 0.02 * (urand(seed) - 0.5);
-            p[1] = (double)j / (n - 1) + 0.02 * (urand(seed) - 0.5);
-            p[2] = z0 + 0.1 * (urand(seed) - 0.5);
-            for (int k = 0; k < 3; ++k)
-                s->x1[3 * (i + n * j) + k] =
-                    p[k] + (k == 2 ? dz : 0.0) + 0.02 * (urand(seed) - 0.5);
-        }
-    int t = 0;
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            int a = i + n * j, b = a + 1, c = a + n, d = c + 1;
-            int *q = &s->tris[3 * t++];
-            q[0] = a, q[1] = b, q[2] = d;
-            q = &s->tris[3 * t++];
-            q[0] = a, q[1] = d, q[2] = c;
-        }
-    return triangle_edges(s->tris, s->nt, &s->edges, &s->ne);
+    return sheet_make(s, n, z0, 0.1, dz, 0.02, seed);
 }
 
 static void mesh_of(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double margin)
 {
     pl_error err;
-    coll_mesh_init(m);
-    m->nverts = s->nv, m->ntris = s->nt, m->nedges = s->ne;
-    m->x0 = s->x0, m->x1 = s->x1, m->tris = s->tris, m->edges = s->edges;
-    m->sides = sides;
-    if (coll_mesh_prepare(m, margin, &err)) printf("prepare: %s\n", err.msg);
+    if (sheet_mesh(s, m, sides, margin, &err)) printf("prepare: %s\n", err.msg);
 }
 
 /* Lists and contacts of one pair; returns the differences. */
@@ -117,7 +78,7 @@ static void check_sheets(coll_dev *dev, FILE *md)
     long cands = 0;
     int found = 0, bad = 0;
     for (int trial = 0; trial < 12; ++trial) {
-        double alarm = 0.01 + 0.03 * urand(&seed);
+        double alarm = 0.01 + 0.03 * sheet_urand(&seed);
         sheet a, b;
         if (make_sheet(&a, 30 + 7 * trial, 0.0, 0.0, &seed) ||
             make_sheet(&b, 25 + 9 * trial, 0.06, trial % 2 ? -0.12 : 0.0, &seed)) {
