@@ -14,7 +14,8 @@
  * 'Schur W work max' / (65 x 6 nnz(S))), the medians of both times; then,
  * over the frames where delassus="auto"'s other rules allow an explicit W
  * (m^2 <= 6 nnz(S)), the time ratio by bins of that work ratio.  One
- * thread unless OMP_NUM_THREADS says otherwise; run it on a quiet machine. */
+ * thread unless OMP_NUM_THREADS says otherwise; run it on a quiet machine.
+ * The scene's exporters and the saved state go to OUT (bench_out/w_parity). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,60 +69,82 @@ typedef struct bin {
     double t_exp, t_mf, ratio[4096];
 } bin;
 
-int main(int argc, char **argv)
+static const double EDGES[] = {0, 0.1, 0.2, 0.3, 0.45, 0.6, 1, 2, INFINITY};
+enum { NBINS = sizeof EDGES / sizeof EDGES[0] - 1 };
+
+static void bins_add(bin *bins, double rho, double e, double m)
 {
-    if (argc < 2) return fprintf(stderr, "usage: bench_w_parity SCENE.xml [STEPS [REPEATS]]\n"), 2;
-    int steps = argc > 2 ? atoi(argv[2]) : 150, reps = argc > 3 ? atoi(argv[3]) : 3;
-    if (steps < 1 || reps < 1 || reps > MAXREP) return fprintf(stderr, "bad STEPS or REPEATS\n"), 2;
-    char dir[] = "/tmp/pliant_w_parityXXXXXX", state[64];
-    if (!mkdtemp(dir)) return perror("mkdtemp"), 1;
-    snprintf(state, sizeof state, "%s/state.bin", dir);
-    pl_sim *sim = bench_load(argv[1], NULL, NULL, 0, dir);
-    if (!sim) return 2;
-    pl_timers *t = pl_sim_timers(sim);
-    double nnz_s;
-    if (pl_stat_get(t, "nnz(S)", &nnz_s) || !(nnz_s > 0)) return fprintf(stderr, "no nnz(S)\n"), 2;
-    static const double edges[] = {0, 0.1, 0.2, 0.3, 0.45, 0.6, 1, 2, INFINITY};
-    enum { NBINS = sizeof edges / sizeof edges[0] - 1 };
-    static bin bins[NBINS];
-    int nbins = NBINS;
-    for (int b = 0; b < nbins; ++b) bins[b].lo = edges[b], bins[b].hi = edges[b + 1];
-    char value[64];
-    pl_error err;
-    if (pl_sim_get(sim, "contact.delassus", value, sizeof value, &err)) return 2;
-    printf("%s: nnz(S) %.0f, %d steps, %d repeats, own delassus=%s\n", argv[1], nnz_s, steps, reps, value);
-    printf("frame rows work/(65x6nnzS) explicit_ms matrix-free_ms ratio\n");
-    for (int k = 0; k < steps; ++k) {
-        if (pl_sim_save_state(sim, state, &err)) return fprintf(stderr, "save: %s\n", err.msg), 1;
-        double te[MAXREP], tm[MAXREP], work = 0.0, rows = 0.0, w2, r2;
-        for (int r = 0; r < reps; ++r)
-            if (timed_step(sim, state, "explicit", nnz_s, &te[r], &work, &rows) ||
-                timed_step(sim, state, "matrix-free", nnz_s, &tm[r], &w2, &r2))
-                return 1;
-        /* the run goes on with the scene's own setting */
-        if (pl_sim_restore_state(sim, state, &err) || pl_sim_set(sim, "contact.delassus", value, &err))
-            return 1;
-        pl_timers_clear(t);
-        pl_stat_set(t, "nnz(S)", nnz_s);
-        if (pl_sim_step(sim, 1, &err)) return fprintf(stderr, "step: %s\n", err.msg), 1;
-        if (!(rows > 0)) continue;
-        double e = median(te, reps), m = median(tm, reps), rho = work / (65.0 * 6.0 * nnz_s);
-        printf("%d %.0f %.3f %.3f %.3f %.2f\n", k + 1, rows, rho, e, m, e / m);
-        if (!(rows * rows <= 6.0 * nnz_s)) continue; /* auto is matrix-free here anyway */
-        for (int b = 0; b < nbins; ++b)
-            if (rho >= bins[b].lo && rho < bins[b].hi && bins[b].n < 4096) {
-                bins[b].ratio[bins[b].n++] = e / m;
-                bins[b].t_exp += e;
-                bins[b].t_mf += m;
-            }
-    }
+    for (int b = 0; b < NBINS; ++b)
+        if (rho >= bins[b].lo && rho < bins[b].hi && bins[b].n < 4096) {
+            bins[b].ratio[bins[b].n++] = e / m;
+            bins[b].t_exp += e;
+            bins[b].t_mf += m;
+        }
+}
+
+static void bins_print(bin *bins)
+{
     printf("\n| work ratio | frames | explicit [ms] | matrix-free [ms] | median explicit / matrix-free |\n");
     printf("|---|--:|--:|--:|--:|\n");
-    for (int b = 0; b < nbins; ++b)
+    for (int b = 0; b < NBINS; ++b)
         if (bins[b].n > 0)
             printf("| %g - %g | %d | %.1f | %.1f | %.2f |\n", bins[b].lo, bins[b].hi, bins[b].n,
                    bins[b].t_exp, bins[b].t_mf, median(bins[b].ratio, bins[b].n));
-    pl_sim_free(sim);
-    remove(state);
+}
+
+/* Frame k: both paths from the saved state, then the step with the scene's
+ * own setting (own); the line printed and the bins filled. */
+static int frame(pl_sim *sim, const char *state, const char *own, double nnz_s, int k, int reps,
+                 bin *bins)
+{
+    pl_error err;
+    pl_timers *t = pl_sim_timers(sim);
+    if (pl_sim_save_state(sim, state, &err)) return fprintf(stderr, "save: %s\n", err.msg), 1;
+    double te[MAXREP], tm[MAXREP], work = 0.0, rows = 0.0, w2, r2;
+    for (int r = 0; r < reps; ++r)
+        if (timed_step(sim, state, "explicit", nnz_s, &te[r], &work, &rows) ||
+            timed_step(sim, state, "matrix-free", nnz_s, &tm[r], &w2, &r2))
+            return 1;
+    if (pl_sim_restore_state(sim, state, &err) || pl_sim_set(sim, "contact.delassus", own, &err))
+        return fprintf(stderr, "restore / set: %s\n", err.msg), 1;
+    pl_timers_clear(t);
+    pl_stat_set(t, "nnz(S)", nnz_s);
+    if (pl_sim_step(sim, 1, &err)) return fprintf(stderr, "step: %s\n", err.msg), 1;
+    if (!(rows > 0)) return 0;
+    double e = median(te, reps), m = median(tm, reps), rho = work / (65.0 * 6.0 * nnz_s);
+    printf("%d %.0f %.3f %.3f %.3f %.2f\n", k + 1, rows, rho, e, m, e / m);
+    if (rows * rows <= 6.0 * nnz_s) bins_add(bins, rho, e, m); /* else auto is matrix-free anyway */
     return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) return fprintf(stderr, "usage: bench_w_parity SCENE.xml [STEPS [REPEATS [OUT]]]\n"), 2;
+    int steps = argc > 2 ? atoi(argv[2]) : 150, reps = argc > 3 ? atoi(argv[3]) : 3;
+    const char *out = argc > 4 ? argv[4] : "bench_out/w_parity";
+    if (steps < 1 || reps < 1 || reps > MAXREP) return fprintf(stderr, "bad STEPS or REPEATS\n"), 2;
+    pl_sim *sim = bench_load(argv[1], NULL, NULL, 0, out);
+    if (!sim) return 2;
+    char state[1024], own[64];
+    snprintf(state, sizeof state, "%s/w_parity.state", out);
+    double nnz_s;
+    pl_error err;
+    int rc = 2;
+    if (pl_stat_get(pl_sim_timers(sim), "nnz(S)", &nnz_s) || !(nnz_s > 0))
+        fprintf(stderr, "%s: no nnz(S) (not a SparseInverseSolver scene?)\n", argv[1]);
+    else if (pl_sim_get(sim, "contact.delassus", own, sizeof own, &err))
+        fprintf(stderr, "%s: no NonSmoothNewtonContactSolver named contact\n", argv[1]);
+    else {
+        static bin bins[NBINS];
+        for (int b = 0; b < NBINS; ++b) bins[b].lo = EDGES[b], bins[b].hi = EDGES[b + 1];
+        printf("%s: nnz(S) %.0f, %d steps, %d repeats, own delassus=%s\n", argv[1], nnz_s, steps,
+               reps, own);
+        printf("frame rows work/(65x6nnzS) explicit_ms matrix-free_ms ratio\n");
+        rc = 0;
+        for (int k = 0; k < steps && !rc; ++k) rc = frame(sim, state, own, nnz_s, k, reps, bins);
+        if (!rc) bins_print(bins);
+        remove(state);
+    }
+    pl_sim_free(sim);
+    return rc;
 }
