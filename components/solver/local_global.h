@@ -91,6 +91,8 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
  * cannot run there appended to why (nothing when it can or is 0); the
  * model's A_f* up; its per-data vectors; the residual of the iterate g->q
  * queued into g->residual. */
+int pl_lg_csc_rows(const pl_csc *const *M, const int *const *cols, int nm, int nrows, int ncols,
+                   pl_csr *R);
 void pl_lg_device_residual_refusals(const local_global_solver *s, char *why, size_t size);
 int pl_lg_device_residual_setup(local_global_solver *s, pl_error *err);
 void pl_lg_device_residual_free(lg_device *g);

@@ -153,27 +153,37 @@ static void put(lg_device *g, void *dst, const void *src, size_t bytes, int *rc,
     if (!*rc && bytes) *rc = g->ops->copy(g->dev, dst, PL_DEVICE, src, PL_HOST, bytes, err);
 }
 
-/* The rows of A_fp (CSC nfree x n) as a host CSR, entries of a row in
- * increasing column order: the order in which the CPU loop subtracts them. */
-static int fp_rows(const pl_csc *A, pl_csr *R)
+/* The rows of nm CSC matrices side by side (each nrows tall) as one host
+ * CSR with ncols columns: the entries of M[k]'s column j go to column
+ * cols[k][j] (j itself where cols[k] is NULL).  Within a row the entries
+ * keep the order of the matrices, then of their columns: the order in which
+ * the CPU loop subtracts them.  R's arrays are the caller's to free, also
+ * on failure. */
+int pl_lg_csc_rows(const pl_csc *const *M, const int *const *cols, int nm, int nrows, int ncols,
+                   pl_csr *R)
 {
-    int m = A->nrows, nnz = pl_csc_nnz(A);
-    R->nrows = m, R->ncols = A->ncols;
-    R->p = calloc((size_t)m + 1, sizeof *R->p);
+    int nnz = 0;
+    for (int k = 0; k < nm; ++k) nnz += pl_csc_nnz(M[k]);
+    R->nrows = nrows, R->ncols = ncols;
+    R->p = calloc((size_t)nrows + 1, sizeof *R->p);
     R->j = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->j);
     R->x = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->x);
-    if (!R->p || !R->j || !R->x) return PL_EINTERNAL;
-    for (int p = 0; p < nnz; ++p) R->p[A->i[p] + 1]++;
-    for (int r = 0; r < m; ++r) R->p[r + 1] += R->p[r];
-    int *next = malloc((size_t)(m ? m : 1) * sizeof *next);
-    if (!next) return PL_EINTERNAL;
-    memcpy(next, R->p, (size_t)m * sizeof *next);
-    for (int j = 0; j < A->ncols; ++j)
-        for (int p = A->p[j]; p < A->p[j + 1]; ++p) {
-            int q = next[A->i[p]]++;
-            R->j[q] = j;
-            R->x[q] = A->x[p];
-        }
+    int *next = malloc((size_t)(nrows ? nrows : 1) * sizeof *next);
+    if (!R->p || !R->j || !R->x || !next) {
+        free(next);
+        return PL_EINTERNAL;
+    }
+    for (int k = 0; k < nm; ++k)
+        for (int p = 0; p < pl_csc_nnz(M[k]); ++p) R->p[M[k]->i[p] + 1]++;
+    for (int r = 0; r < nrows; ++r) R->p[r + 1] += R->p[r];
+    memcpy(next, R->p, (size_t)nrows * sizeof *next);
+    for (int k = 0; k < nm; ++k)
+        for (int j = 0; j < M[k]->ncols; ++j)
+            for (int p = M[k]->p[j]; p < M[k]->p[j + 1]; ++p) {
+                int q = next[M[k]->i[p]]++;
+                R->j[q] = cols[k] ? cols[k][j] : j;
+                R->x[q] = M[k]->x[p];
+            }
     free(next);
     return PL_OK;
 }
@@ -191,7 +201,9 @@ static int allocate(local_global_solver *s, pl_error *err)
     put(g, g->free_vertex, d->free_vertex, (size_t)d->nfree * sizeof(int), &rc, err);
     if (rc) return rc;
     pl_csr R = {0};
-    if (fp_rows(&d->A_fp, &R) != PL_OK) {
+    const pl_csc *fp[1] = {&d->A_fp};
+    const int *fp_cols[1] = {NULL}; /* A_fp's columns are global already */
+    if (pl_lg_csc_rows(fp, fp_cols, 1, d->A_fp.nrows, d->A_fp.ncols, &R) != PL_OK) {
         pl_csr_free(&R);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     }

@@ -62,42 +62,16 @@ void pl_lg_device_residual_refusals(const local_global_solver *s, char *why, siz
     }
 }
 
-/* A_f* = [A_ff A_fp] (nfree x n, global columns) as a host CSR. */
-static int free_rows(const pl_dynamics *d, pl_csr *R)
-{
-    const pl_csc *F = &d->A_ff, *P = &d->A_fp;
-    int m = d->nfree, nnz = pl_csc_nnz(F) + pl_csc_nnz(P);
-    R->nrows = m, R->ncols = d->n;
-    R->p = calloc((size_t)m + 1, sizeof *R->p);
-    R->j = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->j);
-    R->x = malloc((size_t)(nnz ? nnz : 1) * sizeof *R->x);
-    int *next = malloc((size_t)(m ? m : 1) * sizeof *next);
-    if (!R->p || !R->j || !R->x || !next) {
-        free(next);
-        return PL_EINTERNAL;
-    }
-    const pl_csc *M[2] = {F, P};
-    for (int k = 0; k < 2; ++k)
-        for (int p = 0; p < pl_csc_nnz(M[k]); ++p) R->p[M[k]->i[p] + 1]++;
-    for (int r = 0; r < m; ++r) R->p[r + 1] += R->p[r];
-    memcpy(next, R->p, (size_t)m * sizeof *next);
-    for (int k = 0; k < 2; ++k)
-        for (int j = 0; j < M[k]->ncols; ++j)
-            for (int p = M[k]->p[j]; p < M[k]->p[j + 1]; ++p) {
-                int q = next[M[k]->i[p]]++;
-                R->j[q] = k == 0 ? d->free_vertex[j] : j;
-                R->x[q] = M[k]->x[p];
-            }
-    free(next);
-    return PL_OK;
-}
-
 int pl_lg_device_residual_setup(local_global_solver *s, pl_error *err)
 {
     lg_device *g = &s->gpu;
     if (!(s->force_tolerance > 0) || s->dyn.nfree == 0) return PL_OK;
+    /* A_f* = [A_ff A_fp] (nfree x n): A_ff's columns are free indices */
+    const pl_dynamics *d = &s->dyn;
+    const pl_csc *M[2] = {&d->A_ff, &d->A_fp};
+    const int *cols[2] = {d->free_vertex, NULL};
     pl_csr R = {0};
-    if (free_rows(&s->dyn, &R) != PL_OK) {
+    if (pl_lg_csc_rows(M, cols, 2, d->nfree, d->n, &R) != PL_OK) {
         pl_csr_free(&R);
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     }
