@@ -253,6 +253,11 @@ int detect_pair_given(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int 
  * PL_OK or PL_EINTERNAL. */
 int coll_cand_host(const pl_coll_mesh *A, const pl_coll_mesh *B, const pl_detect_params *prm,
                    coll_cand_list out[3]);
+/* The same, and *broad: the box overlaps the broad phase found, which is
+ * what detect_pair adds to prm->counts (the statistic is the same on both
+ * paths). */
+int coll_cand_host_counted(const pl_coll_mesh *A, const pl_coll_mesh *B,
+                           const pl_detect_params *prm, coll_cand_list out[3], long long *broad);
 
 /* ---- barycentric mapping into tetrahedra ------------------------------------ */
 

@@ -66,6 +66,24 @@ PL_HD coll_cand_pass coll_cand_edge_pass(const coll_cand_pass *vf)
     return e;
 }
 
+/* The three passes of a pair: [0] A's vertices against B's triangles, [1]
+ * B's vertices against A's (not for self pairs), [2] the edges.  use[k]:
+ * whether pass k runs (detect_pair's flags; a pass without queries or
+ * primitives has no candidates and is not run: detect_run.c's run_pass). */
+PL_HD void coll_cand_pair_passes(const coll_cand_mesh *A, const coll_cand_mesh *B, int self,
+                                 int vertex_face, int edge_edge, double alarm, double reach,
+                                 coll_cand_pass ps[3], int use[3])
+{
+    coll_cand_pass f = {*A, *B, 0, self, 0, alarm, reach};
+    coll_cand_pass r = {*B, *A, 0, 0, 0, alarm, reach};
+    ps[0] = f;
+    ps[1] = r;
+    ps[2] = coll_cand_edge_pass(&f);
+    use[0] = vertex_face && A->nverts > 0 && B->ntris > 0;
+    use[1] = vertex_face && !self && B->nverts > 0 && A->ntris > 0;
+    use[2] = edge_edge && A->nedges > 0 && B->nedges > 0;
+}
+
 /* The pass's items of A (the lists' count) and primitives of B. */
 PL_HD int coll_cand_na(const coll_cand_pass *ps)
 {
@@ -232,38 +250,55 @@ PL_HD int coll_cand_ee(const coll_cand_pass *ps, int e, int f)
     return coll_cand_reachable(ps, d0, la + lb);
 }
 
-/* The candidates of query i: walks the tree over T's primitive boxes,
- * keeps the primitives whose boxes overlap i's and that pass the filter;
- * writes the keys of the first cap of them (out may be NULL with cap 0), in
- * the tree's order, and returns how many there are. */
-PL_HD int coll_cand_query(const coll_cand_pass *ps, const coll_cand_tree *t,
-                          const pl_aabb *prims, int i, coll_cand_key *out, int cap)
-{
-    if (t->n == 0) return 0;
+/* The walk of query i over a tree: the primitives whose boxes overlap the
+ * query's, one at a time (coll_cand_walk_next), in the tree's order.  The
+ * broad phase's pairs are these overlaps; the candidate SET does not depend
+ * on the tree's shape or order (box overlap is exact), which lets the
+ * device keep a primitive order across steps. */
+typedef struct coll_cand_walk {
     pl_aabb q;
-    coll_cand_qbox(ps, i, &q);
-    coll_cand_key nb = (coll_cand_key)coll_cand_nb(ps);
-    int stack[64], top = 0, count = 0;
-    stack[top++] = 1;
-    while (top > 0) {
-        int node = stack[--top];
-        if (!coll_cand_overlap(&t->node[node], &q)) continue;
+    int stack[64], top;
+    int k, hi; /* the leaf being read: sorted positions k .. hi - 1 */
+} coll_cand_walk;
+
+PL_HD void coll_cand_walk_start(coll_cand_walk *w, const coll_cand_pass *ps, int i)
+{
+    coll_cand_qbox(ps, i, &w->q);
+    w->top = 0;
+    w->stack[w->top++] = 1;
+    w->k = w->hi = 0;
+}
+
+/* The next overlapping primitive, or -1 at the end. */
+PL_HD int coll_cand_walk_next(coll_cand_walk *w, const coll_cand_tree *t, const pl_aabb *prims)
+{
+    if (t->n == 0) return -1;
+    for (;;) {
+        while (w->k < w->hi) {
+            int j = t->order[w->k++];
+            if (coll_cand_overlap(&prims[j], &w->q)) return j;
+        }
+        if (w->top == 0) return -1;
+        int node = w->stack[--w->top];
+        if (!coll_cand_overlap(&t->node[node], &w->q)) continue;
         if (node < t->leaves) {
-            stack[top++] = 2 * node + 1;
-            stack[top++] = 2 * node;
+            w->stack[w->top++] = 2 * node + 1;
+            w->stack[w->top++] = 2 * node;
             continue;
         }
-        int lo = (node - t->leaves) * COLL_CAND_LEAF;
-        for (int k = lo; k < lo + COLL_CAND_LEAF && k < t->n; ++k) {
-            int j = t->order[k];
-            if (!coll_cand_overlap(&prims[j], &q)) continue;
-            int a = ps->swap ? j : i, b = ps->swap ? i : j;
-            if (!(ps->edges ? coll_cand_ee(ps, a, b) : coll_cand_vf(ps, i, j))) continue;
-            if (count < cap) out[count] = (coll_cand_key)a * nb + (coll_cand_key)b;
-            count++;
-        }
+        w->k = (node - t->leaves) * COLL_CAND_LEAF;
+        w->hi = w->k + COLL_CAND_LEAF < t->n ? w->k + COLL_CAND_LEAF : t->n;
     }
-    return count;
+}
+
+/* Whether the overlap of query i with primitive j is a candidate (the
+ * narrow filter), and then its key. */
+PL_HD int coll_cand_keep(const coll_cand_pass *ps, int i, int j, coll_cand_key *key)
+{
+    int a = ps->swap ? j : i, b = ps->swap ? i : j;
+    if (!(ps->edges ? coll_cand_ee(ps, a, b) : coll_cand_vf(ps, i, j))) return 0;
+    *key = (coll_cand_key)a * (coll_cand_key)coll_cand_nb(ps) + (coll_cand_key)b;
+    return 1;
 }
 
 #endif

@@ -69,8 +69,25 @@ static int lists_of_keys(const coll_cand_key *key, int total, int na, int nb, co
     return PL_OK;
 }
 
-/* One pass into out; PL_OK or PL_EINTERNAL. */
-static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
+/* Appends key to the growable array *key (*n of *cap); PL_OK or
+ * PL_EINTERNAL. */
+static int push_key(coll_cand_key **key, int *n, int *cap, coll_cand_key k)
+{
+    if (*n == *cap) {
+        int c = *cap ? 2 * *cap : 256;
+        coll_cand_key *x = realloc(*key, (size_t)c * sizeof *x);
+        if (!x) return PL_EINTERNAL;
+        *key = x;
+        *cap = c;
+    }
+    (*key)[(*n)++] = k;
+    return PL_OK;
+}
+
+/* One pass into out, its box overlaps added to *broad; PL_OK or
+ * PL_EINTERNAL.  The device's two levels: the tree walk's overlaps, then
+ * the filter on each of them, then the sort. */
+static int host_pass(const coll_cand_pass *ps, coll_cand_list *out, long long *broad)
 {
     int n = ps->edges ? ps->T.nedges : ps->T.ntris;
     int queries = ps->edges ? ps->P.nedges : ps->P.nverts;
@@ -79,9 +96,8 @@ static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
     pl_aabb *node = malloc((size_t)(2 * leaves) * sizeof *node);
     code_idx *ci = malloc((size_t)(n > 0 ? n : 1) * sizeof *ci);
     int *order = malloc((size_t)(n > 0 ? n : 1) * sizeof *order);
-    int *off = malloc((size_t)(queries + 1) * sizeof *off);
     coll_cand_key *key = NULL;
-    int rc = (prims && node && ci && order && off) ? PL_OK : PL_EINTERNAL, total = 0;
+    int rc = (prims && node && ci && order) ? PL_OK : PL_EINTERNAL, total = 0, cap = 0;
     if (rc == PL_OK) {
         pl_aabb root;
         coll_cand_empty(&root);
@@ -94,16 +110,15 @@ static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
         for (int j = 0; j < n; ++j) order[j] = ci[j].idx;
         coll_cand_tree t = {n, leaves, order, node};
         for (int i = 2 * leaves - 1; i >= 1; --i) coll_cand_refit(&t, prims, i);
-        /* count, then write the keys (the device's two passes), then sort */
-        for (int i = 0; i < queries; ++i) {
-            off[i] = total;
-            total += coll_cand_query(ps, &t, prims, i, NULL, 0);
+        for (int i = 0; i < queries && rc == PL_OK; ++i) {
+            coll_cand_walk w;
+            coll_cand_walk_start(&w, ps, i);
+            coll_cand_key k;
+            for (int j; rc == PL_OK && (j = coll_cand_walk_next(&w, &t, prims)) >= 0;) {
+                ++*broad;
+                if (coll_cand_keep(ps, i, j, &k)) rc = push_key(&key, &total, &cap, k);
+            }
         }
-        off[queries] = total;
-        key = malloc((size_t)(total > 0 ? total : 1) * sizeof *key);
-        if (!key) rc = PL_EINTERNAL;
-        for (int i = 0; i < queries && rc == PL_OK; ++i)
-            coll_cand_query(ps, &t, prims, i, key + off[i], off[i + 1] - off[i]);
         if (rc == PL_OK) qsort(key, (size_t)total, sizeof *key, cmp_key);
     }
     if (rc == PL_OK) rc = lists_of_keys(key, total, coll_cand_na(ps), coll_cand_nb(ps), out);
@@ -111,26 +126,34 @@ static int host_pass(const coll_cand_pass *ps, coll_cand_list *out)
     free(node);
     free(ci);
     free(order);
-    free(off);
     free(key);
+    return rc;
+}
+
+int coll_cand_host_counted(const pl_coll_mesh *A, const pl_coll_mesh *B,
+                           const pl_detect_params *prm, coll_cand_list out[3], long long *broad)
+{
+    coll_cand_mesh va = view_of(A), vb = view_of(B);
+    coll_cand_pass ps[3];
+    int use[3], rc = PL_OK;
+    coll_cand_pair_passes(&va, &vb, A == B, prm->vertex_face, prm->edge_edge, prm->alarm,
+                          prm->alarm + prm->margin, ps, use);
+    *broad = 0;
+    for (int k = 0; k < 3 && rc == PL_OK; ++k) {
+        if (use[k]) {
+            rc = host_pass(&ps[k], &out[k], broad);
+            continue;
+        }
+        int na = k == 1 && A == B ? 0 : coll_cand_na(&ps[k]);
+        rc = coll_cand_list_fit(&out[k], na, 0);
+        if (rc == PL_OK) memset(out[k].start, 0, (size_t)(na + 1) * sizeof(int));
+    }
     return rc;
 }
 
 int coll_cand_host(const pl_coll_mesh *A, const pl_coll_mesh *B, const pl_detect_params *prm,
                    coll_cand_list out[3])
 {
-    coll_cand_pass ps = {view_of(A), view_of(B), 0, A == B, 0, prm->alarm,
-                         prm->alarm + prm->margin};
-    int rc = host_pass(&ps, &out[0]);
-    if (rc == PL_OK && A != B) {
-        coll_cand_pass r = {view_of(B), view_of(A), 0, 0, 0, prm->alarm,
-                            prm->alarm + prm->margin};
-        rc = host_pass(&r, &out[1]);
-    } else if (rc == PL_OK) {
-        rc = coll_cand_list_fit(&out[1], 0, 0);
-        if (rc == PL_OK) out[1].start[0] = 0;
-    }
-    coll_cand_pass e = coll_cand_edge_pass(&ps);
-    if (rc == PL_OK) rc = host_pass(&e, &out[2]);
-    return rc;
+    long long broad;
+    return coll_cand_host_counted(A, B, prm, out, &broad);
 }

@@ -1,116 +1,159 @@
-/* detect_device.cu - detection's candidate pairs on the GPU: one thread per
- * primitive for the boxes and Morton codes, CUB for the bounds (a box
- * union), the sort (radix, stable: ties keep the primitive order) and the
- * offsets (an exclusive scan), one launch per tree level for the refit, one
- * thread per query to count and then to write its sorted list.  The item
- * bodies are detect_cand.h's, which coll_cand_host runs on the host; this
- * file is compiled with -fmad=false so that the distances round as on the
- * host. */
+/* detect_device.cu - detection's candidate pairs on the GPU, for a batch of
+ * pairs at once (a step's): every mesh of the batch uploaded once (one copy
+ * from pinned memory), one kept tree per mesh and kind
+ * (detect_device_tree.cu), then two levels so that threads do even work:
+ * one thread per query walks a tree and writes its box overlaps (the broad
+ * phase), then one thread per overlap applies the narrow filter and writes
+ * the key of each candidate.  One read-back of the counts (if the overlaps
+ * overflowed their buffer, it grows and the two kernels run again), then
+ * the keys of every pass sorted at once (CUB radix sort; a pass's keys
+ * after the previous pass's), each item's list start found by a binary
+ * search, one download.  The item bodies are detect_cand.h's, which
+ * coll_cand_host runs on the host; this file is compiled with -fmad=false
+ * so that the distances round as on the host. */
 #include <cub/cub.cuh>
-#include <cuda_runtime.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "detect_cand.h"
-#include "detect_device.h"
+#include "detect_device_int.cuh"
 
 namespace {
 
-struct dbuf {
-    void *p;
-    size_t cap;
+/* A pass as the filter and list kernels see it. */
+struct dpass {
+    coll_cand_pass ps;
+    coll_cand_key kbase; /* its first key: the keys of all passes are disjoint */
+    int ibase;           /* its first item among all passes' items */
+    int nb;
 };
 
-int grow(dbuf *b, size_t bytes)
+/* A box overlap of the broad phase: query i of pass p with primitive j. */
+struct overlap {
+    int p, i, j;
+};
+
+/* counters: [0] overlaps found, [1] keys written, [2 + p] overlaps of pass
+ * p.  A thread reserves room for 8 overlaps at a time: one atomic on the
+ * shared counter per 8 rather than per overlap. */
+__global__ void k_broad(coll_cand_pass ps, coll_cand_tree t, const pl_aabb *prims, int p,
+                        int queries, overlap *over, int cap, int *counters)
 {
-    if (bytes <= b->cap && b->p) return 0;
-    cudaFree(b->p);
-    b->p = NULL;
-    b->cap = 0;
-    if (cudaMalloc(&b->p, bytes ? bytes : 16) != cudaSuccess) return -1;
-    b->cap = bytes ? bytes : 16;
-    return 0;
-}
-
-struct dmesh {
-    dbuf x0, x1, tris, edges;
-};
-
-struct box_union {
-    __device__ pl_aabb operator()(const pl_aabb &a, const pl_aabb &b) const
-    {
-        pl_aabb r = a;
-        coll_cand_union(&r, &b);
-        return r;
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= queries) return;
+    coll_cand_walk w;
+    coll_cand_walk_start(&w, &ps, i);
+    int found = 0, m = 0, buf[8];
+    for (int j;;) {
+        j = coll_cand_walk_next(&w, &t, prims);
+        if (j >= 0) buf[m++] = j;
+        if (m == 8 || (j < 0 && m > 0)) {
+            int at = atomicAdd(&counters[0], m);
+            for (int k = 0; k < m; ++k)
+                if (at + k < cap) over[at + k] = overlap{p, i, buf[k]};
+            found += m;
+            m = 0;
+        }
+        if (j < 0) break;
     }
+    if (found) atomicAdd(&counters[2 + p], found);
+}
+
+/* One thread per overlap (a grid-stride loop); the keys kept by a warp
+ * take one atomic. */
+__global__ void k_filter(const dpass *P, const overlap *over, int cap, int *counters,
+                         coll_cand_key *key)
+{
+    int n = min(counters[0], cap), lane = threadIdx.x & 31;
+    for (int k = blockIdx.x * blockDim.x + threadIdx.x; k < n; k += gridDim.x * blockDim.x) {
+        overlap o = over[k];
+        coll_cand_key c = 0;
+        int keep = coll_cand_keep(&P[o.p].ps, o.i, o.j, &c);
+        unsigned mask = __activemask(), kept = __ballot_sync(mask, keep);
+        int leader = __ffs(mask) - 1, base = 0;
+        if (lane == leader && kept) base = atomicAdd(&counters[1], __popc(kept));
+        base = __shfl_sync(mask, base, leader);
+        if (keep) key[base + __popc(kept & ((1u << lane) - 1u))] = P[o.p].kbase + c;
+    }
+}
+
+/* The last pass whose base (ibase, or kbase for keys) is <= v. */
+__device__ int pass_of_item(const dpass *P, int np, int g)
+{
+    int lo = 0, hi = np - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if (P[m].ibase <= g) lo = m; else hi = m - 1;
+    }
+    return lo;
+}
+
+__device__ int pass_of_key(const dpass *P, int np, coll_cand_key k)
+{
+    int lo = 0, hi = np - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if (P[m].kbase <= k) lo = m; else hi = m - 1;
+    }
+    return lo;
+}
+
+/* start[g]: the first sorted key of item g (all passes' items), by binary
+ * search; start[items] = total. */
+__global__ void k_start(const dpass *P, int np, int items, const coll_cand_key *key, int total,
+                        int *start)
+{
+    int g = blockIdx.x * blockDim.x + threadIdx.x;
+    if (g > items) return;
+    if (g == items) {
+        start[g] = total;
+        return;
+    }
+    int p = pass_of_item(P, np, g);
+    coll_cand_key want = P[p].kbase + (coll_cand_key)(g - P[p].ibase) * (coll_cand_key)P[p].nb;
+    int lo = 0, hi = total;
+    while (lo < hi) {
+        int m = lo + (hi - lo) / 2;
+        if (key[m] < want) lo = m + 1; else hi = m;
+    }
+    start[g] = lo;
+}
+
+__global__ void k_idx(const dpass *P, int np, const coll_cand_key *key, int total, int *idx)
+{
+    int k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= total) return;
+    int p = pass_of_key(P, np, key[k]);
+    idx[k] = (int)((key[k] - P[p].kbase) % (coll_cand_key)P[p].nb);
+}
+
+/* The host's record of a batch: its distinct meshes and its passes. */
+struct hmesh {
+    const pl_coll_mesh *m;
+    size_t off; /* in the upload [bytes] */
+    coll_cand_mesh v;
 };
 
-const int TPB = 128;
-int blocks(int n) { return (n + TPB - 1) / TPB; }
+struct hpass {
+    int pair, k;     /* pass k of pair */
+    int tmesh;       /* the mesh of the tree (index in the batch's meshes) */
+    int queries, na;
+    coll_cand_tree t;
+    const pl_aabb *prims;
+};
 
-__global__ void k_pbox(coll_cand_mesh T, int edges, int n, pl_aabb *prims)
-{
-    int j = blockIdx.x * blockDim.x + threadIdx.x;
-    if (j < n) coll_cand_pbox(&T, edges, j, &prims[j]);
-}
-
-__global__ void k_morton(const pl_aabb *prims, const pl_aabb *root, int n, unsigned *code,
-                         int *idx)
-{
-    int j = blockIdx.x * blockDim.x + threadIdx.x;
-    if (j >= n) return;
-    code[j] = coll_cand_morton(&prims[j], root);
-    idx[j] = j;
-}
-
-__global__ void k_refit(coll_cand_tree t, const pl_aabb *prims, int lo, int hi)
-{
-    int i = lo + blockIdx.x * blockDim.x + threadIdx.x;
-    if (i < hi) coll_cand_refit(&t, prims, i);
-}
-
-__global__ void k_count(coll_cand_pass ps, coll_cand_tree t, const pl_aabb *prims, int queries,
-                        int *count)
-{
-    int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i < queries) count[i] = coll_cand_query(&ps, &t, prims, i, NULL, 0);
-}
-
-__global__ void k_write(coll_cand_pass ps, coll_cand_tree t, const pl_aabb *prims, int queries,
-                        const int *off, coll_cand_key *key)
-{
-    int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i < queries) coll_cand_query(&ps, &t, prims, i, key + off[i], off[i + 1] - off[i]);
-}
-
-/* Candidates per item of A (atomic counts: a histogram, order-free). */
-__global__ void k_hist(const coll_cand_key *key, int total, coll_cand_key nb, int *count)
-{
-    int k = blockIdx.x * blockDim.x + threadIdx.x;
-    if (k < total) atomicAdd(&count[key[k] / nb], 1);
-}
-
-__global__ void k_idx(const coll_cand_key *key, int total, coll_cand_key nb, int *idx)
-{
-    int k = blockIdx.x * blockDim.x + threadIdx.x;
-    if (k < total) idx[k] = (int)(key[k] % nb);
-}
+struct batch {
+    hmesh *mesh;
+    int nmesh;
+    hpass *pass;
+    dpass *hdp, *dp; /* the pass records: in the pinned upload, after the meshes; on the
+                        device */
+    int npass, items;
+    coll_cand_key keys; /* the key space of all passes */
+};
 
 } // namespace
-
-struct coll_dev {
-    dmesh m[2];
-    dbuf prims, node, code[2], order[2], count, start, key[2], idx, root, temp;
-    /* its own stream, not blocking with the legacy default stream: the
-     * detection never waits for a solver's queued work */
-    cudaStream_t s;
-    /* PLIANT_DETECT_PROFILE set: time per stage (synchronising after each),
-     * printed by coll_dev_close: uploads, trees, counts, lists */
-    int profile, calls;
-    double stage_ms[4], last;
-};
 
 static double now_ms(void)
 {
@@ -128,35 +171,19 @@ static void stage(coll_dev *d, int k)
     d->last = t;
 }
 
-static int fail(pl_error *err, cudaError_t e, const char *what)
-{
-    return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "device detection: %s: %s", what,
-                        cudaGetErrorString(e));
-}
-
-#define CK(call, what)                                                                         \
-    do {                                                                                       \
-        cudaError_t e_ = (call);                                                               \
-        if (e_ != cudaSuccess) return fail(err, e_, what);                                     \
-    } while (0)
-#define GROW(buf, bytes)                                                                       \
-    do {                                                                                       \
-        if (grow(&(buf), (bytes))) return fail(err, cudaErrorMemoryAllocation, "allocation"); \
-    } while (0)
-
 extern "C" int coll_dev_open(coll_dev **d, pl_error *err)
 {
     int n = 0;
     *d = NULL;
     CK(cudaGetDeviceCount(&n), "no device");
-    if (n < 1) return fail(err, cudaErrorNoDevice, "no device");
+    if (n < 1) return dev_fail(err, cudaErrorNoDevice, "no device");
     *d = (coll_dev *)calloc(1, sizeof **d);
     if (!*d) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     cudaError_t e = cudaStreamCreateWithFlags(&(*d)->s, cudaStreamNonBlocking);
     if (e != cudaSuccess) {
         free(*d);
         *d = NULL;
-        return fail(err, e, "stream");
+        return dev_fail(err, e, "stream");
     }
     (*d)->profile = getenv("PLIANT_DETECT_PROFILE") != NULL;
     return PL_OK;
@@ -166,185 +193,248 @@ extern "C" void coll_dev_close(coll_dev *d)
 {
     if (!d) return;
     if (d->profile && d->calls)
-        fprintf(stderr, "device detection: %d calls, ms per call: uploads %.3f, trees %.3f, "
-                "counts %.3f, lists %.3f\n", d->calls, d->stage_ms[0] / d->calls,
+        fprintf(stderr, "device detection: %d batches, ms per batch: uploads %.3f, trees %.3f, "
+                "overlaps+filter %.3f, lists %.3f\n", d->calls, d->stage_ms[0] / d->calls,
                 d->stage_ms[1] / d->calls, d->stage_ms[2] / d->calls, d->stage_ms[3] / d->calls);
-    dbuf *all[] = {&d->m[0].x0, &d->m[0].x1, &d->m[0].tris, &d->m[0].edges, &d->m[1].x0,
-                   &d->m[1].x1, &d->m[1].tris, &d->m[1].edges, &d->prims, &d->node,
-                   &d->code[0], &d->code[1], &d->order[0], &d->order[1], &d->count,
-                   &d->start, &d->key[0], &d->key[1], &d->idx, &d->root, &d->temp};
-    for (size_t k = 0; k < sizeof all / sizeof *all; ++k) cudaFree(all[k]->p);
+    cudaStreamSynchronize(d->s);
+    dev_trees_free(d);
+    dbuf *all[] = {&d->code[0], &d->code[1], &d->order_in, &d->root, &d->temp, &d->mesh_mem,
+                   &d->over, &d->key[0], &d->key[1], &d->start, &d->idx,
+                   &d->counters};
+    for (size_t k = 0; k < sizeof all / sizeof *all; ++k) dbuf_free(all[k]);
+    cudaFreeHost(d->up);
+    cudaFreeHost(d->down);
     cudaStreamDestroy(d->s);
     free(d);
 }
 
-/* Uploads mesh m into slot dm; v = its view with device pointers. */
-static int upload(dmesh *dm, const pl_coll_mesh *m, coll_cand_mesh *v, cudaStream_t st,
-                  pl_error *err)
+/* Pinned host memory of at least bytes in *p (its capacity *cap). */
+static int grow_pinned(void **p, size_t *cap, size_t bytes, pl_error *err)
 {
-    size_t nx = (size_t)m->nverts * 3 * sizeof(double);
-    GROW(dm->x0, nx);
-    GROW(dm->x1, nx);
-    GROW(dm->tris, (size_t)m->ntris * 3 * sizeof(int));
-    GROW(dm->edges, (size_t)m->nedges * 2 * sizeof(int));
-    if (nx) CK(cudaMemcpyAsync(dm->x0.p, m->x0, nx, cudaMemcpyHostToDevice, st), "upload");
-    if (nx) CK(cudaMemcpyAsync(dm->x1.p, m->x1, nx, cudaMemcpyHostToDevice, st), "upload");
-    if (m->ntris)
-        CK(cudaMemcpyAsync(dm->tris.p, m->tris, (size_t)m->ntris * 3 * sizeof(int),
-                           cudaMemcpyHostToDevice, st), "upload");
-    if (m->nedges)
-        CK(cudaMemcpyAsync(dm->edges.p, m->edges, (size_t)m->nedges * 2 * sizeof(int),
-                           cudaMemcpyHostToDevice, st), "upload");
-    coll_cand_mesh r = {m->nverts, m->ntris, m->nedges, (const double *)dm->x0.p,
-                        (const double *)dm->x1.p, (const int *)dm->tris.p,
-                        (const int *)dm->edges.p, 0.5 * m->margin};
-    *v = r;
+    if (bytes <= *cap && *p) return PL_OK;
+    cudaFreeHost(*p);
+    *p = NULL;
+    *cap = 0;
+    bytes += bytes / 2 + 4096;
+    CK(cudaMallocHost(p, bytes), "pinned memory");
+    *cap = bytes;
     return PL_OK;
 }
 
-/* The tree over ps's primitives in d (d->order[1], d->node). */
-static int build_tree(coll_dev *d, const coll_cand_pass *ps, int n, coll_cand_tree *t,
-                      pl_error *err)
+static size_t align16(size_t x) { return (x + 15) & ~(size_t)15; }
+
+static size_t mesh_bytes(const pl_coll_mesh *m)
 {
-    int leaves = coll_cand_leaves(n);
-    pl_aabb *prims = (pl_aabb *)d->prims.p, empty;
-    coll_cand_empty(&empty);
-    k_pbox<<<blocks(n), TPB, 0, d->s>>>(ps->T, ps->edges, n, prims);
-    CK(cudaGetLastError(), "box kernel");
-    size_t tb = 0, tb2 = 0;
-    CK(cub::DeviceReduce::Reduce(NULL, tb, prims, (pl_aabb *)d->root.p, n, box_union(), empty),
-       "bounds");
-    unsigned *c0 = (unsigned *)d->code[0].p, *c1 = (unsigned *)d->code[1].p;
-    int *o0 = (int *)d->order[0].p, *o1 = (int *)d->order[1].p;
-    CK(cub::DeviceRadixSort::SortPairs(NULL, tb2, c0, c1, o0, o1, n, 0, 30), "sort");
-    GROW(d->temp, tb > tb2 ? tb : tb2);
-    CK(cub::DeviceReduce::Reduce(d->temp.p, tb, prims, (pl_aabb *)d->root.p, n, box_union(),
-                                 empty, d->s), "bounds");
-    k_morton<<<blocks(n), TPB, 0, d->s>>>(prims, (const pl_aabb *)d->root.p, n, c0, o0);
-    CK(cub::DeviceRadixSort::SortPairs(d->temp.p, tb2, c0, c1, o0, o1, n, 0, 30, d->s), "sort");
-    coll_cand_tree r = {n, leaves, o1, (pl_aabb *)d->node.p};
-    k_refit<<<blocks(leaves), TPB, 0, d->s>>>(r, prims, leaves, 2 * leaves);
-    for (int lv = leaves / 2; lv >= 1; lv /= 2)
-        k_refit<<<blocks(lv), TPB, 0, d->s>>>(r, prims, lv, 2 * lv);
-    CK(cudaGetLastError(), "tree kernels");
-    *t = r;
-    return PL_OK;
+    return 2 * align16((size_t)m->nverts * 3 * sizeof(double)) +
+           align16((size_t)m->ntris * 3 * sizeof(int)) +
+           align16((size_t)m->nedges * 2 * sizeof(int));
 }
 
-/* Offsets of the queries' keys (d->start), *total; the keys (d->key[0]). */
-static int write_keys(coll_dev *d, const coll_cand_pass *ps, const coll_cand_tree *t,
-                      int queries, int *total, pl_error *err)
+static int mesh_index(batch *b, const pl_coll_mesh *m)
 {
-    int *count = (int *)d->count.p, *off = (int *)d->start.p;
-    const pl_aabb *prims = (const pl_aabb *)d->prims.p;
-    CK(cudaMemsetAsync(count + queries, 0, sizeof(int), d->s), "memset");
-    k_count<<<blocks(queries), TPB, 0, d->s>>>(*ps, *t, prims, queries, count);
-    CK(cudaGetLastError(), "count kernel");
-    size_t tb = 0;
-    CK(cub::DeviceScan::ExclusiveSum(NULL, tb, count, off, queries + 1), "scan");
-    GROW(d->temp, tb);
-    CK(cub::DeviceScan::ExclusiveSum(d->temp.p, tb, count, off, queries + 1, d->s), "scan");
-    CK(cudaMemcpyAsync(total, off + queries, sizeof(int), cudaMemcpyDeviceToHost, d->s),
-       "count kernel");
-    CK(cudaStreamSynchronize(d->s), "count kernel");
-    stage(d, 2);
-    size_t kb = (size_t)(*total > 0 ? *total : 1) * sizeof(coll_cand_key);
-    for (int k = 0; k < 2; ++k) GROW(d->key[k], kb);
-    k_write<<<blocks(queries), TPB, 0, d->s>>>(*ps, *t, prims, queries, off,
-                                                (coll_cand_key *)d->key[0].p);
-    CK(cudaGetLastError(), "write kernel");
-    return PL_OK;
+    for (int k = 0; k < b->nmesh; ++k)
+        if (b->mesh[k].m == m) return k;
+    b->mesh[b->nmesh].m = m;
+    return b->nmesh++;
 }
 
-/* Sorts the keys, makes the lists (d->start, d->idx) and downloads them. */
-static int lists_of_keys(coll_dev *d, int total, int na, int nb, coll_cand_list *out,
-                         pl_error *err)
+/* Copies the meshes into the pinned upload, their views (device pointers)
+ * into b->mesh[].v; the passes' records go after them.  One copy. */
+static void upload(coll_dev *d, batch *b)
 {
-    coll_cand_key *k0 = (coll_cand_key *)d->key[0].p, *k1 = (coll_cand_key *)d->key[1].p;
-    if (total == 0) { /* no kernel over nothing: a launch of 0 blocks is an error */
-        if (coll_cand_list_fit(out, na, 0)) return fail(err, cudaErrorMemoryAllocation, "host");
-        memset(out->start, 0, (size_t)(na + 1) * sizeof(int));
-        return PL_OK;
+    char *up = (char *)d->up, *dev = (char *)d->mesh_mem.p;
+    for (int k = 0; k < b->nmesh; ++k) {
+        const pl_coll_mesh *m = b->mesh[k].m;
+        size_t o = b->mesh[k].off, nx = (size_t)m->nverts * 3 * sizeof(double);
+        size_t nt = (size_t)m->ntris * 3 * sizeof(int), ne = (size_t)m->nedges * 2 * sizeof(int);
+        size_t ox1 = o + align16(nx), ot = ox1 + align16(nx), oe = ot + align16(nt);
+        if (nx) memcpy(up + o, m->x0, nx), memcpy(up + ox1, m->x1, nx);
+        if (nt) memcpy(up + ot, m->tris, nt);
+        if (ne) memcpy(up + oe, m->edges, ne);
+        coll_cand_mesh v = {m->nverts, m->ntris, m->nedges, (const double *)(dev + o),
+                            (const double *)(dev + ox1), (const int *)(dev + ot),
+                            (const int *)(dev + oe), 0.5 * m->margin};
+        b->mesh[k].v = v;
     }
-    int bits = 1;
-    while (bits < 64 && ((coll_cand_key)1 << bits) < (coll_cand_key)na * (coll_cand_key)nb) bits++;
-    size_t tb = 0, tb2 = 0;
-    CK(cub::DeviceRadixSort::SortKeys(NULL, tb, k0, k1, total, 0, bits), "sort");
-    int *count = (int *)d->count.p, *start = (int *)d->start.p;
-    CK(cub::DeviceScan::ExclusiveSum(NULL, tb2, count, start, na + 1), "scan");
-    GROW(d->temp, tb > tb2 ? tb : tb2);
-    CK(cub::DeviceRadixSort::SortKeys(d->temp.p, tb, k0, k1, total, 0, bits, d->s), "sort");
-    CK(cudaMemsetAsync(count, 0, (size_t)(na + 1) * sizeof(int), d->s), "memset");
-    k_hist<<<blocks(total), TPB, 0, d->s>>>(k1, total, (coll_cand_key)nb, count);
-    CK(cub::DeviceScan::ExclusiveSum(d->temp.p, tb2, count, start, na + 1, d->s), "scan");
-    k_idx<<<blocks(total), TPB, 0, d->s>>>(k1, total, (coll_cand_key)nb, (int *)d->idx.p);
+}
+
+/* The batch's meshes and passes: out's lists fitted (skipped passes
+ * empty), the meshes and pass records uploaded. */
+static int plan(coll_dev *d, batch *b, int npairs, const pl_coll_mesh *const *A,
+                const pl_coll_mesh *const *B, const pl_detect_params *prm, coll_cand_list *out,
+                pl_error *err)
+{
+    int *pm = (int *)malloc((size_t)npairs * 2 * sizeof(int));
+    if (!pm) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    for (int p = 0; p < npairs; ++p) pm[2 * p] = mesh_index(b, A[p]), pm[2 * p + 1] = mesh_index(b, B[p]);
+    size_t off = 0;
+    for (int k = 0; k < b->nmesh; ++k) b->mesh[k].off = off, off += mesh_bytes(b->mesh[k].m);
+    size_t pass_off = align16(off), bytes = pass_off + (size_t)3 * npairs * sizeof(dpass);
+    int rc = grow_pinned(&d->up, &d->up_cap, bytes, err);
+    if (rc == PL_OK && dbuf_grow(&d->mesh_mem, bytes))
+        rc = dev_fail(err, cudaErrorMemoryAllocation, "allocation");
+    if (rc == PL_OK) upload(d, b);
+    b->hdp = (dpass *)((char *)d->up + pass_off);
+    for (int p = 0; p < npairs && rc == PL_OK; ++p) {
+        int ia = pm[2 * p], ib = pm[2 * p + 1], self = A[p] == B[p], use[3];
+        coll_cand_pass ps[3];
+        coll_cand_pair_passes(&b->mesh[ia].v, &b->mesh[ib].v, self, prm->vertex_face,
+                              prm->edge_edge, prm->alarm, prm->alarm + prm->margin, ps, use);
+        for (int k = 0; k < 3 && rc == PL_OK; ++k) {
+            coll_cand_list *l = &out[3 * p + k];
+            int na = k == 1 && self ? 0 : coll_cand_na(&ps[k]);
+            if (coll_cand_list_fit(l, na, 0)) {
+                rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+                break;
+            }
+            memset(l->start, 0, (size_t)(na + 1) * sizeof(int));
+            if (!use[k]) continue;
+            hpass *h = &b->pass[b->npass];
+            h->pair = p, h->k = k, h->na = na;
+            h->tmesh = k == 1 || (k == 2 && ps[2].swap) ? ia : ib;
+            h->queries = ps[k].edges ? ps[k].P.nedges : ps[k].P.nverts;
+            dpass r = {ps[k], b->keys, b->items, coll_cand_nb(&ps[k])};
+            b->hdp[b->npass++] = r;
+            b->keys += (coll_cand_key)na * (coll_cand_key)r.nb;
+            b->items += na;
+        }
+    }
+    free(pm);
+    if (rc == PL_OK && b->npass)
+        CK(cudaMemcpyAsync(d->mesh_mem.p, d->up, pass_off + (size_t)b->npass * sizeof(dpass),
+                           cudaMemcpyHostToDevice, d->s), "upload");
+    b->dp = (dpass *)((char *)d->mesh_mem.p + pass_off); /* the kernels' copy */
+    return rc;
+}
+
+/* The overlaps and the keys of every pass; counts (2 + npass) read back
+ * into *cnt (pinned).  Grows the buffers and runs again on overflow. */
+static int overlaps_and_keys(coll_dev *d, const batch *b, int **cnt, pl_error *err)
+{
+    size_t nc = (size_t)(2 + b->npass) * sizeof(int);
+    GROW(d->counters, nc);
+    if (!d->over_cap) d->over_cap = 1 << 18;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        int cap = (int)d->over_cap;
+        GROW(d->over, (size_t)cap * sizeof(overlap));
+        for (int k = 0; k < 2; ++k) GROW(d->key[k], (size_t)cap * sizeof(coll_cand_key));
+        int *counters = (int *)d->counters.p;
+        CK(cudaMemsetAsync(counters, 0, nc, d->s), "memset");
+        for (int p = 0; p < b->npass; ++p) {
+            const hpass *h = &b->pass[p];
+            k_broad<<<dev_blocks(h->queries), DEV_TPB, 0, d->s>>>(
+                b->hdp[p].ps, h->t, h->prims, p, h->queries,
+                (overlap *)d->over.p, cap, counters);
+        }
+        CK(cudaGetLastError(), "overlap kernel");
+        int grid = dev_blocks(cap) < 4096 ? dev_blocks(cap) : 4096;
+        k_filter<<<grid, DEV_TPB, 0, d->s>>>(b->dp, (const overlap *)d->over.p, cap, counters,
+                                              (coll_cand_key *)d->key[0].p);
+        CK(cudaGetLastError(), "filter kernel");
+        if (grow_pinned(&d->down, &d->down_cap, nc, err)) return PL_EINTERNAL;
+        CK(cudaMemcpyAsync(d->down, counters, nc, cudaMemcpyDeviceToHost, d->s), "counts");
+        CK(cudaStreamSynchronize(d->s), "overlap kernels");
+        *cnt = (int *)d->down;
+        if ((*cnt)[0] <= cap) return PL_OK;
+        d->over_cap = (size_t)(*cnt)[0] + (size_t)(*cnt)[0] / 2; /* then once more */
+    }
+    return dev_fail(err, cudaErrorMemoryAllocation, "overlaps grew between two runs");
+}
+
+/* Sorts the keys of all passes, finds every item's list and downloads
+ * them into out (total keys from the counts). */
+static int lists(coll_dev *d, const batch *b, int total, coll_cand_list *out, pl_error *err)
+{
+    int items = b->items;
+    size_t need = ((size_t)items + 1 + (size_t)total) * sizeof(int);
+    if (grow_pinned(&d->down, &d->down_cap, need, err)) return PL_EINTERNAL;
+    GROW(d->start, ((size_t)items + 1) * sizeof(int));
+    GROW(d->idx, (size_t)(total > 0 ? total : 1) * sizeof(int));
+    int *start = (int *)d->down, *idx = start + items + 1;
+    const coll_cand_key *sorted = (const coll_cand_key *)d->key[1].p;
+    if (total > 0) {
+        int bits = 1;
+        while (bits < 64 && ((coll_cand_key)1 << bits) < b->keys) bits++;
+        size_t tb = 0;
+        coll_cand_key *k0 = (coll_cand_key *)d->key[0].p, *k1 = (coll_cand_key *)d->key[1].p;
+        CK(cub::DeviceRadixSort::SortKeys(NULL, tb, k0, k1, total, 0, bits), "sort");
+        GROW(d->temp, tb);
+        CK(cub::DeviceRadixSort::SortKeys(d->temp.p, tb, k0, k1, total, 0, bits, d->s), "sort");
+        k_idx<<<dev_blocks(total), DEV_TPB, 0, d->s>>>(b->dp, b->npass, sorted, total,
+                                                       (int *)d->idx.p);
+    }
+    k_start<<<dev_blocks(items + 1), DEV_TPB, 0, d->s>>>(b->dp, b->npass, items, sorted, total,
+                                                         (int *)d->start.p);
     CK(cudaGetLastError(), "list kernels");
-    if (coll_cand_list_fit(out, na, total)) return fail(err, cudaErrorMemoryAllocation, "host");
-    CK(cudaMemcpyAsync(out->start, start, (size_t)(na + 1) * sizeof(int), cudaMemcpyDeviceToHost,
-                       d->s), "offsets");
-    if (total)
-        CK(cudaMemcpyAsync(out->idx, d->idx.p, (size_t)total * sizeof(int),
-                           cudaMemcpyDeviceToHost, d->s), "lists");
+    CK(cudaMemcpyAsync(start, d->start.p, ((size_t)items + 1) * sizeof(int),
+                       cudaMemcpyDeviceToHost, d->s), "offsets");
+    if (total > 0)
+        CK(cudaMemcpyAsync(idx, d->idx.p, (size_t)total * sizeof(int), cudaMemcpyDeviceToHost,
+                           d->s), "lists");
     CK(cudaStreamSynchronize(d->s), "lists");
-    stage(d, 3);
+    for (int p = 0; p < b->npass; ++p) {
+        const hpass *h = &b->pass[p];
+        coll_cand_list *l = &out[3 * h->pair + h->k];
+        const int *s = start + b->hdp[p].ibase;
+        int n = s[h->na] - s[0];
+        if (coll_cand_list_fit(l, h->na, n))
+            return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+        for (int i = 0; i <= h->na; ++i) l->start[i] = s[i] - s[0];
+        if (n) memcpy(l->idx, idx + s[0], (size_t)n * sizeof(int));
+    }
     return PL_OK;
 }
 
-static int dev_pass(coll_dev *d, const coll_cand_pass *ps, coll_cand_list *out, pl_error *err)
+static int run_batch(coll_dev *d, batch *b, int npairs, const pl_coll_mesh *const *A,
+                     const pl_coll_mesh *const *B, const pl_detect_params *prm,
+                     coll_cand_list *out, long long *broad, pl_error *err)
 {
-    int n = ps->edges ? ps->T.nedges : ps->T.ntris;
-    int queries = ps->edges ? ps->P.nedges : ps->P.nverts;
-    int na = coll_cand_na(ps), nb = coll_cand_nb(ps), leaves = coll_cand_leaves(n);
-    int nc = (queries > na ? queries : na) + 1;
-    GROW(d->prims, (size_t)(n > 0 ? n : 1) * sizeof(pl_aabb));
-    GROW(d->node, (size_t)2 * leaves * sizeof(pl_aabb));
-    GROW(d->root, sizeof(pl_aabb));
-    for (int k = 0; k < 2; ++k) {
-        GROW(d->code[k], (size_t)(n > 0 ? n : 1) * sizeof(unsigned));
-        GROW(d->order[k], (size_t)(n > 0 ? n : 1) * sizeof(int));
+    int rc = plan(d, b, npairs, A, B, prm, out, err);
+    for (int p = 0; p < npairs; ++p) broad[p] = 0;
+    if (rc || b->npass == 0) return rc;
+    stage(d, 0);
+    for (int p = 0; p < b->npass && rc == PL_OK; ++p) {
+        hpass *h = &b->pass[p];
+        const coll_cand_pass *ps = &b->hdp[p].ps;
+        rc = dev_tree(d, b->mesh[h->tmesh].m, &b->mesh[h->tmesh].v, ps->edges, &h->t, &h->prims,
+                      err);
     }
-    GROW(d->count, (size_t)nc * sizeof(int));
-    GROW(d->start, (size_t)nc * sizeof(int));
-    if (coll_cand_list_fit(out, na, 0)) return fail(err, cudaErrorMemoryAllocation, "host");
-    if (n == 0 || queries == 0) {
-        memset(out->start, 0, (size_t)(na + 1) * sizeof(int));
-        return PL_OK;
-    }
-    coll_cand_tree t;
-    int rc = build_tree(d, ps, n, &t, err), total = 0;
     if (rc) return rc;
     stage(d, 1);
-    if ((rc = write_keys(d, ps, &t, queries, &total, err))) return rc;
-    GROW(d->idx, (size_t)(total > 0 ? total : 1) * sizeof(int));
-    return lists_of_keys(d, total, na, nb, out, err);
+    int *cnt = NULL;
+    if ((rc = overlaps_and_keys(d, b, &cnt, err))) return rc;
+    stage(d, 2);
+    for (int p = 0; p < b->npass; ++p) broad[b->pass[p].pair] += cnt[2 + p];
+    rc = lists(d, b, cnt[1], out, err);
+    stage(d, 3);
+    return rc;
+}
+
+extern "C" int coll_dev_batch(coll_dev *d, int npairs, const pl_coll_mesh *const *A,
+                              const pl_coll_mesh *const *B, const pl_detect_params *prm,
+                              coll_cand_list *out, long long *broad, double *ms, pl_error *err)
+{
+    double t0 = now_ms();
+    d->calls++;
+    d->batches++;
+    stage(d, -1);
+    batch b;
+    memset(&b, 0, sizeof b);
+    b.mesh = (hmesh *)calloc((size_t)(2 * npairs + 1), sizeof *b.mesh);
+    b.pass = (hpass *)calloc((size_t)(3 * npairs + 1), sizeof *b.pass);
+    int rc = b.mesh && b.pass ? run_batch(d, &b, npairs, A, B, prm, out, broad, err)
+                              : pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    free(b.mesh);
+    free(b.pass);
+    if (rc) cudaStreamSynchronize(d->s); /* nothing left running on the buffers */
+    if (ms) *ms = now_ms() - t0;
+    return rc;
 }
 
 extern "C" int coll_dev_candidates(coll_dev *d, const pl_coll_mesh *A, const pl_coll_mesh *B,
                                    const pl_detect_params *prm, coll_cand_list out[3],
                                    double *ms, pl_error *err)
 {
-    double t0 = now_ms();
-    d->calls++;
-    stage(d, -1);
-    coll_cand_mesh va, vb;
-    int rc = upload(&d->m[0], A, &va, d->s, err);
-    if (rc) return rc;
-    if (A == B)
-        vb = va;
-    else if ((rc = upload(&d->m[1], B, &vb, d->s, err)))
-        return rc;
-    stage(d, 0);
-    coll_cand_pass ps = {va, vb, 0, A == B, 0, prm->alarm, prm->alarm + prm->margin};
-    if ((rc = dev_pass(d, &ps, &out[0], err))) return rc;
-    if (A != B) {
-        coll_cand_pass r = {vb, va, 0, 0, 0, prm->alarm, prm->alarm + prm->margin};
-        if ((rc = dev_pass(d, &r, &out[1], err))) return rc;
-    } else {
-        if (coll_cand_list_fit(&out[1], 0, 0)) return fail(err, cudaErrorMemoryAllocation, "host");
-        out[1].start[0] = 0;
-    }
-    coll_cand_pass e = coll_cand_edge_pass(&ps);
-    if ((rc = dev_pass(d, &e, &out[2], err))) return rc;
-    if (ms) *ms = now_ms() - t0;
-    return PL_OK;
+    long long broad;
+    return coll_dev_batch(d, 1, &A, &B, prm, out, &broad, ms, err);
 }

@@ -223,11 +223,18 @@ static int cp_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
     pl_timer_start(ctx->timers, p->t_detect);
     w->nwork = 0;
     w->pairs_ms = w->cand_ms = 0.0;
+    w->dev_step = 0;
     int rc = coll_pipeline_update_models(p, w, ctx, sys, q, err);
     if (rc == PL_OK) rc = coll_pipeline_detect(p, w, ctx->data, sys->h, err);
     if (rc == PL_OK) pl_series_push(ctx->timers, "detection pairs ms", w->pairs_ms);
-    if (rc == PL_OK && w->dev_state > 0)
+    if (rc == PL_OK && w->dev_step) {
         pl_series_push(ctx->timers, "detection candidates ms", w->cand_ms);
+        w->dev_steps++;
+    }
+    if (rc == PL_OK && w->dev_state > 0)
+        pl_stat_max(ctx->timers, "detection steps on the GPU", w->dev_steps);
+    if (rc == PL_OK) pl_series_push(ctx->timers, "detection box overlaps",
+                                    (double)w->counts.candidates);
     if (rc == PL_OK) rc = coll_pipeline_emit(p, w, sys, rows, err);
     pl_timer_stop(ctx->timers, p->t_detect);
     if (rc) return rc;

@@ -57,8 +57,15 @@ typedef struct coll_ws {
     coll_contact_record *work;
     int nwork, capwork;
     struct coll_dev *dev;          /* device detection (pipeline_device.c), NULL: host */
-    int dev_state;                 /* 0 not yet chosen, 1 device, -1 host */
-    coll_cand_list cand[3];        /* the device's candidates of one pair */
+    int dev_state;                 /* 0 not yet chosen, 1 device, 2 by the rule, -1 host */
+    int dev_step;                  /* this step's pairs went through the device */
+    int dev_steps;                 /* steps that did */
+    long long last_overlaps;       /* the previous step's box overlaps (the rule's input) */
+    int *pairs, cap_pairs;         /* this step's pairs of models (k, l) */
+    coll_cand_list *cand;          /* the device's candidates: 3 lists per pair */
+    const pl_coll_mesh **batch_a, **batch_b;
+    long long *batch_overlaps;     /* per pair: its box overlaps */
+    int cap_batch;
     double pairs_ms;               /* this step's time in coll_detect_models [ms] */
     double cand_ms;                /* of which the device's candidates [ms] */
     pl_detect_counts counts;       /* this step's detection work (statistics) */
@@ -74,12 +81,21 @@ int coll_pipeline_update_models(const collision_pipeline *p, coll_ws *w, pl_ctx 
  * d holds the previous step's contacts (their sides are kept); h the step. */
 int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data *d, double h,
                          pl_error *err);
-/* Models k and l's proximities appended to w->prox: detect_pair, or, with
- * PLIANT_DETECT=cuda and a GPU, over the device's candidates
+/* Models k and l's proximities appended to w->prox: detect_pair, or, on
+ * the device as PLIANT_DETECT says, over the device's candidates
  * (pipeline_device.c; the same proximities).  PL_OK or PL_EINTERNAL. */
 int coll_detect_models(const collision_pipeline *p, coll_ws *w, int k, int l,
                        const pl_detect_params *prm, pl_error *err);
+/* The same for n pairs (k, l) = (kl[2 i], kl[2 i + 1]), appended in that
+ * order; on the device, their candidates in one batch. */
+int coll_detect_pairs(const collision_pipeline *p, coll_ws *w, int n, const int *kl,
+                      const pl_detect_params *prm, pl_error *err);
 void coll_detect_ws_free(coll_ws *w);
+
+/* PLIANT_DETECT=auto puts a step's pairs on the device when the step before
+ * had at least this many box overlaps (calibration: docs/benchmarks.md,
+ * "Detection on the device: the batch"). */
+#define COLL_DEV_MIN_OVERLAPS 100000
 
 /* Stage 3: rows and records (w->work) of the proximities. */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,

@@ -175,6 +175,21 @@ static double struck_by_third(const coll_ws *w, int n, int k, int l)
     return u;
 }
 
+/* Pair i of this step is (k, l); PL_OK or PL_EINTERNAL. */
+static int push_pair(coll_ws *w, int i, int k, int l)
+{
+    if (2 * i + 2 > w->cap_pairs) {
+        int cap = 2 * i + 16;
+        int *x = realloc(w->pairs, (size_t)cap * sizeof *x);
+        if (!x) return PL_EINTERNAL;
+        w->pairs = x;
+        w->cap_pairs = cap;
+    }
+    w->pairs[2 * i] = k;
+    w->pairs[2 * i + 1] = l;
+    return PL_OK;
+}
+
 /* Drops the proximities between models k and l (order kept). */
 static void drop_pair(pl_proximities *px, int k, int l)
 {
@@ -191,6 +206,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
                          pl_error *err)
 {
     w->prox.n = 0;
+    w->last_overlaps = w->counts.candidates; /* PLIANT_DETECT=auto's rule */
     memset(&w->counts, 0, sizeof w->counts);
     w->margin_max = 0.0;
     if (build_hints(p, w, d))
@@ -204,10 +220,12 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
     prm.counts = &w->counts;
     /* every pair at its prediction */
     prm.margin = 0.0;
+    int n = 0;
     for (int k = 0; k < p->nmodels; ++k)
         for (int l = k; l < p->nmodels; ++l)
-            if (is_pair(p, w, k, l) && coll_detect_models(p, w, k, l, &prm, err))
-                return PL_EINTERNAL;
+            if (is_pair(p, w, k, l) && push_pair(w, n++, k, l))
+                return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+    if (coll_detect_pairs(p, w, n, w->pairs, &prm, err)) return PL_EINTERNAL;
     /* a model struck by a third one in this step may be pushed up to that
      * speed times h beyond its prediction: its pairs again, that much
      * farther */

@@ -62,9 +62,20 @@ static void expect_given_equal(const pl_coll_mesh *A, const pl_coll_mesh *B,
 {
     coll_cand_list g[3];
     memset(g, 0, sizeof g);
-    ck_assert_int_eq(coll_cand_host(A, B, prm, g), PL_OK);
+    long long broad = -1;
+    ck_assert_int_eq(coll_cand_host_counted(A, B, prm, g, &broad), PL_OK);
     *kept += check_lists(A, B, g, hits);
     pl_proximities p = {0}, q = {0};
+    /* the box overlaps the candidates' broad phase counts are the BVHs'
+     * (detection's statistic, and PLIANT_DETECT=auto's rule, are the same
+     * on both paths) */
+    pl_detect_counts counts = {0};
+    pl_detect_params pc = *prm;
+    pc.counts = &counts;
+    ck_assert_int_eq(detect_pair(A, 0, B, A == B ? 0 : 1, &pc, &p), PL_OK);
+    ck_assert_int_eq(broad, counts.candidates);
+    proximities_free(&p);
+    memset(&p, 0, sizeof p);
     ck_assert_int_eq(detect_pair(A, 0, B, A == B ? 0 : 1, prm, &p), PL_OK);
     ck_assert_int_eq(detect_pair_given(A, 0, B, A == B ? 0 : 1, prm, g, &q), PL_OK);
     ck_assert_int_eq(p.n, q.n);

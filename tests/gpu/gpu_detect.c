@@ -1,7 +1,8 @@
 /* gpu_detect.c - detection's candidates on the GPU (detect_device.cu)
  * against the host:
  *   check: random sheets (look-ahead, margins, self-collision): the device's
- *     lists equal the host replay's (coll_cand_host) item for item, and the
+ *     lists equal the host replay's (coll_cand_host) item for item, alone and
+ *     in batches of pairs sharing meshes (with the box overlaps), and the
  *     contacts made from them equal detect_pair's, bitwise and in order;
  *     then the small contact scenes of scenes/ stepped twice on the CPU
  *     loop, host detection against PLIANT_DETECT=cuda: after every step the
@@ -9,8 +10,10 @@
  *     canonical order) must be equal.  Any difference fails.
  *   bench: scenes given on the command line, N steps each: medians of the
  *     pipeline's Detection phase and of its pairs' part (the part the device
- *     candidates replace), host and device (a markdown table).  The loop
- *     runs on the CPU, or as GPU_DETECT_LOOP says (a --device policy).
+ *     candidates replace), with PLIANT_DETECT=host, cuda and auto (a
+ *     markdown table; auto's steps on the GPU).  The loop runs on the CPU,
+ *     or as GPU_DETECT_LOOP says (a --device policy; auto detects on the
+ *     GPU only when the loop runs there).
  * Usage: gpu_detect check [steps]   |   gpu_detect bench steps SCENE...
  * Exit 0, 1 on a difference, 77 without a GPU. */
 #include <stdio.h>
@@ -72,6 +75,43 @@ static int compare_pair(coll_dev *dev, const pl_coll_mesh *A, const pl_coll_mesh
     return bad;
 }
 
+/* One batch of several pairs sharing meshes (a self pair, both orders):
+ * every pair's lists and box overlaps equal the host replay's. */
+static int compare_batch(coll_dev *dev, const pl_coll_mesh *a, const pl_coll_mesh *b,
+                         const pl_detect_params *prm)
+{
+    const pl_coll_mesh *A[3] = {a, a, b}, *B[3] = {b, a, a};
+    coll_cand_list g[9], h[3];
+    long long broad[3], hb;
+    memset(g, 0, sizeof g);
+    memset(h, 0, sizeof h);
+    pl_error err;
+    int bad = 0;
+    if (coll_dev_batch(dev, 3, A, B, prm, g, broad, NULL, &err)) {
+        printf("batch failed: %s\n", err.msg);
+        return 1;
+    }
+    for (int p = 0; p < 3; ++p) {
+        if (coll_cand_host_counted(A[p], B[p], prm, h, &hb)) bad++;
+        if (hb != broad[p]) {
+            printf("batch pair %d: %lld box overlaps, host %lld\n", p, broad[p], hb);
+            bad++;
+        }
+        for (int l = 0; l < 3; ++l) {
+            const coll_cand_list *x = &h[l], *y = &g[3 * p + l];
+            if (x->n != y->n ||
+                memcmp(x->start, y->start, (size_t)(x->n + 1) * sizeof(int)) != 0 ||
+                memcmp(x->idx, y->idx, (size_t)x->start[x->n] * sizeof(int)) != 0) {
+                printf("batch pair %d list %d differs\n", p, l);
+                bad++;
+            }
+        }
+    }
+    for (int l = 0; l < 9; ++l) coll_cand_list_free(&g[l]);
+    for (int l = 0; l < 3; ++l) coll_cand_list_free(&h[l]);
+    return bad;
+}
+
 static void check_sheets(coll_dev *dev, FILE *md)
 {
     unsigned seed = 99u;
@@ -94,6 +134,7 @@ static void check_sheets(coll_dev *dev, FILE *md)
         prm.margin = trial % 4 == 3 ? 0.02 : 0.0;
         bad += compare_pair(dev, &ma, &mb, &prm, &cands, &found);
         bad += compare_pair(dev, &ma, &ma, &prm, &cands, &found);
+        bad += compare_batch(dev, &ma, &mb, &prm);
         coll_mesh_free(&ma);
         coll_mesh_free(&mb);
         free(a.x0), free(a.x1), free(a.tris), free(a.edges);
@@ -104,12 +145,9 @@ static void check_sheets(coll_dev *dev, FILE *md)
     gpu_check_line(md, "sheets: no contacts found (test broken)", found > 1000 ? 0 : 1, 0);
 }
 
-static pl_sim *load(const char *path, int device_detect)
+static pl_sim *load(const char *path, const char *detect)
 {
-    if (device_detect)
-        setenv("PLIANT_DETECT", "cuda", 1);
-    else
-        unsetenv("PLIANT_DETECT");
+    setenv("PLIANT_DETECT", detect, 1);
     pl_diag diag;
     pl_diag_init(&diag);
     pl_sim_options opt = {0};
@@ -142,7 +180,7 @@ static char *get(pl_sim *sim, const char *path)
 /* Steps host and device-candidate runs side by side; differences. */
 static int check_scene(const char *path, int steps, FILE *md)
 {
-    pl_sim *h = load(path, 0), *g = load(path, 1);
+    pl_sim *h = load(path, "host"), *g = load(path, "cuda");
     int bad = 0, contacts = 0, with = 0;
     if (!h || !g) bad = 1;
     const char *fields[] = {"pipeline.contactPoints", "pipeline.contactNormals",
@@ -184,11 +222,12 @@ static int check_scene(const char *path, int steps, FILE *md)
     return bad;
 }
 
-/* Medians over the steps: the Detection phase, the pairs' part of it and
- * (device) the candidates' part of that [ms]; *contacts at the last step. */
+/* Medians over the steps: the Detection phase, the pairs' part of it, the
+ * device's candidates' part of that (over the steps that used the device)
+ * [ms], the box overlaps; *contacts at the last step, steps on the GPU. */
 typedef struct det_times {
-    double detection, pairs, cand;
-    int contacts;
+    double detection, pairs, cand, overlaps;
+    int contacts, gpu_steps;
 } det_times;
 
 static double series_median(pl_timers *t, const char *name)
@@ -204,18 +243,21 @@ static double series_median(pl_timers *t, const char *name)
     return m;
 }
 
-static int detect_times(const char *path, int device_detect, int steps, det_times *dt)
+static int detect_times(const char *path, const char *detect, int steps, det_times *dt)
 {
-    pl_sim *sim = load(path, device_detect);
+    pl_sim *sim = load(path, detect);
     pl_error err;
     if (!sim || pl_sim_step(sim, steps, &err)) {
         pl_sim_free(sim);
         return -1;
     }
     pl_timers *t = pl_sim_timers(sim);
+    const double *v;
     dt->detection = pl_timers_median_ms(t, pl_timer_id(t, "Detection"));
     dt->pairs = series_median(t, "detection pairs ms");
     dt->cand = series_median(t, "detection candidates ms");
+    dt->overlaps = series_median(t, "detection box overlaps");
+    dt->gpu_steps = pl_series_get(t, "detection candidates ms", &v);
     char *c = get(sim, "pipeline.contactCount");
     dt->contacts = c ? atoi(c) : -1;
     free(c);
@@ -223,28 +265,35 @@ static int detect_times(const char *path, int device_detect, int steps, det_time
     return 0;
 }
 
+/* Host, device (PLIANT_DETECT=cuda) and auto, each scene N steps. */
+static int bench(int steps, int nscenes, char **scenes)
+{
+    printf("| scene | contacts | box overlaps | Detection host | cuda | auto | pairs host | "
+           "pairs cuda | of which GPU | pairs auto | auto's GPU steps | host/cuda |\n");
+    printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    for (int k = 0; k < nscenes; ++k) {
+        det_times h = {0}, g = {0}, a = {0};
+        if (detect_times(scenes[k], "host", steps, &h) ||
+            detect_times(scenes[k], "cuda", steps, &g) ||
+            detect_times(scenes[k], "auto", steps, &a)) {
+            printf("| %s | failed |\n", scenes[k]);
+            continue;
+        }
+        printf("| %s | %d / %d / %d | %.0f | %.2f | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f | "
+               "%d of %d | %.2f |\n", scenes[k], h.contacts, g.contacts, a.contacts, h.overlaps,
+               h.detection, g.detection, a.detection, h.pairs, g.pairs, g.cand, a.pairs,
+               a.gpu_steps, steps, g.pairs > 0.0 ? h.pairs / g.pairs : 0.0);
+        fflush(stdout);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     gpu_require("gpu_detect");
     const char *mode = argc > 1 ? argv[1] : "check";
-    if (strcmp(mode, "bench") == 0) {
-        int steps = argc > 2 ? atoi(argv[2]) : 30;
-        printf("| scene | contacts | Detection host | Detection device | pairs host | pairs "
-               "device | of which candidates (GPU) | pairs ratio |\n");
-        printf("|---|--:|--:|--:|--:|--:|--:|--:|\n");
-        for (int k = 3; k < argc; ++k) {
-            det_times h = {0}, g = {0};
-            if (detect_times(argv[k], 0, steps, &h) || detect_times(argv[k], 1, steps, &g)) {
-                printf("| %s | failed |\n", argv[k]);
-                continue;
-            }
-            printf("| %s | %d / %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", argv[k],
-                   h.contacts, g.contacts, h.detection, g.detection, h.pairs, g.pairs, g.cand,
-                   g.pairs > 0.0 ? h.pairs / g.pairs : 0.0);
-            fflush(stdout);
-        }
-        return 0;
-    }
+    if (strcmp(mode, "bench") == 0)
+        return bench(argc > 2 ? atoi(argv[2]) : 30, argc > 3 ? argc - 3 : 0, argv + 3);
     int steps = argc > 2 ? atoi(argv[2]) : 40;
     coll_dev *dev = NULL;
     pl_error err;
