@@ -196,11 +196,16 @@ static int run_pass(const pass *ps, pl_proximities *out)
 {
     int n = ps->edges ? ps->P->nedges : ps->P->nverts;
     if (n == 0 || (ps->edges ? ps->T->nedges : ps->T->ntris) == 0) return PL_OK;
+    /* over given candidates, the work is theirs: an item without any makes
+     * nothing (run_item), and a pass of a few dozen does not pay for waking
+     * the threads (device detection's passes are mostly empty) */
+    int load = ps->given ? ps->given->start[n] : n;
+    if (load == 0) return PL_OK;
     int nw = max_threads();
     work *w = calloc((size_t)nw, sizeof *w);
     if (!w) return PL_EINTERNAL;
     int used = 1;
-#pragma omp parallel if (n > 256)
+#pragma omp parallel if (load > (ps->given ? 64 : 256))
     {
         int tid = 0, nth = 1;
 #ifdef _OPENMP
@@ -210,8 +215,10 @@ static int run_pass(const pass *ps, pl_proximities *out)
 #pragma omp single
         used = nth;
         int chunk = (n + nth - 1) / nth, lo = tid * chunk, hi = lo + chunk < n ? lo + chunk : n;
-        for (int i = lo; i < hi && !w[tid].fail; ++i)
+        for (int i = lo; i < hi && !w[tid].fail; ++i) {
+            if (ps->given && ps->given->start[i] == ps->given->start[i + 1]) continue;
             if (run_item(ps, &w[tid], i)) w[tid].fail = 1;
+        }
     }
     int rc = PL_OK;
     for (int t = 0; t < used; ++t) {

@@ -243,6 +243,24 @@ static double series_median(pl_timers *t, const char *name)
     return m;
 }
 
+/* GPU_DETECT_CSV=FILE: every step's box overlaps, pairs' and candidates'
+ * times appended (scene, mode, step, overlaps, pairs ms, candidates ms;
+ * -1: the step's pairs were on the host), to fit auto's rule. */
+static void dump_steps(pl_timers *t, const char *path, const char *detect)
+{
+    const char *file = getenv("GPU_DETECT_CSV");
+    FILE *f = file ? fopen(file, "a") : NULL;
+    if (!f) return;
+    const double *ov, *pm, *cm;
+    int n = pl_series_get(t, "detection box overlaps", &ov);
+    int np = pl_series_get(t, "detection pairs ms", &pm);
+    int nc = pl_series_get(t, "detection candidates ms", &cm);
+    for (int k = 0; k < n && k < np; ++k)
+        fprintf(f, "%s,%s,%d,%.0f,%.4f,%.4f\n", path, detect, k, ov[k], pm[k],
+                nc == n ? cm[k] : -1.0);
+    fclose(f);
+}
+
 static int detect_times(const char *path, const char *detect, int steps, det_times *dt)
 {
     pl_sim *sim = load(path, detect);
@@ -252,6 +270,7 @@ static int detect_times(const char *path, const char *detect, int steps, det_tim
         return -1;
     }
     pl_timers *t = pl_sim_timers(sim);
+    dump_steps(t, path, detect);
     const double *v;
     dt->detection = pl_timers_median_ms(t, pl_timer_id(t, "Detection"));
     dt->pairs = series_median(t, "detection pairs ms");
