@@ -21,11 +21,14 @@
 
 namespace {
 
-/* A pass as the filter and list kernels see it. */
+/* A pass as the kernels see it. */
 struct dpass {
     coll_cand_pass ps;
-    coll_cand_key kbase; /* its first key: the keys of all passes are disjoint */
-    int ibase;           /* its first item among all passes' items */
+    coll_cand_tree t;     /* over ps.T's primitives */
+    const pl_aabb *prims; /* their boxes */
+    coll_cand_key kbase;  /* its first key: the keys of all passes are disjoint */
+    int ibase;            /* its first item among all passes' items */
+    int qbase;            /* its first query among all passes' queries */
     int nb;
 };
 
@@ -34,14 +37,40 @@ struct overlap {
     int p, i, j;
 };
 
-/* counters: [0] overlaps found, [1] keys written, [2 + p] overlaps of pass
+/* The last pass whose base (qbase, ibase, or kbase for keys) is <= v. */
+enum { BASE_Q, BASE_I };
+__device__ int pass_of(const dpass *P, int np, int g, int which)
+{
+    int lo = 0, hi = np - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if ((which == BASE_Q ? P[m].qbase : P[m].ibase) <= g) lo = m; else hi = m - 1;
+    }
+    return lo;
+}
+
+__device__ int pass_of_key(const dpass *P, int np, coll_cand_key k)
+{
+    int lo = 0, hi = np - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if (P[m].kbase <= k) lo = m; else hi = m - 1;
+    }
+    return lo;
+}
+
+/* One thread per query of every pass, walking its pass's tree.
+ * counters: [0] overlaps found, [1] keys written, [2 + p] overlaps of pass
  * p.  A thread reserves room for 8 overlaps at a time: one atomic on the
  * shared counter per 8 rather than per overlap. */
-__global__ void k_broad(coll_cand_pass ps, coll_cand_tree t, const pl_aabb *prims, int p,
-                        int queries, overlap *over, int cap, int *counters)
+__global__ void k_broad(const dpass *P, int np, int nq, overlap *over, int cap, int *counters)
 {
-    int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= queries) return;
+    int g = blockIdx.x * blockDim.x + threadIdx.x;
+    if (g >= nq) return;
+    int p = pass_of(P, np, g, BASE_Q), i = g - P[p].qbase;
+    coll_cand_pass ps = P[p].ps;
+    coll_cand_tree t = P[p].t;
+    const pl_aabb *prims = P[p].prims;
     coll_cand_walk w;
     coll_cand_walk_start(&w, &ps, i);
     int found = 0, m = 0, buf[8];
@@ -78,27 +107,6 @@ __global__ void k_filter(const dpass *P, const overlap *over, int cap, int *coun
     }
 }
 
-/* The last pass whose base (ibase, or kbase for keys) is <= v. */
-__device__ int pass_of_item(const dpass *P, int np, int g)
-{
-    int lo = 0, hi = np - 1;
-    while (lo < hi) {
-        int m = (lo + hi + 1) / 2;
-        if (P[m].ibase <= g) lo = m; else hi = m - 1;
-    }
-    return lo;
-}
-
-__device__ int pass_of_key(const dpass *P, int np, coll_cand_key k)
-{
-    int lo = 0, hi = np - 1;
-    while (lo < hi) {
-        int m = (lo + hi + 1) / 2;
-        if (P[m].kbase <= k) lo = m; else hi = m - 1;
-    }
-    return lo;
-}
-
 /* start[g]: the first sorted key of item g (all passes' items), by binary
  * search; start[items] = total. */
 __global__ void k_start(const dpass *P, int np, int items, const coll_cand_key *key, int total,
@@ -110,7 +118,7 @@ __global__ void k_start(const dpass *P, int np, int items, const coll_cand_key *
         start[g] = total;
         return;
     }
-    int p = pass_of_item(P, np, g);
+    int p = pass_of(P, np, g, BASE_I);
     coll_cand_key want = P[p].kbase + (coll_cand_key)(g - P[p].ibase) * (coll_cand_key)P[p].nb;
     int lo = 0, hi = total;
     while (lo < hi) {
@@ -136,20 +144,17 @@ struct hmesh {
 };
 
 struct hpass {
-    int pair, k;     /* pass k of pair */
-    int tmesh;       /* the mesh of the tree (index in the batch's meshes) */
-    int queries, na;
-    coll_cand_tree t;
-    const pl_aabb *prims;
+    int pair, k; /* pass k of pair */
+    int na;
 };
 
 struct batch {
     hmesh *mesh;
     int nmesh;
     hpass *pass;
-    dpass *hdp, *dp; /* the pass records: in the pinned upload, after the meshes; on the
-                        device */
-    int npass, items;
+    dpass *hdp, *dp;      /* the pass records: in the pinned upload; on the device */
+    dtree_rec *htr, *dtr; /* the trees to make, likewise */
+    int npass, items, queries, ntree, tprims, tleaves;
     coll_cand_key keys; /* the key space of all passes */
 };
 
@@ -258,52 +263,94 @@ static void upload(coll_dev *d, batch *b)
     }
 }
 
-/* The batch's meshes and passes: out's lists fitted (skipped passes
- * empty), the meshes and pass records uploaded. */
+/* Pass k of pair p (its record r filled but for the tree): the tree over
+ * its primitives reserved, and listed to be made if it is its first use in
+ * the batch.  PL_OK or PL_EINTERNAL. */
+static int pass_tree(coll_dev *d, batch *b, int tmesh, dpass *r, pl_error *err)
+{
+    const coll_cand_pass *ps = &r->ps;
+    int n = ps->edges ? ps->T.nedges : ps->T.ntris;
+    dtree_rec t;
+    memset(&t, 0, sizeof t);
+    int make = dev_tree_reserve(d, b->mesh[tmesh].m, ps->edges, n, &t, err);
+    if (make < 0) return PL_EINTERNAL;
+    r->t = t.t;
+    r->prims = t.prims;
+    if (make) {
+        t.v = ps->T;
+        t.pbase = b->tprims;
+        t.lbase = b->tleaves;
+        b->tprims += n;
+        b->tleaves += t.t.leaves;
+        b->htr[b->ntree++] = t;
+    }
+    return PL_OK;
+}
+
+/* Pair p's passes: out's lists fitted (skipped passes empty), the records
+ * of those that run.  PL_OK or PL_EINTERNAL. */
+static int pair_passes(coll_dev *d, batch *b, int p, int ia, int ib, int self,
+                       const pl_detect_params *prm, coll_cand_list *out, pl_error *err)
+{
+    int use[3];
+    coll_cand_pass ps[3];
+    coll_cand_pair_passes(&b->mesh[ia].v, &b->mesh[ib].v, self, prm->vertex_face,
+                          prm->edge_edge, prm->alarm, prm->alarm + prm->margin, ps, use);
+    for (int k = 0; k < 3; ++k) {
+        coll_cand_list *l = &out[3 * p + k];
+        int na = k == 1 && self ? 0 : coll_cand_na(&ps[k]);
+        if (coll_cand_list_fit(l, na, 0))
+            return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+        memset(l->start, 0, (size_t)(na + 1) * sizeof(int));
+        if (!use[k]) continue;
+        hpass *h = &b->pass[b->npass];
+        h->pair = p, h->k = k, h->na = na;
+        dpass *r = &b->hdp[b->npass];
+        memset(r, 0, sizeof *r);
+        r->ps = ps[k];
+        r->kbase = b->keys;
+        r->ibase = b->items;
+        r->qbase = b->queries;
+        r->nb = coll_cand_nb(&ps[k]);
+        int rc = pass_tree(d, b, k == 1 || (k == 2 && ps[2].swap) ? ia : ib, r, err);
+        if (rc) return rc;
+        b->npass++;
+        b->keys += (coll_cand_key)na * (coll_cand_key)r->nb;
+        b->items += na;
+        b->queries += ps[k].edges ? ps[k].P.nedges : ps[k].P.nverts;
+    }
+    return PL_OK;
+}
+
+/* The batch's meshes, passes and trees, uploaded in one copy. */
 static int plan(coll_dev *d, batch *b, int npairs, const pl_coll_mesh *const *A,
                 const pl_coll_mesh *const *B, const pl_detect_params *prm, coll_cand_list *out,
                 pl_error *err)
 {
     int *pm = (int *)malloc((size_t)npairs * 2 * sizeof(int));
     if (!pm) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    for (int p = 0; p < npairs; ++p) pm[2 * p] = mesh_index(b, A[p]), pm[2 * p + 1] = mesh_index(b, B[p]);
+    for (int p = 0; p < npairs; ++p)
+        pm[2 * p] = mesh_index(b, A[p]), pm[2 * p + 1] = mesh_index(b, B[p]);
     size_t off = 0;
     for (int k = 0; k < b->nmesh; ++k) b->mesh[k].off = off, off += mesh_bytes(b->mesh[k].m);
-    size_t pass_off = align16(off), bytes = pass_off + (size_t)3 * npairs * sizeof(dpass);
+    size_t pass_off = align16(off), tree_off = pass_off + (size_t)3 * npairs * sizeof(dpass);
+    size_t bytes = tree_off + (size_t)3 * npairs * sizeof(dtree_rec);
     int rc = grow_pinned(&d->up, &d->up_cap, bytes, err);
     if (rc == PL_OK && dbuf_grow(&d->mesh_mem, bytes))
         rc = dev_fail(err, cudaErrorMemoryAllocation, "allocation");
-    if (rc == PL_OK) upload(d, b);
-    b->hdp = (dpass *)((char *)d->up + pass_off);
-    for (int p = 0; p < npairs && rc == PL_OK; ++p) {
-        int ia = pm[2 * p], ib = pm[2 * p + 1], self = A[p] == B[p], use[3];
-        coll_cand_pass ps[3];
-        coll_cand_pair_passes(&b->mesh[ia].v, &b->mesh[ib].v, self, prm->vertex_face,
-                              prm->edge_edge, prm->alarm, prm->alarm + prm->margin, ps, use);
-        for (int k = 0; k < 3 && rc == PL_OK; ++k) {
-            coll_cand_list *l = &out[3 * p + k];
-            int na = k == 1 && self ? 0 : coll_cand_na(&ps[k]);
-            if (coll_cand_list_fit(l, na, 0)) {
-                rc = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-                break;
-            }
-            memset(l->start, 0, (size_t)(na + 1) * sizeof(int));
-            if (!use[k]) continue;
-            hpass *h = &b->pass[b->npass];
-            h->pair = p, h->k = k, h->na = na;
-            h->tmesh = k == 1 || (k == 2 && ps[2].swap) ? ia : ib;
-            h->queries = ps[k].edges ? ps[k].P.nedges : ps[k].P.nverts;
-            dpass r = {ps[k], b->keys, b->items, coll_cand_nb(&ps[k])};
-            b->hdp[b->npass++] = r;
-            b->keys += (coll_cand_key)na * (coll_cand_key)r.nb;
-            b->items += na;
-        }
+    if (rc == PL_OK) {
+        upload(d, b);
+        b->hdp = (dpass *)((char *)d->up + pass_off);
+        b->htr = (dtree_rec *)((char *)d->up + tree_off);
     }
+    for (int p = 0; p < npairs && rc == PL_OK; ++p)
+        rc = pair_passes(d, b, p, pm[2 * p], pm[2 * p + 1], A[p] == B[p], prm, out, err);
     free(pm);
     if (rc == PL_OK && b->npass)
-        CK(cudaMemcpyAsync(d->mesh_mem.p, d->up, pass_off + (size_t)b->npass * sizeof(dpass),
+        CK(cudaMemcpyAsync(d->mesh_mem.p, d->up, tree_off + (size_t)b->ntree * sizeof(dtree_rec),
                            cudaMemcpyHostToDevice, d->s), "upload");
-    b->dp = (dpass *)((char *)d->mesh_mem.p + pass_off); /* the kernels' copy */
+    b->dp = (dpass *)((char *)d->mesh_mem.p + pass_off); /* the kernels' copies */
+    b->dtr = (dtree_rec *)((char *)d->mesh_mem.p + tree_off);
     return rc;
 }
 
@@ -320,12 +367,8 @@ static int overlaps_and_keys(coll_dev *d, const batch *b, int **cnt, pl_error *e
         for (int k = 0; k < 2; ++k) GROW(d->key[k], (size_t)cap * sizeof(coll_cand_key));
         int *counters = (int *)d->counters.p;
         CK(cudaMemsetAsync(counters, 0, nc, d->s), "memset");
-        for (int p = 0; p < b->npass; ++p) {
-            const hpass *h = &b->pass[p];
-            k_broad<<<dev_blocks(h->queries), DEV_TPB, 0, d->s>>>(
-                b->hdp[p].ps, h->t, h->prims, p, h->queries,
-                (overlap *)d->over.p, cap, counters);
-        }
+        k_broad<<<dev_blocks(b->queries), DEV_TPB, 0, d->s>>>(
+            b->dp, b->npass, b->queries, (overlap *)d->over.p, cap, counters);
         CK(cudaGetLastError(), "overlap kernel");
         int grid = dev_blocks(cap) < 4096 ? dev_blocks(cap) : 4096;
         k_filter<<<grid, DEV_TPB, 0, d->s>>>(b->dp, (const overlap *)d->over.p, cap, counters,
@@ -393,12 +436,7 @@ static int run_batch(coll_dev *d, batch *b, int npairs, const pl_coll_mesh *cons
     for (int p = 0; p < npairs; ++p) broad[p] = 0;
     if (rc || b->npass == 0) return rc;
     stage(d, 0);
-    for (int p = 0; p < b->npass && rc == PL_OK; ++p) {
-        hpass *h = &b->pass[p];
-        const coll_cand_pass *ps = &b->hdp[p].ps;
-        rc = dev_tree(d, b->mesh[h->tmesh].m, &b->mesh[h->tmesh].v, ps->edges, &h->t, &h->prims,
-                      err);
-    }
+    rc = dev_trees_make(d, b->dtr, b->htr, b->ntree, b->tprims, b->tleaves, err);
     if (rc) return rc;
     stage(d, 1);
     int *cnt = NULL;

@@ -53,11 +53,29 @@ struct coll_dev {
     double stage_ms[4], last;
 };
 
-/* The tree over T's primitives (triangles, or edges), its boxes from the
- * view v (device positions), refitted: *t has device pointers.  PL_OK or
- * PL_EINTERNAL with err set. */
-int dev_tree(coll_dev *d, const pl_coll_mesh *T, const coll_cand_mesh *v, int edges,
-             coll_cand_tree *t, const pl_aabb **prims, pl_error *err);
+/* A tree to make in this batch, as the tree kernels see it (device
+ * pointers): its mesh, its primitives' first index among all trees'
+ * (pbase) and its first leaf (lbase). */
+struct dtree_rec {
+    coll_cand_mesh v;
+    int edges, sort; /* sort: its order is remade in this batch */
+    coll_cand_tree t;
+    pl_aabb *prims;
+    int *flag;
+    int pbase, lbase;
+};
+
+/* The kept tree of T's triangles or edges (n of them) for this batch:
+ * buffers grown, *r filled but for v, pbase, lbase; returns 1 when it is to
+ * be made (its first pass in the batch), 0 when another pass made it, or
+ * -1 with err set. */
+int dev_tree_reserve(coll_dev *d, const pl_coll_mesh *T, int edges, int n, dtree_rec *r,
+                     pl_error *err);
+/* Makes the nt trees of R (device records; host copy H): every box in one
+ * launch, the orders due, every refit in one launch; np primitives and nl
+ * leaves in all.  PL_OK or PL_EINTERNAL with err set. */
+int dev_trees_make(coll_dev *d, const dtree_rec *R, const dtree_rec *H, int nt, int np, int nl,
+                   pl_error *err);
 void dev_trees_free(coll_dev *d);
 
 int dev_fail(pl_error *err, cudaError_t e, const char *what);

@@ -1,9 +1,10 @@
-/* detect_device_tree.cu - the trees of device detection: one thread per
- * primitive for the boxes and Morton codes, CUB for the bounds (a box
- * union) and the sort (radix, stable: ties keep the primitive order), one
- * launch for the refit (bottom up: of a node's two children, the thread
- * that arrives second refits it).  Trees are kept across batches
- * (detect_device_int.cuh, struct dtree). */
+/* detect_device_tree.cu - the trees of device detection: one launch for
+ * the boxes of every tree of a batch (one thread per primitive), CUB for
+ * the bounds (a box union) and the Morton sort (radix, stable: ties keep
+ * the primitive order) of the trees whose order is due, one launch for the
+ * refit of every tree (one thread per leaf, bottom up: of a node's two
+ * children, the thread that arrives second refits it).  Trees are kept
+ * across batches (detect_device_int.cuh, struct dtree). */
 #include <cub/cub.cuh>
 
 #include "detect_device_int.cuh"
@@ -19,10 +20,27 @@ struct box_union {
     }
 };
 
-__global__ void k_pbox(coll_cand_mesh T, int edges, int n, pl_aabb *prims)
+/* The last record whose base (pbase, or lbase) is <= g. */
+__device__ int tree_of(const dtree_rec *R, int nt, int g, int leaves)
 {
-    int j = blockIdx.x * blockDim.x + threadIdx.x;
-    if (j < n) coll_cand_pbox(&T, edges, j, &prims[j]);
+    int lo = 0, hi = nt - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if ((leaves ? R[m].lbase : R[m].pbase) <= g) lo = m; else hi = m - 1;
+    }
+    return lo;
+}
+
+/* Every tree's primitive boxes; zeroes its refit flags on the way (a tree
+ * has fewer leaves than primitives, or one of each). */
+__global__ void k_pbox(const dtree_rec *R, int nt, int np)
+{
+    int g = blockIdx.x * blockDim.x + threadIdx.x;
+    if (g >= np) return;
+    const dtree_rec *r = &R[tree_of(R, nt, g, 0)];
+    int j = g - r->pbase;
+    coll_cand_pbox(&r->v, r->edges, j, &r->prims[j]);
+    if (j < r->t.leaves) r->flag[j] = 0;
 }
 
 __global__ void k_morton(const pl_aabb *prims, const pl_aabb *root, int n, unsigned *code,
@@ -43,19 +61,22 @@ __device__ void load_cg(const pl_aabb *b, pl_aabb *r)
     }
 }
 
-/* One thread per leaf: the leaf, then up while it is the second of two
- * siblings to arrive (flag: arrivals per internal node, zeroed before).
- * The union is min / max, exact: any order gives coll_cand_refit's boxes. */
-__global__ void k_refit(coll_cand_tree t, const pl_aabb *prims, int *flag)
+/* One thread per leaf of every tree: the leaf, then up while it is the
+ * second of two siblings to arrive (flag: arrivals per internal node,
+ * zeroed by k_pbox).  The union is min / max, exact: any order gives
+ * coll_cand_refit's boxes. */
+__global__ void k_refit(const dtree_rec *R, int nt, int nl)
 {
-    int leaf = blockIdx.x * blockDim.x + threadIdx.x;
-    if (leaf >= t.leaves) return;
-    int i = t.leaves + leaf;
-    coll_cand_refit(&t, prims, i);
+    int g = blockIdx.x * blockDim.x + threadIdx.x;
+    if (g >= nl) return;
+    const dtree_rec *r = &R[tree_of(R, nt, g, 1)];
+    coll_cand_tree t = r->t;
+    int i = t.leaves + g - r->lbase;
+    coll_cand_refit(&t, r->prims, i);
     while (i > 1) {
         __threadfence();
         i /= 2;
-        if (atomicAdd(&flag[i], 1) == 0) return; /* the sibling is not done yet */
+        if (atomicAdd(&r->flag[i], 1) == 0) return; /* the sibling is not done yet */
         pl_aabb a, b;
         load_cg(&t.node[2 * i], &a);
         load_cg(&t.node[2 * i + 1], &b);
@@ -119,18 +140,18 @@ static dtree *find_tree(coll_dev *d, const pl_coll_mesh *T, int edges, int n)
     return old;
 }
 
-/* The Morton order of t's primitives (t->order). */
-static int sort_tree(coll_dev *d, dtree *t, pl_error *err)
+/* The Morton order of r's primitives (r->t.order), its boxes made. */
+static int sort_tree(coll_dev *d, const dtree_rec *r, pl_error *err)
 {
-    int n = t->n;
-    pl_aabb *prims = (pl_aabb *)t->prims.p, empty;
+    int n = r->t.n;
+    pl_aabb *prims = r->prims, empty;
     coll_cand_empty(&empty);
     for (int k = 0; k < 2; ++k) GROW(d->code[k], (size_t)n * sizeof(unsigned));
     GROW(d->order_in, (size_t)n * sizeof(int));
     GROW(d->root, sizeof(pl_aabb));
     size_t tb = 0, tb2 = 0;
     unsigned *c0 = (unsigned *)d->code[0].p, *c1 = (unsigned *)d->code[1].p;
-    int *o0 = (int *)d->order_in.p, *o1 = (int *)t->order.p;
+    int *o0 = (int *)d->order_in.p, *o1 = (int *)r->t.order;
     CK(cub::DeviceReduce::Reduce(NULL, tb, prims, (pl_aabb *)d->root.p, n, box_union(), empty),
        "bounds");
     CK(cub::DeviceRadixSort::SortPairs(NULL, tb2, c0, c1, o0, o1, n, 0, 30), "sort");
@@ -142,36 +163,40 @@ static int sort_tree(coll_dev *d, dtree *t, pl_error *err)
     return PL_OK;
 }
 
-int dev_tree(coll_dev *d, const pl_coll_mesh *T, const coll_cand_mesh *v, int edges,
-             coll_cand_tree *out, const pl_aabb **prims, pl_error *err)
+int dev_tree_reserve(coll_dev *d, const pl_coll_mesh *T, int edges, int n, dtree_rec *r,
+                     pl_error *err)
 {
-    int n = edges ? v->nedges : v->ntris;
     dtree *t = find_tree(d, T, edges, n);
-    if (!t) return dev_fail(err, cudaErrorMemoryAllocation, "more trees than kept");
-    coll_cand_tree r = {n, t->leaves, (const int *)t->order.p, (pl_aabb *)t->node.p};
-    if (t->stamp == d->batches) { /* made for another pass of this batch */
-        *out = r;
-        *prims = (const pl_aabb *)t->prims.p;
-        return PL_OK;
+    if (!t) return dev_fail(err, cudaErrorMemoryAllocation, "more trees than kept"), -1;
+    int make = t->stamp != d->batches; /* else another pass of this batch made it */
+    if (make) {
+        t->stamp = d->batches;
+        r->sort = t->uses++ % DEV_REORDER_EVERY == 0;
+        if (dbuf_grow(&t->prims, (size_t)n * sizeof(pl_aabb)) ||
+            dbuf_grow(&t->node, (size_t)2 * t->leaves * sizeof(pl_aabb)) ||
+            dbuf_grow(&t->order, (size_t)n * sizeof(int)) ||
+            dbuf_grow(&t->flag, (size_t)t->leaves * sizeof(int)))
+            return dev_fail(err, cudaErrorMemoryAllocation, "allocation"), -1;
     }
-    t->stamp = d->batches;
-    GROW(t->prims, (size_t)n * sizeof(pl_aabb));
-    GROW(t->node, (size_t)2 * t->leaves * sizeof(pl_aabb));
-    GROW(t->order, (size_t)n * sizeof(int));
-    GROW(t->flag, (size_t)t->leaves * sizeof(int));
-    k_pbox<<<dev_blocks(n), DEV_TPB, 0, d->s>>>(*v, edges, n, (pl_aabb *)t->prims.p);
+    r->edges = edges;
+    coll_cand_tree ct = {n, t->leaves, (const int *)t->order.p, (pl_aabb *)t->node.p};
+    r->t = ct;
+    r->prims = (pl_aabb *)t->prims.p;
+    r->flag = (int *)t->flag.p;
+    return make;
+}
+
+int dev_trees_make(coll_dev *d, const dtree_rec *R, const dtree_rec *H, int nt, int np, int nl,
+                   pl_error *err)
+{
+    if (nt == 0) return PL_OK;
+    k_pbox<<<dev_blocks(np), DEV_TPB, 0, d->s>>>(R, nt, np);
     CK(cudaGetLastError(), "box kernel");
-    if (t->uses++ % DEV_REORDER_EVERY == 0) {
-        int rc = sort_tree(d, t, err);
+    for (int k = 0; k < nt; ++k) {
+        int rc = H[k].sort ? sort_tree(d, &H[k], err) : PL_OK;
         if (rc) return rc;
     }
-    r.order = (const int *)t->order.p;
-    r.node = (pl_aabb *)t->node.p;
-    CK(cudaMemsetAsync(t->flag.p, 0, (size_t)t->leaves * sizeof(int), d->s), "memset");
-    k_refit<<<dev_blocks(t->leaves), DEV_TPB, 0, d->s>>>(r, (const pl_aabb *)t->prims.p,
-                                                         (int *)t->flag.p);
+    k_refit<<<dev_blocks(nl), DEV_TPB, 0, d->s>>>(R, nt, nl);
     CK(cudaGetLastError(), "refit kernel");
-    *out = r;
-    *prims = (const pl_aabb *)t->prims.p;
     return PL_OK;
 }
