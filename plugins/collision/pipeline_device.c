@@ -6,7 +6,7 @@
  * order, so that a run is bitwise the same either way.
  *
  * PLIANT_DETECT: host, cuda (the device in every step), or auto (the
- * default): the device only when the loop runs there (the scene's device
+ * default; anything else is bad input): the device only when the loop runs there (the scene's device
  * service: device=auto chose the GPU) and in steps after one whose pairs
  * had at least COLL_DEV_MIN_OVERLAPS box overlaps (the broad phase's pairs,
  * counted alike on both paths: detection's "candidates" statistic).  Below
@@ -26,21 +26,19 @@
 #include "detect_device.h"
 #endif
 
-/* dev_state: 1 the device in every step, 2 as the rule says, -1 the host */
-enum { DEV_ALWAYS = 1, DEV_AUTO = 2, DEV_NEVER = -1 };
+/* dev_state: 1 the device in every step, 2 as the rule says, -1 the host;
+ * choose() also answers DEV_BAD: PLIANT_DETECT is none of its values */
+enum { DEV_ALWAYS = 1, DEV_AUTO = 2, DEV_NEVER = -1, DEV_BAD = -2 };
 
 static int choose(const collision_pipeline *p, coll_ws *w)
 {
     if (w->dev_state) return w->dev_state;
     const char *want = getenv("PLIANT_DETECT");
+    if (want && *want && strcmp(want, "host") && strcmp(want, "cuda") && strcmp(want, "auto"))
+        return DEV_BAD; /* bad input, like a bad PLIANT_DEVICE (sim_device.c) */
     w->dev_state = DEV_NEVER;
     if (want && strcmp(want, "host") == 0) return w->dev_state;
     int forced = want && strcmp(want, "cuda") == 0;
-    if (want && !forced && strcmp(want, "auto") != 0) {
-        pl_log_warn("CollisionPipeline '%s': PLIANT_DETECT='%s' is not host, cuda or auto: "
-                    "detection on the host", p->base.name, want);
-        return w->dev_state;
-    }
 #ifdef PLIANT_HAVE_CUDA
     if (!forced && !pl_util_device(&p->base)) return w->dev_state; /* the loop is on the CPU */
     pl_error e;
@@ -137,7 +135,10 @@ int coll_detect_pairs(const collision_pipeline *p, coll_ws *w, int n, const int 
 {
     double t0 = pl_now();
     int st = choose(p, w), rc = 1;
-    (void)st;
+    if (st == DEV_BAD)
+        return pl_component_fail(&p->base, err, PL_EINPUT,
+                                 "PLIANT_DETECT='%s' is not host, cuda or auto",
+                                 getenv("PLIANT_DETECT"));
 #ifdef PLIANT_HAVE_CUDA
     if (n > 0 && (st == DEV_ALWAYS || (st == DEV_AUTO && w->last_overlaps >= COLL_DEV_MIN_OVERLAPS)))
         rc = device_pairs(p, w, n, kl, prm, err);

@@ -225,7 +225,8 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
         for (int l = k; l < p->nmodels; ++l)
             if (is_pair(p, w, k, l) && push_pair(w, n++, k, l))
                 return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
-    if (coll_detect_pairs(p, w, n, w->pairs, &prm, err)) return PL_EINTERNAL;
+    int rc = coll_detect_pairs(p, w, n, w->pairs, &prm, err);
+    if (rc) return rc;
     /* a model struck by a third one in this step may be pushed up to that
      * speed times h beyond its prediction: its pairs again, that much
      * farther */
@@ -242,7 +243,7 @@ int coll_pipeline_detect(const collision_pipeline *p, coll_ws *w, const pl_data 
             coll_mesh_inflate(&w->models[l].mesh, p->alarm + prm.margin);
             w->margin_max = fmax(w->margin_max, prm.margin);
             drop_pair(&w->prox, k, l);
-            if (coll_detect_models(p, w, k, l, &prm, err)) return PL_EINTERNAL;
+            if ((rc = coll_detect_models(p, w, k, l, &prm, err))) return rc;
         }
     return PL_OK;
 }

@@ -10,7 +10,9 @@
  *    15x the detection time (gingerbread_small.xml);
  *  - the same body 5 mm above: its 9 bottom vertices have contacts, each
  *    from a candidate pair (the counter counts); no second pass (no third
- *    body strikes either model: "detection margin max [mm]" = 0). */
+ *    body strikes either model: "detection margin max [mm]" = 0);
+ *  - PLIANT_DETECT (where the candidates are made, pipeline_device.c):
+ *    host and auto agree with the default, anything else is bad input. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -108,6 +110,60 @@ START_TEST(test_spinning_body_near_counts_its_candidates)
 }
 END_TEST
 
+/* PLIANT_DETECT=host and auto (no device loop here: the host) give the
+ * unset variable's rows and counts; the box overlaps are recorded (the
+ * input of auto's rule) and equal the candidates statistic. */
+START_TEST(test_detect_policy_host_and_auto_agree)
+{
+    const char *policy[] = {NULL, "host", "auto"};
+    int nrows[3];
+    double cand[3];
+    for (int k = 0; k < 3; ++k) {
+        if (policy[k])
+            setenv("PLIANT_DETECT", policy[k], 1);
+        else
+            unsetenv("PLIANT_DETECT");
+        pl_sim *sim = load(0.005);
+        spin(sim, 40.0);
+        double margin;
+        nrows[k] = step_rows(sim, &cand[k], &margin);
+        const double *v;
+        ck_assert_int_eq(pl_series_get(pl_sim_timers(sim), "detection box overlaps", &v), 1);
+        ck_assert_double_eq(v[0], cand[k]);
+        double gpu;
+        ck_assert_int_ne(pl_stat_get(pl_sim_timers(sim), "detection steps on the GPU", &gpu), 0);
+        pl_sim_free(sim);
+    }
+    unsetenv("PLIANT_DETECT");
+    ck_assert_int_eq(nrows[0], 27);
+    ck_assert_int_eq(nrows[1], nrows[0]);
+    ck_assert_int_eq(nrows[2], nrows[0]);
+    ck_assert_double_eq(cand[1], cand[0]);
+    ck_assert_double_eq(cand[2], cand[0]);
+}
+END_TEST
+
+/* Any other value is bad input, named in the error (as PLIANT_DEVICE's). */
+START_TEST(test_detect_policy_unknown_is_bad_input)
+{
+    setenv("PLIANT_DETECT", "gpu", 1);
+    pl_sim *sim = load(0.005);
+    int n;
+    double *q = ct_positions(sim, "body/dofs", &n);
+    ct_system sys;
+    ct_system_make(&sys, n, H, NULL);
+    pl_rows rows;
+    pl_rows_init(&rows);
+    pl_error err;
+    ck_assert_int_eq(ct_build_rows(sim, "pipeline", &sys.sys, q, n, &rows, &err), PL_EINPUT);
+    ck_assert_msg(strstr(err.msg, "PLIANT_DETECT='gpu'") != NULL, "message: %s", err.msg);
+    pl_rows_free(&rows);
+    ct_system_free(&sys);
+    pl_sim_free(sim);
+    unsetenv("PLIANT_DETECT");
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_work");
@@ -115,6 +171,8 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_spinning_body_far_has_no_candidates);
     tcase_add_test(tc, test_spinning_body_near_counts_its_candidates);
+    tcase_add_test(tc, test_detect_policy_host_and_auto_agree);
+    tcase_add_test(tc, test_detect_policy_unknown_is_bad_input);
     suite_add_tcase(s, tc);
     return s;
 }
