@@ -119,7 +119,7 @@ static int host_pass(const coll_cand_pass *ps, coll_cand_list *out, long long *b
                 if (coll_cand_keep(ps, i, j, &k)) rc = push_key(&key, &total, &cap, k);
             }
         }
-        if (rc == PL_OK) qsort(key, (size_t)total, sizeof *key, cmp_key);
+        if (rc == PL_OK && total > 0) qsort(key, (size_t)total, sizeof *key, cmp_key);
     }
     if (rc == PL_OK) rc = lists_of_keys(key, total, coll_cand_na(ps), coll_cand_nb(ps), out);
     free(prims);
