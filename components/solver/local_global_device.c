@@ -239,6 +239,8 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->change = dalloc(g->dev, g->ops, sizeof(double), &rc, err);
+    if (g->ops->version >= 3 && g->ops->loop)
+        g->loop = dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
     if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
     if (rc) {
         pl_lg_device_ws_free(ws);
@@ -266,7 +268,7 @@ void pl_lg_device_ws_free(lg_ws *ws)
     o->sync(g->dev, &err); /* nothing may still use the buffers */
     for (int k = 0; k < 2; ++k)
         if (g->graph[k]) o->graph_free(g->dev, g->graph[k]);
-    void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change};
+    void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change, g->loop};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     pl_lg_device_residual_ws_free(g);
     if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
@@ -327,8 +329,8 @@ static int phase_end(const lg_device_ws *g, pl_ctx *ctx, int timer, pl_error *er
 
 /* One iteration queued on the device: rhs, local step, reduction to the
  * unknowns, global step, positions.  profile: time each phase (syncs). */
-static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int profile,
-                     pl_error *err)
+int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
+                           int profile, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
     const lg_device *m = &s->gpu;
@@ -371,63 +373,6 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
     return rc;
 }
 
-/* The contact solver's graph_epoch for this data (0 without one). */
-static unsigned long contact_epoch(const local_global_solver *s, pl_ctx *ctx)
-{
-    const pl_contact_solver_ops *cs =
-        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    return cs && cs->version >= 3 && cs->graph_epoch ? cs->graph_epoch(s->contact, ctx->data) : 0;
-}
-
-/* Whether a graph holding the contact solver's iterate may be replayed in
- * later steps: the solver says when it goes stale (graph_epoch).
- * PLIANT_DEVICE_GRAPH_REUSE=0 (a diagnostic) captures it every step. */
-static int rows_graph_reusable(const local_global_solver *s)
-{
-    const pl_contact_solver_ops *cs =
-        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    const char *env = getenv("PLIANT_DEVICE_GRAPH_REUSE");
-    return cs && cs->version >= 3 && cs->graph_epoch && !(env && !strcmp(env, "0"));
-}
-
-/* Iteration `it` of a step: eager, or through the captured graph.  The
- * graph is captured at the second iteration of a step when there is none
- * (or the contact solver's buffers or capacities changed since, epoch) and
- * replayed in the later iterations of this and the following steps. */
-static int run_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int it,
-                         pl_error *err)
-{
-    int profile = (g->flags & PL_DEVICE_PROFILE) != 0;
-    if (profile || !(g->flags & PL_DEVICE_GRAPHS) || it == 0)
-        return iteration(s, g, ctx, profile, err);
-    int r = g->nrows > 0;
-    unsigned long epoch = r ? contact_epoch(s, ctx) : 0;
-    if (r && g->graph[1] && epoch != g->graph_epoch) {
-        int rc = g->ops->sync(g->dev, err); /* nothing may still run it */
-        if (rc) return rc;
-        g->ops->graph_free(g->dev, g->graph[1]);
-        g->graph[1] = NULL;
-    }
-    if (!g->graph[r]) {
-        int rc = g->ops->capture_begin(g->dev, err);
-        if (rc) return rc;
-        if (r) g->graph_epoch = epoch;
-        g->captures++;
-        double total = 0.0; /* over every data of the timers */
-        pl_stat_get(ctx->timers, "device graph captures", &total);
-        pl_stat_set(ctx->timers, "device graph captures", total + 1.0);
-        rc = iteration(s, g, ctx, 0, err);
-        pl_error e2;
-        int rc2 = g->ops->capture_end(g->dev, &g->graph[r], rc ? &e2 : err);
-        if (rc || rc2) {
-            g->ops->graph_free(g->dev, g->graph[r]);
-            g->graph[r] = NULL;
-            return rc ? rc : rc2;
-        }
-    }
-    return g->ops->replay(g->dev, g->graph[r], err);
-}
-
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
@@ -447,51 +392,16 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
         g->nrows = pl_lg_begin_constraints(s, ws, ctx, err);
         if (g->nrows < 0) return -g->nrows;
     }
-    /* graphs are kept across steps: graph[0] (no rows) always, graph[1]
-     * (with the contact solver's iterate) when the solver tells when it
-     * goes stale (graph_epoch, checked before the replay); without that it
-     * is captured again every step with rows.  A change of the device's
-     * flags drops both. */
-    for (int k = 0; k < 2; ++k) {
-        int drop = flags != g->flags || (k == 1 && g->nrows > 0 && !rows_graph_reusable(s));
-        if (!drop || !g->graph[k]) continue;
-        rc = o->sync(g->dev, err);
-        if (rc) return rc;
-        o->graph_free(g->dev, g->graph[k]);
-        g->graph[k] = NULL;
-    }
-    g->flags = flags;
+    rc = pl_lg_device_graphs_begin_step(s, g, flags, err);
+    if (rc) return rc;
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
     rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
     if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
-    int done = 0, ftol = s->force_tolerance > 0 && d->nfree > 0;
+    int done = 0;
     double residual = NAN;
-    for (int it = 0; !rc && it < s->iterations; ++it) {
-        rc = run_iteration(s, g, ctx, it, err);
-        done = it + 1;
-        if (rc || !(s->tolerance > 0 || ftol || s->compute_energy) || d->nfree == 0) continue;
-        double change = 0.0;
-        if (s->tolerance > 0)
-            rc = o->copy(g->dev, &change, PL_HOST, g->change, PL_DEVICE, sizeof change, err);
-        /* the CPU's rule after every iteration: one double back (a wait) */
-        if (!rc && ftol)
-            rc = o->copy(g->dev, &residual, PL_HOST, g->residual, PL_DEVICE, sizeof residual, err);
-        if (!rc && s->compute_energy) {
-            rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
-            if (!rc)
-                pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, w, ctx->data, w->q));
-        }
-        if (rc) break;
-        if (!isfinite(change))
-            return pl_component_fail(c, err, PL_EINTERNAL,
-                                     "the solution became NaN/inf at iteration %d of step %ld",
-                                     it + 1, ctx->data->step + 1);
-        if ((s->tolerance > 0 || ftol) && (s->tolerance <= 0 || change < s->tolerance * scale) &&
-            (!ftol || residual < s->force_tolerance))
-            break;
-    }
+    if (!rc) rc = pl_lg_device_iterate(s, ws, ctx, scale, &done, &residual, err);
     if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
     if (rc) return rc;
     for (int f = 0; f < d->nfree; ++f) {
