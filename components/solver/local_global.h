@@ -27,10 +27,13 @@ typedef struct lg_device_ws {
     int flags;                 /* PL_DEVICE_GRAPHS / PL_DEVICE_PROFILE */
     double *q, *sn, *rhs;
     double *b_free, *q_free;   /* nfree x 3 */
-    double *change;            /* 1: largest position change of an iteration */
+    double *change;            /* 1: largest position change of an iteration; the first
+                                  of `scalars` doubles (residual, grad follow) */
+    size_t scalars;
     pl_device_loop *loop;      /* 1: the device loop's state (device ops version 3) */
     double *grad, *t, *residual; /* forceTolerance: gradient (n x 3), rhs_f - A_f* q
-                                  * (nfree x 3), the force residual (1) */
+                                  * (nfree x 3), the force residual (1); grad and
+                                  * residual inside change's block */
     void *graph[2];            /* one iteration captured (PL_DEVICE_GRAPHS), or the device
                                   loop over it (PL_DEVICE_LOOPS): [0] for steps
                                   without rows, [1] with the contact iterate */
@@ -89,6 +92,10 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
 void pl_lg_device_ws_free(lg_ws *ws);
 /* One time step with the iterations on the device. */
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err);
+/* y[f] = x[map[f]] - (A q)[f], f < m (A NULL: none): the service's
+ * gather_sub_csr (version 3), else gather_rows and sub_csr. */
+int pl_lg_device_gather_sub(const lg_device_ws *g, int m, const int *map, const double *x,
+                            const pl_csr *A, const double *q, double *y, pl_error *err);
 /* One iteration queued on the device (profile: sync and time each phase). */
 int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
                            int profile, pl_error *err);

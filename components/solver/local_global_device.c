@@ -13,19 +13,19 @@
  *             buffers; b_f = rhs restricted to the unknowns - A_fp q_p;
  *             q_f = solve(b_f) by the global solver on device buffers;
  *             q[free] = q_f (and the largest change, for tolerances);
- *           from the second iteration on, one captured iteration is
- *           replayed as a graph when the device asks for graphs (the first
- *           iteration of each step stays eager: terms upload their per-step
- *           data, such as ADMM duals, when first called in a step); the
- *           graph is kept for the following steps (two: one for steps
- *           without rows, one with them);
+ *           the first iteration of each step eager (terms upload their
+ *           per-step data, such as ADMM duals, when first called in a step),
+ *           the others as one device loop with the stopping rule on the
+ *           device, or one at a time through a replayed graph
+ *           (local_global_device_loop.c);
  * The model's arrays (masses, the free-vertex map, A_fp) go to the device
  * once, at reinit; each pl_data has its own vectors and graph, in the
  * solver's workspace, so several data step over one model on the device.
  *   copy:   q back to the host once, then v = (q - q_t) / h and the
  *           scatter into the states on the host.
- * q comes back every iteration only when tolerance > 0 (the change, one
- * number) or computeEnergy is set (all of q, for the energy).
+ * Without the device loop q comes back every iteration only when
+ * tolerance > 0 (the change, one number) or computeEnergy is set (all of
+ * q, for the energy).
  * Constraints (contact, cables): the rows and the contact solver's begin
  * run on the host at the start of the step (with q_t, as on the CPU path);
  * when there are rows, each iteration's global step is the contact
@@ -34,11 +34,7 @@
  * copy of q the multipliers go to the constraints on the host.  The
  * contact solver's kernels read the step's rows from a device descriptor
  * and are sized by a capacity of rows, so the graph holding its iterate
- * replays later steps' rows too; the solver's graph_epoch (contact solver
- * ops version 3) changes when its buffers move or its capacity grows, and
- * only then is the graph captured again (stat "device graph captures").
- * A contact solver without graph_epoch gets a capture every step with
- * rows, as before.  The contact solver must have a device path: a field "device"
+ * replays later steps' rows too (graph_epoch: local_global_device_loop.c).  The contact solver must have a device path: a field "device"
  * whose value is not "cpu" (NonSmoothNewtonContactSolver in a CUDA build;
  * pl_contact_solver_ops has no accepts member yet). */
 #include <math.h>
@@ -238,7 +234,11 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     g->rhs = dalloc(g->dev, g->ops, n3, &rc, err);
     g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
-    g->change = dalloc(g->dev, g->ops, sizeof(double), &rc, err);
+    /* change, then with forceTolerance the residual and the gradient (n x 3):
+     * one block, so that one memset clears them at the start of an iteration */
+    int ftol = s->force_tolerance > 0;
+    g->scalars = ftol ? 2 + (size_t)d->n * 3 : 1;
+    g->change = dalloc(g->dev, g->ops, g->scalars * sizeof(double), &rc, err);
     if (g->ops->version >= 3 && g->ops->loop)
         g->loop = dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
     if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
@@ -319,6 +319,16 @@ void pl_lg_device_free(local_global_solver *s)
     memset(g, 0, sizeof *g);
 }
 
+int pl_lg_device_gather_sub(const lg_device_ws *g, int m, const int *map, const double *x,
+                            const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    const pl_device_ops *o = g->ops;
+    if (o->version >= 3 && o->gather_sub_csr)
+        return o->gather_sub_csr(g->dev, m, map, x, A, q, y, err);
+    int rc = o->gather_rows(g->dev, m, map, x, y, err);
+    return rc || !A ? rc : o->sub_csr(g->dev, A, q, y, err);
+}
+
 /* Waits for the device when profiling, so that the phase timer is right. */
 static int phase_end(const lg_device_ws *g, pl_ctx *ctx, int timer, pl_error *err)
 {
@@ -341,7 +351,7 @@ int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx
     pl_buffer bb = {g->b_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     pl_buffer xb = {g->q_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     if (profile) pl_timer_start(ctx->timers, s->t_local);
-    int rc = o->zero(dev, g->change, sizeof(double), err);
+    int rc = o->zero(dev, g->change, g->scalars * sizeof(double), err); /* + residual, grad */
     if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
@@ -350,8 +360,8 @@ int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx
     if (profile && !rc) rc = phase_end(g, ctx, s->t_local, err);
     if (rc || d->nfree == 0) return rc;
     if (profile) pl_timer_start(ctx->timers, s->t_assembly);
-    rc = o->gather_rows(dev, d->nfree, m->free_vertex, g->rhs, g->b_free, err);
-    if (!rc && m->fp_nnz) rc = o->sub_csr(dev, &m->A_fp, g->q, g->b_free, err);
+    rc = pl_lg_device_gather_sub(g, d->nfree, m->free_vertex, g->rhs,
+                                 m->fp_nnz ? &m->A_fp : NULL, g->q, g->b_free, err);
     if (profile && !rc) rc = phase_end(g, ctx, s->t_assembly, err);
     if (rc) return rc;
     if (g->nrows > 0) {

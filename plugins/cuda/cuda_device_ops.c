@@ -176,6 +176,15 @@ static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double
                     err);
 }
 
+static int dev_gather_sub_csr(pl_component *c, int m, const int *map, const double *x,
+                              const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    return launched(c,
+                    cuda_gather_sub_csr(STREAM(c), m, map, x, A ? A->p : NULL, A ? A->j : NULL,
+                                        A ? A->x : NULL, q, y),
+                    "gather_sub_csr", err);
+}
+
 static int dev_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
                             const double *x, const double *y, const double *g, const double *t,
                             double *out, pl_error *err)
@@ -269,4 +278,5 @@ const pl_device_ops pl_cuda_device_ops = {
     .graph_free = dev_graph_free,
     .residual_max = dev_residual_max,
     .loop = dev_loop,
+    .gather_sub_csr = dev_gather_sub_csr,
 };

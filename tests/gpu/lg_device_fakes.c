@@ -109,6 +109,19 @@ static int hd_sub_csr(pl_component *c, const pl_csr *A, const double *x, double 
             for (int k = 0; k < 3; ++k) y[3 * r + k] -= A->x[p] * x[3 * A->j[p] + k];
     return PL_OK;
 }
+/* gather_rows then sub_csr, one call */
+static int hd_gather_sub_csr(pl_component *c, int m, const int *map, const double *x,
+                             const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    (void)err;
+    ((host_device *)c)->calls++;
+    for (int f = 0; f < m; ++f) {
+        memcpy(&y[3 * f], &x[3 * map[f]], 3 * sizeof(double));
+        for (int p = A ? A->p[f] : 0; A && p < A->p[f + 1]; ++p)
+            for (int k = 0; k < 3; ++k) y[3 * f + k] -= A->x[p] * q[3 * A->j[p] + k];
+    }
+    return PL_OK;
+}
 /* force_residual.c's expression, in its order: bitwise the CPU's value */
 static int hd_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
                            const double *x, const double *y, const double *g, const double *t,
@@ -183,6 +196,7 @@ static const pl_device_ops HD_OPS = {
     .graph_free = hd_graph_free,
     .residual_max = hd_residual_max,
     .loop = hd_loop,
+    .gather_sub_csr = hd_gather_sub_csr,
 };
 
 static const pl_field HD_FIELDS[] = {

@@ -17,7 +17,7 @@ extern const pl_type fake_dense_solver_type;
 
 /* Allocations HostDevice components still held when destroyed (all runs). */
 extern long fake_device_leaks;
-/* Kernel calls (scale, gather, scatter, sub) made on a HostDevice. */
+/* Kernel calls (scale, gather, scatter, sub, gather_sub, residual) made on a HostDevice. */
 long fake_device_calls(const pl_component *c);
 /* stopping rules the HostDevice's loop applied (0: no device loop ran) */
 long fake_device_rules(const pl_component *c);

@@ -292,7 +292,7 @@ typedef struct pl_animation_loop_ops {
  * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
 #if PL_ABI_TARGET_MINOR >= 5
 #include "device_loop.h"
-#define PL_DEVICE_OPS_VERSION 3 /* 2: residual_max; 3: loop */
+#define PL_DEVICE_OPS_VERSION 3 /* 2: residual_max; 3: loop, gather_sub_csr */
 #elif PL_ABI_TARGET_MINOR >= 4
 #define PL_DEVICE_OPS_VERSION 2 /* 2: residual_max */
 #else
@@ -379,6 +379,11 @@ typedef struct pl_device_ops {
     int (*loop)(pl_component *c, int (*body)(void *arg, pl_error *err), void *arg,
                 pl_device_loop *state, const double *change, const double *residual,
                 void **graph, pl_error *err);
+    /* version 3: y[f] = x[map[f]] - (A q)[f] for rows f < m (A: m rows, a CSR
+     * of device arrays, NULL: none), in one launch: gather_rows then sub_csr,
+     * with their arithmetic in their order (bitwise the same) */
+    int (*gather_sub_csr)(pl_component *c, int m, const int *map, const double *x,
+                          const pl_csr *A, const double *q, double *y, pl_error *err);
 #endif
 } pl_device_ops;
 
