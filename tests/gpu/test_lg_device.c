@@ -444,7 +444,8 @@ END_TEST
  * default: pl_device_ops.loop applies the shared stopping rule,
  * device_loop.h) and without it (one iteration at a time, the rule on the
  * host): both are the CPU's, bitwise, with the same iteration counts, for a
- * fixed count, a tolerance that stops early, forceTolerance and both; the
+ * fixed count (the loop only with PLIANT_DEVICE_LOOP=device: nothing to
+ * decide), a tolerance that stops early, forceTolerance and both; the
  * loop's rule counted every iteration (one read-back a step). */
 START_TEST(device_loop_stops_where_the_cpu_stops)
 {
@@ -465,9 +466,10 @@ START_TEST(device_loop_stops_where_the_cpu_stops)
         double lo = 99, total = 0;
         for (int j = 0; j < n; ++j) lo = fmin(lo, it_cpu[j]), total += it_cpu[j];
         if (k > 0) ck_assert_msg(n == 8 && lo < 6, "case %d: no early stop (%d, %g)", k, n, lo);
-        for (int loops = 0; loops < 2; ++loops) {
+        for (int loops = 0; loops < (k ? 2 : 3); ++loops) {
             s.device = "cuda";
             s.before = loops ? "<HostDevice name=\"dev\"/>" : "<HostDevice name=\"dev\" loops=\"0\"/>";
+            if (loops == 2) setenv("PLIANT_DEVICE_LOOP", "device", 1);
             run(r, &s, 8, &dev, &sim);
             ck_assert_int_eq(series(sim, "iterations", it_dev, 64), n);
             /* without forceTolerance the device reports no residual (computeResidual
@@ -483,7 +485,8 @@ START_TEST(device_loop_stops_where_the_cpu_stops)
                               res_cpu[j]);
             assert_same(&dev, &cpu);
             long rules = fake_device_rules(pl_sim_component(sim, "dev"));
-            ck_assert_int_eq(rules, loops ? (long)(k ? total : 8 * 6) : 0);
+            ck_assert_int_eq(rules, k ? (loops ? (long)total : 0) : (loops == 2 ? 8 * 6 : 0));
+            unsetenv("PLIANT_DEVICE_LOOP");
             pl_sim_free(sim);
         }
     }
@@ -492,9 +495,9 @@ START_TEST(device_loop_stops_where_the_cpu_stops)
 }
 END_TEST
 
-/* A NaN in the third iteration of the third step: the device loop stops
- * there (its rule's nonfinite flag) and fails the step with the CPU's
- * iteration and step, also without a tolerance. */
+/* A NaN in the third iteration of the third step: the device loop (forced
+ * for this fixed count) stops there (its rule's nonfinite flag) and fails
+ * the step with the CPU's iteration and step. */
 START_TEST(device_loop_reports_a_nan_at_the_cpus_iteration)
 {
     pl_registry *r = registry();
@@ -504,6 +507,7 @@ START_TEST(device_loop_reports_a_nan_at_the_cpus_iteration)
         setup s = plain(devices[k]);
         s.before = dev_before[k];
         s.springs_ok = "1\" nanCall=\"15"; /* 6 iterations a step: step 3, iteration 3 */
+        setenv("PLIANT_DEVICE_LOOP", "device", 1);
         char msg[1024];
         pl_sim *sim = load(r, &s, msg, sizeof msg);
         ck_assert_msg(sim != NULL, "load failed: %s", msg);
@@ -513,6 +517,7 @@ START_TEST(device_loop_reports_a_nan_at_the_cpus_iteration)
         ck_assert_msg(strstr(err.msg, "NaN/inf at iteration 3 of step 3"), "%s: %s", devices[k],
                       err.msg);
         if (k == 0) ck_assert_int_eq(fake_device_rules(pl_sim_component(sim, "dev")), 2 * 6 + 3);
+        unsetenv("PLIANT_DEVICE_LOOP");
         pl_sim_free(sim);
     }
     ck_assert_int_eq(fake_device_leaks, 0);
