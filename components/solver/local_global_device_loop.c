@@ -15,7 +15,7 @@
  * order) is applied on the device and the host launches once per step and
  * reads {iterations done, last residual, NaN flag} once at its end, instead
  * of one launch and, with a tolerance, one read-back and wait per
- * iteration.  The iterations, counts and positions are those of the other
+ * iteration (stat "device loop steps": the steps that took this way).  The iterations, counts and positions are those of the other
  * way (and of the CPU: test_lg_device, gpu_loop).  Not with computeEnergy
  * (q comes back every iteration for the energy), profile (a sync per
  * phase), no unknowns, or PLIANT_DEVICE_LOOP=host (a diagnostic: the
@@ -220,6 +220,9 @@ static int device_loop(const local_global_solver *s, lg_device_ws *g, pl_ctx *ct
     if (rc) return rc;
     *done = st.done;
     if (ftol) *residual = st.residual;
+    double total = 0.0; /* steps of every data of the timers that took this way */
+    pl_stat_get(ctx->timers, "device loop steps", &total);
+    pl_stat_set(ctx->timers, "device loop steps", total + 1.0);
     if (st.nonfinite)
         return pl_component_fail(&s->base, err, PL_EINTERNAL,
                                  "the solution became NaN/inf at iteration %d of step %ld",

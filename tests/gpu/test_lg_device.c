@@ -486,6 +486,9 @@ START_TEST(device_loop_stops_where_the_cpu_stops)
             assert_same(&dev, &cpu);
             long rules = fake_device_rules(pl_sim_component(sim, "dev"));
             ck_assert_int_eq(rules, k ? (loops ? (long)total : 0) : (loops == 2 ? 8 * 6 : 0));
+            double looped = 0; /* the stat says which way the steps took */
+            pl_stat_get(pl_sim_timers(sim), "device loop steps", &looped);
+            ck_assert_int_eq((int)looped, rules ? 8 : 0);
             unsetenv("PLIANT_DEVICE_LOOP");
             pl_sim_free(sim);
         }
