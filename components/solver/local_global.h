@@ -37,6 +37,7 @@ typedef struct lg_device_ws {
     void *graph[2];            /* one iteration captured (PL_DEVICE_GRAPHS), or the device
                                   loop over it (PL_DEVICE_LOOPS): [0] for steps
                                   without rows, [1] with the contact iterate */
+    unsigned char graph_loop[2]; /* graph[k] is a device loop (else one iteration) */
     unsigned long graph_epoch; /* the contact solver's graph_epoch at graph[1]'s capture */
     long captures;             /* graphs captured for this data (stat "device graph captures") */
     int nrows;                 /* constraint rows of the step being taken */

@@ -81,20 +81,23 @@ int pl_lg_device_graphs_begin_step(const local_global_solver *s, lg_device_ws *g
 }
 
 /* The graph slot of this step (1 with rows), emptied when the contact
- * solver's buffers moved since its capture; *epoch: the epoch now. */
-static int graph_slot(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int *slot,
-                      unsigned long *epoch, pl_error *err)
+ * solver's buffers moved since its capture or when it holds the other kind
+ * (loop: a device loop, else one iteration); *epoch: the epoch now. */
+static int graph_slot(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int loop,
+                      int *slot, unsigned long *epoch, pl_error *err)
 {
     *slot = g->nrows > 0;
     *epoch = *slot ? contact_epoch(s, ctx) : 0;
-    if (*slot && *epoch != g->graph_epoch) return drop_graph(g, 1, err);
+    if ((*slot && *epoch != g->graph_epoch) || g->graph_loop[*slot] != loop)
+        return drop_graph(g, *slot, err);
     return PL_OK;
 }
 
 /* A graph was recorded into slot: counted (stat "device graph captures"). */
-static void captured(lg_device_ws *g, pl_ctx *ctx, int slot, unsigned long epoch)
+static void captured(lg_device_ws *g, pl_ctx *ctx, int slot, int loop, unsigned long epoch)
 {
     if (slot) g->graph_epoch = epoch;
+    g->graph_loop[slot] = (unsigned char)loop;
     g->captures++;
     double total = 0.0; /* over every data of the timers */
     pl_stat_get(ctx->timers, "device graph captures", &total);
@@ -111,12 +114,12 @@ static int run_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *
         return pl_lg_device_iteration(s, g, ctx, profile, err);
     int r;
     unsigned long epoch;
-    int rc = graph_slot(s, g, ctx, &r, &epoch, err);
+    int rc = graph_slot(s, g, ctx, 0, &r, &epoch, err);
     if (rc) return rc;
     if (!g->graph[r]) {
         rc = g->ops->capture_begin(g->dev, err);
         if (rc) return rc;
-        captured(g, ctx, r, epoch);
+        captured(g, ctx, r, 0, epoch);
         rc = pl_lg_device_iteration(s, g, ctx, 0, err);
         pl_error e2;
         int rc2 = g->ops->capture_end(g->dev, &g->graph[r], rc ? &e2 : err);
@@ -209,13 +212,13 @@ static int device_loop(const local_global_solver *s, lg_device_ws *g, pl_ctx *ct
     if (!rc) rc = pl_lg_device_iteration(s, g, ctx, 0, err);
     int slot;
     unsigned long epoch;
-    if (!rc) rc = graph_slot(s, g, ctx, &slot, &epoch, err);
+    if (!rc) rc = graph_slot(s, g, ctx, 1, &slot, &epoch, err);
     if (rc) return rc;
     void *before = g->graph[slot];
     body_arg a = {s, g, ctx};
     rc = o->loop(g->dev, body, &a, g->loop, g->change, ftol ? g->residual : NULL,
                  &g->graph[slot], err);
-    if (!before && g->graph[slot]) captured(g, ctx, slot, epoch);
+    if (!before && g->graph[slot]) captured(g, ctx, slot, 1, epoch);
     if (!rc) rc = o->copy(g->dev, &st, PL_HOST, g->loop, PL_DEVICE, sizeof st, err);
     if (rc) return rc;
     *done = st.done;
