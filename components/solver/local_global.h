@@ -42,6 +42,7 @@ typedef struct lg_device_ws {
     long captures;             /* graphs captured for this data (stat "device graph captures") */
     int nrows;                 /* constraint rows of the step being taken */
     double *pinned_q, *pinned_sn; /* the host vectors page-locked (NULL: not) */
+    int prepared;              /* the global solver's device W path was prepared */
 } lg_device_ws;
 
 /* The workspace (pl_data_workspace): what a step of one data writes. */

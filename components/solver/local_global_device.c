@@ -383,6 +383,22 @@ int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx
     return rc;
 }
 
+/* With constraints, at the data's first step: the global solver's one-time
+ * setup of W on the device (delassus_device with m = 0, roles.h), which the
+ * frame of the first contact paid before (33 ms on the H100: cuBLAS's handle
+ * and lazily loaded kernels, docs/benchmarks.md).  The first step already
+ * carries the setup of everything else. */
+static int prepare_rows(const local_global_solver *s, lg_device_ws *g, pl_error *err)
+{
+    if (g->prepared || !s->nconstraints || !s->contact) return PL_OK;
+    g->prepared = 1;
+    const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
+    if (!gs || gs->version < 3 || !gs->delassus_device || !gs->accepts ||
+        !gs->accepts(s->solver, PL_DEVICE, PL_F64)) /* the contact solver's test: W on that device */
+        return PL_OK;
+    return gs->delassus_device(s->solver, NULL, 0, NULL, NULL, err);
+}
+
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
@@ -396,6 +412,7 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     pl_dynamics_predict(d, w);
     pl_lg_initial_guess(s, w);
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
+    if (!rc) rc = prepare_rows(s, g, err);
     if (rc) return rc;
     g->nrows = 0;
     if (s->nconstraints) {

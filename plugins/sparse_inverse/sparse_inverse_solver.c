@@ -211,11 +211,16 @@ static int solver_delassus_device(const pl_component *c, const pl_csr *H, int m,
 {
     const sparse_inverse_solver *s = (const sparse_inverse_solver *)c;
     if (!s->gpu) return pl_component_fail(c, err, PL_EINPUT, "delassus_device: S is not on a device");
-    pl_spinv_cuda_rows R;
-    int st = spinv_cuda_rows_build(H, m, sparse_inverse_perm(s->solver),
-                                      sparse_inverse_size(s->solver), &R, err);
-    if (st == PL_OK) st = spinv_cuda_delassus(s->gpu, &R, W, diag, s->stream, err);
-    spinv_cuda_rows_free(&R);
+    int st;
+    if (m == 0) { /* prepare only (roles.h) */
+        st = spinv_cuda_delassus_prepare(s->gpu, s->stream, err);
+    } else {
+        pl_spinv_cuda_rows R;
+        st = spinv_cuda_rows_build(H, m, sparse_inverse_perm(s->solver), sparse_inverse_size(s->solver),
+                                   &R, err);
+        if (st == PL_OK) st = spinv_cuda_delassus(s->gpu, &R, W, diag, s->stream, err);
+        spinv_cuda_rows_free(&R);
+    }
     if (st == PL_OK) return PL_OK;
     char msg[sizeof err->msg];
     snprintf(msg, sizeof msg, "%s", err->msg);

@@ -95,6 +95,12 @@ void spinv_cuda_rows_free(pl_spinv_cuda_rows *R);
 int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
                            double *diag_host, struct CUstream_st *stream, pl_error *err);
 
+/* The Delassus path's one-time setup ahead of its first call: the cuBLAS
+ * handle and the first use of its kernels (with CUDA's lazy loading, about
+ * 33 ms on the H100, which the frame of the first contact paid before).
+ * Returns when done; nothing to do the second time. */
+int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st *stream, pl_error *err);
+
 /* ---- building blocks (tests and benchmarks) -------------------------- */
 
 /* create() with the row-kernel tuning given: rows of S taken together by

@@ -25,6 +25,7 @@ struct spinv_delassus {
     size_t in_cap;
     char *h_in; /* page-locked staging of the same */
     size_t h_in_cap;
+    int prepared; /* spinv_cuda_delassus_prepare ran */
 };
 
 namespace {
@@ -120,20 +121,55 @@ extern "C" void spinv_delassus_destroy(struct spinv_delassus *d)
     free(d);
 }
 
+/* g->dl with its cuBLAS handle, made on first use. */
+static int delassus_state(pl_spinv_cuda *g, pl_error *err)
+{
+    if (g->dl) return PL_OK;
+    g->dl = (struct spinv_delassus *)calloc(1, sizeof *g->dl);
+    if (!g->dl) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    cublasStatus_t s = cublasCreate(&g->dl->blas);
+    if (s != CUBLAS_STATUS_SUCCESS) {
+        g->dl->blas = NULL;
+        return blas_fail(err, s, "cublasCreate");
+    }
+    return PL_OK;
+}
+
+/* SYRKs of this solver's inner size n and a few orders nu (cuBLAS picks its
+ * kernel by size, and each is loaded on its first use) and an empty
+ * assemble_w: what the first real calls would load is loaded here. */
+extern "C" int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st *stream, pl_error *err)
+{
+    int rc = delassus_state(g, err);
+    if (rc || g->dl->prepared) return rc;
+    struct spinv_delassus *d = g->dl;
+    cudaStream_t st = stream;
+    const int orders[] = {12, 96};
+    int n = g->n > 0 ? g->n : 1, top = orders[1];
+    rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * top, err);
+    if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)top * top, err);
+    if (rc) return rc;
+    SPINV_CK(cudaMemsetAsync(d->Y, 0, sizeof(double) * (size_t)n * top, st), "Delassus prepare: zero Y");
+    const double one = 1.0, zero = 0.0;
+    cublasStatus_t s = cublasSetStream(d->blas, st);
+    for (int k = 0; k < 2 && s == CUBLAS_STATUS_SUCCESS; ++k)
+        s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, orders[k], n, &one, d->Y, n, &zero,
+                        d->G, orders[k]);
+    if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus prepare: SYRK");
+    assemble_w<<<1, 32, 0, st>>>(0, 0, NULL, NULL, NULL, d->G, NULL, NULL);
+    SPINV_CK(cudaGetLastError(), "Delassus prepare: assemble W");
+    SPINV_CK(cudaStreamSynchronize(st), "Delassus prepare: wait");
+    d->prepared = 1;
+    return PL_OK;
+}
+
 extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
                                       double *diag_host, struct CUstream_st *stream, pl_error *err)
 {
     int n = g->n, m = R->m, nu = R->nu;
     if (m <= 0) return PL_OK;
-    if (!g->dl) {
-        g->dl = (struct spinv_delassus *)calloc(1, sizeof *g->dl);
-        if (!g->dl) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-        cublasStatus_t s = cublasCreate(&g->dl->blas);
-        if (s != CUBLAS_STATUS_SUCCESS) {
-            g->dl->blas = NULL;
-            return blas_fail(err, s, "cublasCreate");
-        }
-    }
+    int rc0 = delassus_state(g, err);
+    if (rc0) return rc0;
     struct spinv_delassus *d = g->dl;
     cudaStream_t st = stream;
     size_t nent = (size_t)R->rp[3 * m];
