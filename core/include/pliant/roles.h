@@ -163,7 +163,9 @@ typedef struct pl_global_solver_ops {
      * array W (queued on the solver's stream), for scalar rows H as in
      * apply_inverse_to_rows with 3m rows (coordinate k of row j is row
      * k m + j); its diagonal into the host array diag (returns when it is
-     * written).  PL_EINPUT when the solver is not on a device.  m = 0
+     * written).  PL_EINPUT when the solver is not on a device.  W NULL:
+     * the diagonal alone (a matrix-free W's scaling); an entry the solver
+     * cannot make there is NaN, for the caller to make otherwise.  m = 0
      * (H, W and diag NULL) only prepares: the one-time setup of the first
      * call (library handles, kernels loaded on first use) done ahead, so that
      * the step of the first contact carries none of it. */
