@@ -27,11 +27,17 @@ typedef struct lg_device_ws {
     int flags;                 /* PL_DEVICE_GRAPHS / PL_DEVICE_PROFILE */
     double *q, *sn, *rhs;
     double *b_free, *q_free;   /* nfree x 3 */
-    double *change;            /* 1: largest position change of an iteration */
+    double *change;            /* 1: largest position change of an iteration; the first
+                                  of `scalars` doubles (residual, grad follow) */
+    size_t scalars;
+    pl_device_loop *loop;      /* 1: the device loop's state (device ops version 3) */
     double *grad, *t, *residual; /* forceTolerance: gradient (n x 3), rhs_f - A_f* q
-                                  * (nfree x 3), the force residual (1) */
-    void *graph[2];            /* one iteration, captured (PL_DEVICE_GRAPHS): [0] for
-                                  steps without rows, [1] with the contact iterate */
+                                  * (nfree x 3), the force residual (1); grad and
+                                  * residual inside change's block */
+    void *graph[2];            /* one iteration captured (PL_DEVICE_GRAPHS), or the device
+                                  loop over it (PL_DEVICE_LOOPS): [0] for steps
+                                  without rows, [1] with the contact iterate */
+    unsigned char graph_loop[2]; /* graph[k] is a device loop (else one iteration) */
     unsigned long graph_epoch; /* the contact solver's graph_epoch at graph[1]'s capture */
     long captures;             /* graphs captured for this data (stat "device graph captures") */
     int nrows;                 /* constraint rows of the step being taken */
@@ -88,6 +94,21 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
 void pl_lg_device_ws_free(lg_ws *ws);
 /* One time step with the iterations on the device. */
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err);
+/* y[f] = x[map[f]] - (A q)[f], f < m (A NULL: none): the service's
+ * gather_sub_csr (version 3), else gather_rows and sub_csr. */
+int pl_lg_device_gather_sub(const lg_device_ws *g, int m, const int *map, const double *x,
+                            const pl_csr *A, const double *q, double *y, pl_error *err);
+/* One iteration queued on the device (profile: sync and time each phase). */
+int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
+                           int profile, pl_error *err);
+/* local_global_device_loop.c: the graphs kept from earlier steps dropped
+ * where they went stale (flags: the device's now); then the step's
+ * iterations, as one device loop or one at a time: *done iterations,
+ * *residual the last force residual (left as it is without forceTolerance). */
+int pl_lg_device_graphs_begin_step(const local_global_solver *s, lg_device_ws *g, int flags,
+                                   pl_error *err);
+int pl_lg_device_iterate(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, double scale,
+                         int *done, double *residual, pl_error *err);
 /* forceTolerance on the device (local_global_device_residual.c): why it
  * cannot run there appended to why (nothing when it can or is 0); the
  * model's A_f* up; its per-data vectors; the residual of the iterate g->q

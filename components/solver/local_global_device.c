@@ -13,19 +13,19 @@
  *             buffers; b_f = rhs restricted to the unknowns - A_fp q_p;
  *             q_f = solve(b_f) by the global solver on device buffers;
  *             q[free] = q_f (and the largest change, for tolerances);
- *           from the second iteration on, one captured iteration is
- *           replayed as a graph when the device asks for graphs (the first
- *           iteration of each step stays eager: terms upload their per-step
- *           data, such as ADMM duals, when first called in a step); the
- *           graph is kept for the following steps (two: one for steps
- *           without rows, one with them);
+ *           the first iteration of each step eager (terms upload their
+ *           per-step data, such as ADMM duals, when first called in a step),
+ *           the others as one device loop with the stopping rule on the
+ *           device, or one at a time through a replayed graph
+ *           (local_global_device_loop.c);
  * The model's arrays (masses, the free-vertex map, A_fp) go to the device
  * once, at reinit; each pl_data has its own vectors and graph, in the
  * solver's workspace, so several data step over one model on the device.
  *   copy:   q back to the host once, then v = (q - q_t) / h and the
  *           scatter into the states on the host.
- * q comes back every iteration only when tolerance > 0 (the change, one
- * number) or computeEnergy is set (all of q, for the energy).
+ * Without the device loop q comes back every iteration only when
+ * tolerance > 0 (the change, one number) or computeEnergy is set (all of
+ * q, for the energy).
  * Constraints (contact, cables): the rows and the contact solver's begin
  * run on the host at the start of the step (with q_t, as on the CPU path);
  * when there are rows, each iteration's global step is the contact
@@ -34,11 +34,7 @@
  * copy of q the multipliers go to the constraints on the host.  The
  * contact solver's kernels read the step's rows from a device descriptor
  * and are sized by a capacity of rows, so the graph holding its iterate
- * replays later steps' rows too; the solver's graph_epoch (contact solver
- * ops version 3) changes when its buffers move or its capacity grows, and
- * only then is the graph captured again (stat "device graph captures").
- * A contact solver without graph_epoch gets a capture every step with
- * rows, as before.  The contact solver must have a device path: a field "device"
+ * replays later steps' rows too (graph_epoch: local_global_device_loop.c).  The contact solver must have a device path: a field "device"
  * whose value is not "cpu" (NonSmoothNewtonContactSolver in a CUDA build;
  * pl_contact_solver_ops has no accepts member yet). */
 #include <math.h>
@@ -238,7 +234,13 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     g->rhs = dalloc(g->dev, g->ops, n3, &rc, err);
     g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
     g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
-    g->change = dalloc(g->dev, g->ops, sizeof(double), &rc, err);
+    /* change, then with forceTolerance the residual and the gradient (n x 3):
+     * one block, so that one memset clears them at the start of an iteration */
+    int ftol = s->force_tolerance > 0;
+    g->scalars = ftol ? 2 + (size_t)d->n * 3 : 1;
+    g->change = dalloc(g->dev, g->ops, g->scalars * sizeof(double), &rc, err);
+    if (g->ops->version >= 3 && g->ops->loop)
+        g->loop = dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
     if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
     if (rc) {
         pl_lg_device_ws_free(ws);
@@ -266,7 +268,7 @@ void pl_lg_device_ws_free(lg_ws *ws)
     o->sync(g->dev, &err); /* nothing may still use the buffers */
     for (int k = 0; k < 2; ++k)
         if (g->graph[k]) o->graph_free(g->dev, g->graph[k]);
-    void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change};
+    void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change, g->loop};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     pl_lg_device_residual_ws_free(g);
     if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
@@ -317,6 +319,16 @@ void pl_lg_device_free(local_global_solver *s)
     memset(g, 0, sizeof *g);
 }
 
+int pl_lg_device_gather_sub(const lg_device_ws *g, int m, const int *map, const double *x,
+                            const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    const pl_device_ops *o = g->ops;
+    if (o->version >= 3 && o->gather_sub_csr)
+        return o->gather_sub_csr(g->dev, m, map, x, A, q, y, err);
+    int rc = o->gather_rows(g->dev, m, map, x, y, err);
+    return rc || !A ? rc : o->sub_csr(g->dev, A, q, y, err);
+}
+
 /* Waits for the device when profiling, so that the phase timer is right. */
 static int phase_end(const lg_device_ws *g, pl_ctx *ctx, int timer, pl_error *err)
 {
@@ -327,8 +339,8 @@ static int phase_end(const lg_device_ws *g, pl_ctx *ctx, int timer, pl_error *er
 
 /* One iteration queued on the device: rhs, local step, reduction to the
  * unknowns, global step, positions.  profile: time each phase (syncs). */
-static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int profile,
-                     pl_error *err)
+int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
+                           int profile, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
     const lg_device *m = &s->gpu;
@@ -339,7 +351,7 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
     pl_buffer bb = {g->b_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     pl_buffer xb = {g->q_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     if (profile) pl_timer_start(ctx->timers, s->t_local);
-    int rc = o->zero(dev, g->change, sizeof(double), err);
+    int rc = o->zero(dev, g->change, g->scalars * sizeof(double), err); /* + residual, grad */
     if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
@@ -348,8 +360,8 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
     if (profile && !rc) rc = phase_end(g, ctx, s->t_local, err);
     if (rc || d->nfree == 0) return rc;
     if (profile) pl_timer_start(ctx->timers, s->t_assembly);
-    rc = o->gather_rows(dev, d->nfree, m->free_vertex, g->rhs, g->b_free, err);
-    if (!rc && m->fp_nnz) rc = o->sub_csr(dev, &m->A_fp, g->q, g->b_free, err);
+    rc = pl_lg_device_gather_sub(g, d->nfree, m->free_vertex, g->rhs,
+                                 m->fp_nnz ? &m->A_fp : NULL, g->q, g->b_free, err);
     if (profile && !rc) rc = phase_end(g, ctx, s->t_assembly, err);
     if (rc) return rc;
     if (g->nrows > 0) {
@@ -369,63 +381,6 @@ static int iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
     rc = pl_lg_device_residual_queue(s, g, ctx, err);
     if (profile && !rc) rc = phase_end(g, ctx, s->t_residual, err);
     return rc;
-}
-
-/* The contact solver's graph_epoch for this data (0 without one). */
-static unsigned long contact_epoch(const local_global_solver *s, pl_ctx *ctx)
-{
-    const pl_contact_solver_ops *cs =
-        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    return cs && cs->version >= 3 && cs->graph_epoch ? cs->graph_epoch(s->contact, ctx->data) : 0;
-}
-
-/* Whether a graph holding the contact solver's iterate may be replayed in
- * later steps: the solver says when it goes stale (graph_epoch).
- * PLIANT_DEVICE_GRAPH_REUSE=0 (a diagnostic) captures it every step. */
-static int rows_graph_reusable(const local_global_solver *s)
-{
-    const pl_contact_solver_ops *cs =
-        s->contact ? pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER) : NULL;
-    const char *env = getenv("PLIANT_DEVICE_GRAPH_REUSE");
-    return cs && cs->version >= 3 && cs->graph_epoch && !(env && !strcmp(env, "0"));
-}
-
-/* Iteration `it` of a step: eager, or through the captured graph.  The
- * graph is captured at the second iteration of a step when there is none
- * (or the contact solver's buffers or capacities changed since, epoch) and
- * replayed in the later iterations of this and the following steps. */
-static int run_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx, int it,
-                         pl_error *err)
-{
-    int profile = (g->flags & PL_DEVICE_PROFILE) != 0;
-    if (profile || !(g->flags & PL_DEVICE_GRAPHS) || it == 0)
-        return iteration(s, g, ctx, profile, err);
-    int r = g->nrows > 0;
-    unsigned long epoch = r ? contact_epoch(s, ctx) : 0;
-    if (r && g->graph[1] && epoch != g->graph_epoch) {
-        int rc = g->ops->sync(g->dev, err); /* nothing may still run it */
-        if (rc) return rc;
-        g->ops->graph_free(g->dev, g->graph[1]);
-        g->graph[1] = NULL;
-    }
-    if (!g->graph[r]) {
-        int rc = g->ops->capture_begin(g->dev, err);
-        if (rc) return rc;
-        if (r) g->graph_epoch = epoch;
-        g->captures++;
-        double total = 0.0; /* over every data of the timers */
-        pl_stat_get(ctx->timers, "device graph captures", &total);
-        pl_stat_set(ctx->timers, "device graph captures", total + 1.0);
-        rc = iteration(s, g, ctx, 0, err);
-        pl_error e2;
-        int rc2 = g->ops->capture_end(g->dev, &g->graph[r], rc ? &e2 : err);
-        if (rc || rc2) {
-            g->ops->graph_free(g->dev, g->graph[r]);
-            g->graph[r] = NULL;
-            return rc ? rc : rc2;
-        }
-    }
-    return g->ops->replay(g->dev, g->graph[r], err);
 }
 
 /* With constraints, at the data's first step: the global solver's one-time
@@ -464,51 +419,16 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
         g->nrows = pl_lg_begin_constraints(s, ws, ctx, err);
         if (g->nrows < 0) return -g->nrows;
     }
-    /* graphs are kept across steps: graph[0] (no rows) always, graph[1]
-     * (with the contact solver's iterate) when the solver tells when it
-     * goes stale (graph_epoch, checked before the replay); without that it
-     * is captured again every step with rows.  A change of the device's
-     * flags drops both. */
-    for (int k = 0; k < 2; ++k) {
-        int drop = flags != g->flags || (k == 1 && g->nrows > 0 && !rows_graph_reusable(s));
-        if (!drop || !g->graph[k]) continue;
-        rc = o->sync(g->dev, err);
-        if (rc) return rc;
-        o->graph_free(g->dev, g->graph[k]);
-        g->graph[k] = NULL;
-    }
-    g->flags = flags;
+    rc = pl_lg_device_graphs_begin_step(s, g, flags, err);
+    if (rc) return rc;
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
     rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
     if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
-    int done = 0, ftol = s->force_tolerance > 0 && d->nfree > 0;
+    int done = 0;
     double residual = NAN;
-    for (int it = 0; !rc && it < s->iterations; ++it) {
-        rc = run_iteration(s, g, ctx, it, err);
-        done = it + 1;
-        if (rc || !(s->tolerance > 0 || ftol || s->compute_energy) || d->nfree == 0) continue;
-        double change = 0.0;
-        if (s->tolerance > 0)
-            rc = o->copy(g->dev, &change, PL_HOST, g->change, PL_DEVICE, sizeof change, err);
-        /* the CPU's rule after every iteration: one double back (a wait) */
-        if (!rc && ftol)
-            rc = o->copy(g->dev, &residual, PL_HOST, g->residual, PL_DEVICE, sizeof residual, err);
-        if (!rc && s->compute_energy) {
-            rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
-            if (!rc)
-                pl_series_push(ctx->timers, "energy", pl_dynamics_energy(d, w, ctx->data, w->q));
-        }
-        if (rc) break;
-        if (!isfinite(change))
-            return pl_component_fail(c, err, PL_EINTERNAL,
-                                     "the solution became NaN/inf at iteration %d of step %ld",
-                                     it + 1, ctx->data->step + 1);
-        if ((s->tolerance > 0 || ftol) && (s->tolerance <= 0 || change < s->tolerance * scale) &&
-            (!ftol || residual < s->force_tolerance))
-            break;
-    }
+    if (!rc) rc = pl_lg_device_iterate(s, ws, ctx, scale, &done, &residual, err);
     if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
     if (rc) return rc;
     for (int f = 0; f < d->nfree; ++f) {

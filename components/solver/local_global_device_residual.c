@@ -14,9 +14,10 @@
  *     r_f = m (q - sn) / h^2 + grad + (rhs_f - A_f* q) / h^2,
  * which holds for any constraint (contacts, cables) and equals the CPU's
  * value to the round-off of the global solve (SparseInverseSolver: a
- * direct solve).  Per iteration: grad = 0, every local term's add_gradient
- * on device buffers (accepts(PL_DEVICE, PL_F64 | PL_ACCEPTS_GRADIENT)),
- * t = rhs_f - A_f* q (gather_rows, sub_csr; only with rows), and the
+ * direct solve).  Per iteration: every local term's add_gradient
+ * on device buffers (accepts(PL_DEVICE, PL_F64 | PL_ACCEPTS_GRADIENT))
+ * into grad (zeroed with change at the iteration's start),
+ * t = rhs_f - A_f* q (gather_sub_csr; only with rows), and the
  * device service's residual_max (version 2) into one device double; all
  * queued on the stream, so the iteration's graph holds them.  Without rows
  * the t term is left out, as the CPU leaves out H^T lambda.  The loop reads
@@ -104,20 +105,18 @@ int pl_lg_device_residual_ws_alloc(const local_global_solver *s, lg_device_ws *g
 {
     const pl_dynamics *d = &s->dyn;
     if (!(s->force_tolerance > 0)) return PL_OK;
-    size_t sizes[3] = {(size_t)d->n * 3 * sizeof(double),
-                       (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double), sizeof(double)};
-    double **bufs[3] = {&g->grad, &g->t, &g->residual};
-    for (int k = 0; k < 3; ++k)
-        if (!(*bufs[k] = g->ops->alloc(g->dev, sizes[k], err)))
-            return err->code ? err->code : PL_EINTERNAL;
+    /* the residual and the gradient follow change in its block (cleared
+     * together at the start of an iteration) */
+    g->residual = g->change + 1;
+    g->grad = g->change + 2;
+    size_t bytes = (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double);
+    if (!(g->t = g->ops->alloc(g->dev, bytes, err))) return err->code ? err->code : PL_EINTERNAL;
     return PL_OK;
 }
 
 void pl_lg_device_residual_ws_free(lg_device_ws *g)
 {
-    double *bufs[] = {g->grad, g->t, g->residual};
-    for (int k = 0; k < 3; ++k)
-        if (bufs[k]) g->ops->free(g->dev, bufs[k]);
+    if (g->t) g->ops->free(g->dev, g->t);
     g->grad = g->t = g->residual = NULL;
 }
 
@@ -129,18 +128,14 @@ int pl_lg_device_residual_queue(const local_global_solver *s, lg_device_ws *g, p
     const pl_device_ops *o = g->ops;
     pl_buffer qb = {g->q, (size_t)d->n, 3, PL_DEVICE, PL_F64};
     pl_buffer gb = {g->grad, (size_t)d->n, 3, PL_DEVICE, PL_F64};
-    int rc = o->zero(g->dev, g->residual, sizeof(double), err);
-    if (!rc) rc = o->zero(g->dev, g->grad, (size_t)d->n * 3 * sizeof(double), err);
+    int rc = PL_OK; /* residual and grad were cleared with change (pl_lg_device_iteration) */
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         rc = ops->add_gradient(d->terms[t], ctx->data, d->term_offset[t], &qb, &gb, err);
     }
     if (rc || d->nfree == 0) return rc;
     int rows = g->nrows > 0;
-    if (rows) {
-        rc = o->gather_rows(g->dev, d->nfree, m->free_vertex, g->rhs, g->t, err);
-        if (!rc) rc = o->sub_csr(g->dev, &m->A_f, g->q, g->t, err);
-    }
+    if (rows) rc = pl_lg_device_gather_sub(g, d->nfree, m->free_vertex, g->rhs, &m->A_f, g->q, g->t, err);
     if (!rc)
         rc = o->residual_max(g->dev, d->nfree, m->free_vertex, m->mass, d->h * d->h, g->q,
                              g->sn, g->grad, rows ? g->t : NULL, g->residual, err);

@@ -16,6 +16,7 @@ typedef struct cuda_device {
     int profile;          /* field profile: sync after each phase for the timers */
     struct CUstream_st *stream; /* cudaStream_t, created at init */
     int absent;           /* no device here: flags() says PL_DEVICE_ABSENT */
+    int loops;            /* the driver runs conditional graph nodes (pl_device_ops.loop) */
     /* allocations handed out by alloc and not yet freed: the GPU's state,
      * kept outside the component (a step that allocates a data's device
      * buffers must not change the model: test_cable_two_data) */

@@ -8,6 +8,7 @@
 
 #include "cuda_device.h"
 #include "cuda_kernels.h"
+#include "cuda_loop.h"
 
 #define DEV(c) ((cuda_device *)(c))
 #define STREAM(c) ((cudaStream_t)DEV(c)->stream)
@@ -58,6 +59,7 @@ int cuda_device_open(cuda_device *d, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINTERNAL, "CUDA device %d: %s", d->index,
                                   cudaGetErrorString(e));
     d->absent = 0;
+    d->loops = cuda_loop_supported();
     if (first)
         pl_log_info("%s: CUDA device %d, %s, %d SMs, %.1f GiB, compute capability %d.%d%s%s", c->name,
                     d->index, prop.name, prop.multiProcessorCount,
@@ -79,7 +81,7 @@ static int dev_flags(const pl_component *c)
     const cuda_device *d = (const cuda_device *)c;
     if (d->absent) return PL_DEVICE_ABSENT;
     if (d->profile) return PL_DEVICE_PROFILE;
-    return d->graph ? PL_DEVICE_GRAPHS : 0;
+    return d->graph ? PL_DEVICE_GRAPHS | (d->loops ? PL_DEVICE_LOOPS : 0) : 0;
 }
 
 static void *dev_stream(const pl_component *c)
@@ -174,6 +176,15 @@ static int dev_sub_csr(pl_component *c, const pl_csr *A, const double *x, double
                     err);
 }
 
+static int dev_gather_sub_csr(pl_component *c, int m, const int *map, const double *x,
+                              const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    return launched(c,
+                    cuda_gather_sub_csr(STREAM(c), m, map, x, A ? A->p : NULL, A ? A->j : NULL,
+                                        A ? A->x : NULL, q, y),
+                    "gather_sub_csr", err);
+}
+
 static int dev_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
                             const double *x, const double *y, const double *g, const double *t,
                             double *out, pl_error *err)
@@ -208,6 +219,38 @@ static int dev_replay(pl_component *c, void *graph, pl_error *err)
     return PL_OK;
 }
 
+/* The caller's body with its error, as cuda_loop_build's plain callback. */
+typedef struct loop_body {
+    int (*body)(void *arg, pl_error *err);
+    void *arg;
+    pl_error *err;
+} loop_body;
+
+static int run_body(void *p)
+{
+    loop_body *b = p;
+    return b->body(b->arg, b->err);
+}
+
+/* Builds the WHILE graph on first use (cuda_loop.cu), then launches it. */
+static int dev_loop(pl_component *c, int (*body)(void *arg, pl_error *err), void *arg,
+                    pl_device_loop *state, const double *change, const double *residual,
+                    void **graph, pl_error *err)
+{
+    if (!DEV(c)->loops)
+        return pl_component_fail(c, err, PL_EINTERNAL,
+                                 "loop: this driver has no conditional graph nodes (CUDA 12.4)");
+    if (!*graph) {
+        loop_body b = {body, arg, err};
+        int body_rc = 0;
+        int e = cuda_loop_build(STREAM(c), run_body, &b, state, change, residual, graph, &body_rc);
+        if (body_rc) return body_rc;
+        if (e) return cuda_fail(c, err, (cudaError_t)e, "loop graph");
+    }
+    CK(c, cudaGraphLaunch((cudaGraphExec_t)*graph, STREAM(c)), "cudaGraphLaunch (loop)");
+    return PL_OK;
+}
+
 static void dev_graph_free(pl_component *c, void *graph)
 {
     (void)c;
@@ -234,4 +277,6 @@ const pl_device_ops pl_cuda_device_ops = {
     .replay = dev_replay,
     .graph_free = dev_graph_free,
     .residual_max = dev_residual_max,
+    .loop = dev_loop,
+    .gather_sub_csr = dev_gather_sub_csr,
 };

@@ -85,6 +85,27 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
     y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
 }
 
+/* k_gather_rows then k_sub_csr for row f in one thread: the same values
+ * subtracted in the same order (A NULL: the gather alone). */
+__global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const double *__restrict__ x,
+                                 const int *__restrict__ p, const int *__restrict__ j,
+                                 const double *__restrict__ a, const double *__restrict__ q,
+                                 double *__restrict__ y)
+{
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (f >= m) return;
+    const double *src = x + 3 * (size_t)map[f];
+    double y0 = src[0], y1 = src[1], y2 = src[2];
+    for (int e = p ? p[f] : 0, end = p ? p[f + 1] : 0; e < end; ++e) {
+        const double v = a[e];
+        const double *xs = q + 3 * (size_t)j[e];
+        y0 -= v * xs[0];
+        y1 -= v * xs[1];
+        y2 -= v * xs[2];
+    }
+    y[3 * (size_t)f] = y0, y[3 * (size_t)f + 1] = y1, y[3 * (size_t)f + 2] = y2;
+}
+
 /* The force residual's 3-vector of unknown f (vertex v = map[f]):
  * r = s[v] (x[v] - y[v]) / h2 + g[v] + t[f] / h2 (t NULL: no last term; in
  * force_residual.c's order of operations), and
@@ -129,6 +150,15 @@ extern "C" int cuda_residual_max(struct CUstream_st *st, int m, const int *map, 
 {
     if (m <= 0) return 0;
     k_residual_max<<<blocks(m), kThreads, 0, st>>>(m, map, s, h2, x, y, g, t, out);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int cuda_gather_sub_csr(struct CUstream_st *st, int m, const int *map,
+                                   const double *x, const int *p, const int *j, const double *a,
+                                   const double *q, double *y)
+{
+    if (m <= 0) return 0;
+    k_gather_sub_csr<<<blocks(m), kThreads, 0, st>>>(m, map, x, p, j, a, q, y);
     return (int)cudaGetLastError();
 }
 

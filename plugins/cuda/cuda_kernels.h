@@ -20,6 +20,10 @@ int cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, const doubl
 /* y[r] -= A(r, j) x[j] for the entries of row r in order, r < nrows (CSR p, j, a) */
 int cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, const int *j, const double *a,
                     const double *x, double *y);
+/* y[f] = x[map[f]] - sum over row f's entries of A(f, j) q[j], in entry
+ * order, f < m (p NULL: no A) */
+int cuda_gather_sub_csr(struct CUstream_st *st, int m, const int *map, const double *x,
+                        const int *p, const int *j, const double *a, const double *q, double *y);
 /* *out = max(*out, max over f < m of |s[v] (x[v] - y[v]) / h2 + g[v] + t[f] / h2|),
  * v = map[f] (t NULL: no t term), +inf if one is not finite */
 int cuda_residual_max(struct CUstream_st *st, int m, const int *map, const double *s, double h2,

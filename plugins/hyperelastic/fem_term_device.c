@@ -154,7 +154,7 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
                                  "local step on the device, step %ld: %s", d->step, e.msg);
     if (stats[1] > 0)
-        pl_log_debug("%s: %d local solves stopped before their tolerance (last iteration)",
+        pl_log_debug("%s: %d local solves stopped before their tolerance (this step)",
                      f->base.name, stats[1]);
     /* the step's counts join the host's (fem_term.c publishes them) */
     hyper_term_ws *w = pl_data_workspace(d, &f->base);

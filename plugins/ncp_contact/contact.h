@@ -102,6 +102,11 @@ int ncpc_delassus_explicit_device(pl_ncpc_delassus *D, const pl_system *sys,
  * when the solver cannot apply its inverse to rows. */
 int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
                                  const pl_ncpc_rows *r, const double *inv_diag, pl_error *err);
+/* ncpc_delassus_matrix_free with the several-vertex rows' diagonal made on
+ * the global solver's device (its delassus_device with W NULL: the etree
+ * paths of S, no Y on the host); the same values up to round-off. */
+int ncpc_delassus_matrix_free_device(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                                     const double *inv_diag, pl_error *err);
 /* delassus=auto on the host: forms Y for all rows and counts the exact
  * work of W = Y^T Y from its pattern (D->work); W explicit (as
  * ncpc_delassus_explicit) when that is at most max_work, else matrix-free

@@ -304,6 +304,39 @@ int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
     return st;
 }
 
+int ncpc_delassus_matrix_free_device(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                                     const double *inv_diag, pl_error *err)
+{
+    int st = prepare(D, sys, r, err), m = r->m;
+    if (st != PL_OK) return st;
+    if (D->ops->version < 3 || !D->ops->delassus_device)
+        return ncpc_delassus_matrix_free(D, sys, r, inv_diag, err);
+    int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
+    double *d = malloc(sizeof(double) * (size_t)(m > 0 ? m : 1));
+    if (!multi || !d) {
+        free(multi);
+        free(d);
+        return oom(err);
+    }
+    int nmulti = split_rows(D, r, inv_diag, multi), nhost = 0;
+    pl_csr H = {0};
+    if (nmulti > 0 && (st = ncpc_rows_scalar_csr(r, D->nfree, multi, nmulti, &H, err)) == PL_OK)
+        st = D->ops->delassus_device(D->solver, &H, nmulti, NULL, d, err);
+    pl_csr_free(&H);
+    /* a NaN: a row the device does not walk (more unknowns than its walk
+     * holds); the host's Y columns make those */
+    for (int u = 0; st == PL_OK && u < nmulti; ++u) {
+        if (isnan(d[u])) multi[nhost++] = multi[u];
+        else D->diag[multi[u]] = d[u];
+    }
+    if (st == PL_OK && nhost > 0)
+        st = D->ops->apply_inverse_to_rows ? diag_from_y(D, r, multi, nhost, err)
+                                           : diag_from_products(D, multi, nhost, err);
+    free(multi);
+    free(d);
+    return st;
+}
+
 int ncpc_delassus_auto(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
                        double max_work, const double *inv_diag, pl_error *err)
 {

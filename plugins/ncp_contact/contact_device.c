@@ -18,7 +18,7 @@ enum { SERIES_CAP = 1024 };
  * an earlier step replays this step's rows (their sizes and arrays are read
  * from the device descriptor at in_dev); a change bumps epoch. */
 typedef struct graph_key {
-    const void *in_dev, *work, *W, *X, *q_free, *corr, *h_lambda, *h_lambda_all;
+    const void *in_dev, *work, *W, *X, *q_free, *corr;
     int mcap, nallcap, nfree, active, jacobian, explicit_w, fused;
     pl_ncp_cuda_params P;
 } graph_key;
@@ -29,6 +29,7 @@ struct pl_ncpc_device {
     const pl_device_ops *ops;
     struct CUstream_st *stream;
     int stale, ran;
+    int fetched;            /* the host copies below hold this step's last iteration */
     /* the step's inputs: one device arena, filled from one page-locked
      * staging buffer */
     void *in_dev, *in_host;
@@ -128,7 +129,7 @@ void ncpc_device_destroy(pl_ncpc_device *g)
 
 void ncpc_device_begin(pl_ncpc_device *g)
 {
-    if (g) g->stale = 1, g->ran = 0;
+    if (g) g->stale = 1, g->ran = 0, g->fetched = 0;
 }
 
 int ncpc_device_ran(const pl_ncpc_device *g)
@@ -136,14 +137,34 @@ int ncpc_device_ran(const pl_ncpc_device *g)
     return g && g->ran;
 }
 
-const double *ncpc_device_lambda(const pl_ncpc_device *g)
+/* The multipliers and scalars of the step's last iteration to the host,
+ * once per step: after the iterations (a device loop runs them all without
+ * the host), not after each of them. */
+static int fetch(pl_ncpc_device *g, pl_error *err)
 {
-    return g->h_lambda;
+    if (g->fetched) return PL_OK;
+    cudaStream_t s = (cudaStream_t)g->stream;
+    cudaError_t ce = cudaMemcpyAsync(g->h_lambda, g->V.lambda, sizeof(double) * (size_t)g->R.m,
+                                     cudaMemcpyDeviceToHost, s);
+    if (ce == cudaSuccess)
+        ce = cudaMemcpyAsync(g->h_lambda_all, g->V.lambda_all,
+                             sizeof(double) * (size_t)g->R.nall, cudaMemcpyDeviceToHost, s);
+    if (ce == cudaSuccess)
+        ce = cudaMemcpyAsync(g->h_sc, g->sc, sizeof *g->h_sc, cudaMemcpyDeviceToHost, s);
+    if (ce == cudaSuccess) ce = cudaStreamSynchronize(s);
+    if (ce != cudaSuccess) return cuda_fail(g, err, (int)ce, "multipliers to the host");
+    g->fetched = 1;
+    return PL_OK;
 }
 
-const double *ncpc_device_lambda_all(const pl_ncpc_device *g)
+const double *ncpc_device_lambda(pl_ncpc_device *g, pl_error *err)
 {
-    return g->h_lambda_all;
+    return fetch(g, err) ? NULL : g->h_lambda;
+}
+
+const double *ncpc_device_lambda_all(pl_ncpc_device *g, pl_error *err)
+{
+    return fetch(g, err) ? NULL : g->h_lambda_all;
 }
 
 unsigned long ncpc_device_epoch(const pl_ncpc_device *g)
@@ -317,7 +338,7 @@ static void check_key(pl_ncpc_device *g, int nfree)
     graph_key k;
     memset(&k, 0, sizeof k); /* padding too: the keys are compared bytewise */
     k.in_dev = g->in_dev, k.work = g->work, k.W = g->W, k.X = g->X, k.q_free = g->q_free;
-    k.corr = g->corr, k.h_lambda = g->h_lambda, k.h_lambda_all = g->h_lambda_all;
+    k.corr = g->corr;
     k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
     k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused;
     memcpy(&k.P, &g->P, sizeof k.P);
@@ -554,24 +575,16 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
         rc = cuda_fail(g, err, e, "correction");
     if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
     if (rc) return rc;
-    /* the multipliers follow asynchronously (page-locked: capturable), whole
-     * capacities so that a graph captured in another step copies enough */
-    cudaStream_t s = (cudaStream_t)g->stream;
-    cudaError_t ce = cudaMemcpyAsync(g->h_lambda, g->V.lambda, sizeof(double) * (size_t)g->mcap,
-                                     cudaMemcpyDeviceToHost, s);
-    if (ce == cudaSuccess)
-        ce = cudaMemcpyAsync(g->h_lambda_all, g->V.lambda_all,
-                             sizeof(double) * (size_t)g->nallcap, cudaMemcpyDeviceToHost, s);
-    if (ce == cudaSuccess)
-        ce = cudaMemcpyAsync(g->h_sc, g->sc, sizeof *g->h_sc, cudaMemcpyDeviceToHost, s);
-    if (ce != cudaSuccess) return cuda_fail(g, err, (int)ce, "multipliers to the host");
+    /* the multipliers come to the host once, after the step's last
+     * iteration (fetch) */
+    g->fetched = 0;
     return lap(g, ctx, profile, st->t_cglobal, 0, err);
 }
 
 int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
 {
     if (!g || !g->ran) return PL_OK;
-    int rc = g->ops->sync(g->dev, err);
+    int rc = fetch(g, err);
     if (rc) return rc;
     static const char *const what[] = {"", "the CR right-hand side is not finite",
                                        "the CR residual is not finite",

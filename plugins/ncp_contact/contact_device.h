@@ -61,10 +61,11 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
                            pl_buffer *q_next, pl_error *err);
 /* Whether an iterate ran on the device since the last begin. */
 int ncpc_device_ran(const pl_ncpc_device *g);
-/* The multipliers of the last iteration (m and nall values, host), valid
- * once the device's stream has been waited for (the loop's last copy). */
-const double *ncpc_device_lambda(const pl_ncpc_device *g);
-const double *ncpc_device_lambda_all(const pl_ncpc_device *g);
+/* The multipliers of the step's last iteration (m and nall values, host),
+ * copied from the device at the first call after the iterations (a wait);
+ * NULL with err set when the device failed. */
+const double *ncpc_device_lambda(pl_ncpc_device *g, pl_error *err);
+const double *ncpc_device_lambda_all(pl_ncpc_device *g, pl_error *err);
 /* A number that changes whenever a CUDA graph captured around iterate()
  * in an earlier step would no longer fit this step (device buffers moved,
  * capacities grew, rows appeared or vanished, parameters changed); the

@@ -473,7 +473,12 @@ static const double *solver_multipliers(const pl_component *c, pl_data *d, int *
     *count = w && w->active ? w->nall : 0;
     if (!*count) return NULL;
 #ifdef PLIANT_HAVE_CUDA
-    if (w->active && ncpc_device_ran(w->gpu)) return ncpc_device_lambda_all(w->gpu);
+    if (w->active && ncpc_device_ran(w->gpu)) {
+        pl_error err; /* a device failure is reported by end_step */
+        const double *l = ncpc_device_lambda_all(w->gpu, &err);
+        if (!l) *count = 0;
+        return l;
+    }
 #endif
     return w->active ? w->lambda_all : NULL;
 }
@@ -501,7 +506,9 @@ static int solver_end_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
     if (m > 0 && ncpc_device_ran(w->gpu)) {
         /* the device's multipliers (the loop has waited for its stream) */
         int rc = ncpc_device_end_step(w->gpu, ctx->timers, s->record, err);
-        memcpy(w->lambda, ncpc_device_lambda(w->gpu), sizeof(double) * (size_t)m);
+        const double *l = rc ? NULL : ncpc_device_lambda(w->gpu, err);
+        if (l) memcpy(w->lambda, l, sizeof(double) * (size_t)m);
+        else if (!rc) rc = err->code ? err->code : PL_EINTERNAL;
         ncpc_device_begin(w->gpu);
         if (rc) {
             w->active = 0;

@@ -4,6 +4,7 @@
  * buffers handed to contact_device.c. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "contact_solver.h"
 #include "pliant/util.h"
@@ -93,6 +94,14 @@ static int device_w(const ncp_contact_solver *s, ncpc_ws *w, const pl_system *sy
 #endif
 }
 
+/* PLIANT_DEVICE_WDIAG=0 keeps a matrix-free W's diagonal on the host with
+ * the loop on the device (the comparison of docs/benchmarks.md). */
+static int device_wdiag(void)
+{
+    const char *e = getenv("PLIANT_DEVICE_WDIAG");
+    return !(e && !strcmp(e, "0"));
+}
+
 int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, pl_error *err)
 {
@@ -118,6 +127,8 @@ int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
      * contacts gather: their etree paths share the top of the tree) */
     if (explicit_w)
         return ncpc_delassus_auto(&w->D, sys, &w->rows, max_build_work(s, ctx->timers), inv, err);
+    if (dev_w && device_wdiag()) /* the iterations run on the device: S is there */
+        return ncpc_delassus_matrix_free_device(&w->D, sys, &w->rows, inv, err);
     return ncpc_delassus_matrix_free(&w->D, sys, &w->rows, inv, err);
 }
 

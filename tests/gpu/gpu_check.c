@@ -13,6 +13,7 @@
  *    to the CPU sparse inverse; also a random b (float64 checked, float32
  *    reported), S x and S^T x alone, x = b in place, host copies, float32
  *    S with float64 blocks, and bitwise repeatability of the own kernels;
+ *  - W's diagonal on the device (etree walk and explicit W) vs the host's Y;
  *  - the scene (SparseInverseSolver device=cuda, precision float64 and
  *    float32) against device=cpu after 10 steps.
  * Exit status: the number of failed checks (0: all passed). */
@@ -142,6 +143,58 @@ done:
     free(x), free(yc), free(yg);
 }
 
+/* W's diagonal on the device, alone (W NULL: the etree walk) and from the
+ * explicit W (cuBLAS), against the host's |S P h^T|^2 (apply_inverse_to_rows)
+ * for 300 random rows of 4 unknowns; a row of 20 unknowns must come back NaN
+ * from the walk (the caller then makes it on the host). */
+static void check_wdiag(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double tol)
+{
+    enum { M = 300, K = 4, BIG = 20 };
+    int n = sparse_inverse_size(bar->spinv), m = M;
+    pl_csr H = {3 * m, n, malloc((3 * (size_t)m + 1) * sizeof(int)), malloc(3 * (size_t)m * BIG * sizeof(int)),
+                malloc(3 * (size_t)m * BIG * sizeof(double))};
+    double *ref = calloc(m, sizeof *ref), *dw = malloc(m * sizeof *dw), *dd = malloc(m * sizeof *dd);
+    void *W = gpu_put(NULL, (size_t)m * m, PL_F64);
+    pl_spinv_cuda_rows R = {0};
+    pl_csc Y = {0};
+    pl_error err;
+    char what[200];
+    unsigned st = 23;
+    int rc = H.p && H.j && H.x && ref && dw && dd && W ? PL_OK : PL_EINTERNAL;
+    H.p[0] = 0;
+    for (int r = 0; rc == PL_OK && r < 3 * m; ++r) { /* coordinate-major: row k m + j */
+        int j = r % m, cnt = j == m - 1 ? BIG : K, base = H.p[r];
+        int step = 1 + j % 3, span = n - 1 - (cnt - 1) * step; /* distinct, ascending */
+        int v0 = (int)(fabs(gpu_rand(&st)) * span) % (span > 0 ? span : 1);
+        for (int t = 0; t < cnt; ++t) {
+            H.j[base + t] = v0 + t * step;
+            H.x[base + t] = gpu_rand(&st);
+        }
+        H.p[r + 1] = base + cnt;
+    }
+    if (rc == PL_OK) rc = sparse_inverse_apply_inverse_to_rows(bar->spinv, &H, &Y, &err);
+    for (int c = 0; rc == PL_OK && c < 3 * m; ++c)
+        for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) ref[c % m] += Y.x[p] * Y.x[p];
+    if (rc == PL_OK)
+        rc = spinv_cuda_rows_build(&H, m, sparse_inverse_perm(bar->spinv), n, &R, &err);
+    if (rc == PL_OK) rc = spinv_cuda_delassus(g, &R, W, dw, NULL, &err);
+    if (rc == PL_OK) rc = spinv_cuda_delassus(g, &R, NULL, dd, NULL, &err);
+    if (rc != PL_OK) printf("W diagonal: %s\n", err.msg);
+    snprintf(what, sizeof what, "%dx%dx%d W diagonal %s, explicit W (cuBLAS) vs host Y", bar->nx, bar->ny,
+             bar->nz, tag);
+    gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(dw, ref, (size_t)m) : INFINITY, tol);
+    snprintf(what, sizeof what, "%dx%dx%d W diagonal %s, etree walk vs host Y (rows of %d unknowns)",
+             bar->nx, bar->ny, bar->nz, tag, K);
+    gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(dd, ref, (size_t)m - 1) : INFINITY, tol);
+    snprintf(what, sizeof what, "%dx%dx%d W diagonal %s, etree walk: a row of %d unknowns is NaN",
+             bar->nx, bar->ny, bar->nz, tag, BIG);
+    gpu_check_line(md, what, rc == PL_OK && isnan(dd[m - 1]) ? 0.0 : 1.0, 0.0);
+    spinv_cuda_rows_free(&R);
+    pl_csc_free(&Y);
+    gpu_free(W);
+    free(H.p), free(H.j), free(H.x), free(ref), free(dw), free(dd);
+}
+
 /* Extra checks: in place, host copies, repeatability. */
 static void check_own_extras(gpu_bar *bar, pl_spinv_cuda *g, const double *b, const double *xc)
 {
@@ -217,6 +270,7 @@ static void check_global(gpu_bar *bar)
             gpu_check_line(md, what, r, tol);
         check_products(bar, g, pi ? "float32" : "float64", pi ? 1e-5 : 1e-12);
         check_own_extras(bar, g, b, xc);
+        check_wdiag(bar, g, tag, pi ? 1e-5 : 1e-12);
         spinv_cuda_destroy(g);
     }
 done:

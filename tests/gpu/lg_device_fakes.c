@@ -15,13 +15,16 @@
 typedef struct host_device {
     pl_component base;
     int profile;
+    int loops;  /* field: offer loop (PL_DEVICE_LOOPS) */
     long live;  /* allocations not freed */
     long calls; /* kernel calls */
+    long rules; /* stopping rules applied by loop */
 } host_device;
 
 static int hd_flags(const pl_component *c)
 {
-    return ((const host_device *)c)->profile ? PL_DEVICE_PROFILE : 0;
+    const host_device *d = (const host_device *)c;
+    return d->profile ? PL_DEVICE_PROFILE : d->loops ? PL_DEVICE_LOOPS : 0;
 }
 static void *hd_stream(const pl_component *c)
 {
@@ -106,6 +109,19 @@ static int hd_sub_csr(pl_component *c, const pl_csr *A, const double *x, double 
             for (int k = 0; k < 3; ++k) y[3 * r + k] -= A->x[p] * x[3 * A->j[p] + k];
     return PL_OK;
 }
+/* gather_rows then sub_csr, one call */
+static int hd_gather_sub_csr(pl_component *c, int m, const int *map, const double *x,
+                             const pl_csr *A, const double *q, double *y, pl_error *err)
+{
+    (void)err;
+    ((host_device *)c)->calls++;
+    for (int f = 0; f < m; ++f) {
+        memcpy(&y[3 * f], &x[3 * map[f]], 3 * sizeof(double));
+        for (int p = A ? A->p[f] : 0; A && p < A->p[f + 1]; ++p)
+            for (int k = 0; k < 3; ++k) y[3 * f + k] -= A->x[p] * q[3 * A->j[p] + k];
+    }
+    return PL_OK;
+}
 /* force_residual.c's expression, in its order: bitwise the CPU's value */
 static int hd_residual_max(pl_component *c, int m, const int *map, const double *s, double h2,
                            const double *x, const double *y, const double *g, const double *t,
@@ -139,6 +155,21 @@ static int hd_replay(pl_component *c, void *graph, pl_error *err)
     (void)graph;
     return hd_no_graphs(c, err);
 }
+/* The loop as the contract writes it, one body call per iteration (it
+ * records nothing: *graph stays NULL), with the shared rule. */
+static int hd_loop(pl_component *c, int (*body)(void *arg, pl_error *err), void *arg,
+                   pl_device_loop *state, const double *change, const double *residual,
+                   void **graph, pl_error *err)
+{
+    host_device *d = (host_device *)c;
+    *graph = NULL;
+    for (;;) {
+        d->rules++;
+        if (!pl_device_loop_rule(state, change, residual)) return PL_OK;
+        int rc = body(arg, err);
+        if (rc) return rc;
+    }
+}
 static void hd_graph_free(pl_component *c, void *graph)
 {
     (void)c, (void)graph;
@@ -164,10 +195,13 @@ static const pl_device_ops HD_OPS = {
     .replay = hd_replay,
     .graph_free = hd_graph_free,
     .residual_max = hd_residual_max,
+    .loop = hd_loop,
+    .gather_sub_csr = hd_gather_sub_csr,
 };
 
 static const pl_field HD_FIELDS[] = {
     PL_FIELD(host_device, profile, "profile", PL_F_BOOL, "0", "sync after each phase", 0),
+    PL_FIELD(host_device, loops, "loops", PL_F_BOOL, "1", "offer loop (device ops version 3)", 0),
 };
 
 static void hd_destroy(pl_component *c)
@@ -184,7 +218,7 @@ const pl_type fake_host_device_type = {
     .help = "test device service in host memory",
     .size = sizeof(host_device),
     .fields = HD_FIELDS,
-    .nfields = 1,
+    .nfields = 2,
     .ops = {.destroy = hd_destroy},
     .roles = {[PL_ROLE_DEVICE] = &HD_OPS},
 };
@@ -194,6 +228,11 @@ long fake_device_calls(const pl_component *c)
     return ((const host_device *)c)->calls;
 }
 
+long fake_device_rules(const pl_component *c)
+{
+    return ((const host_device *)c)->rules;
+}
+
 /* ---- TestSprings: w/2 (|x_a - x_b| - L)^2 on the edges of the tetrahedra -- */
 
 typedef struct springs {
@@ -201,15 +240,21 @@ typedef struct springs {
     double stiffness;
     int device_ok; /* field: accept device buffers */
     int device_gradient; /* field: add_gradient takes device buffers */
+    int nan_call; /* field: the project call (1-based) that writes NaN (0: none) */
     pl_component *state;
     int nedges, *edges;
     double *rest;
     int nverts;
 } springs;
 
+/* project calls since the last init (for nanCall; the tests run one
+ * simulation at a time per process) */
+static long sp_project_calls;
+
 static int sp_init(pl_component *c, pl_ctx *ctx)
 {
     springs *s = (springs *)c;
+    sp_project_calls = 0;
     const pl_mesh *m = pl_util_topology(c, NULL, ctx, 1);
     if (!m) return PL_EINPUT;
     static const int E[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
@@ -268,6 +313,7 @@ static int sp_project(const pl_component *c, pl_data *d, int off, double h2, con
         return pl_component_fail(c, err, PL_EINPUT, "device buffers refused");
     const double *x = q->data;
     double *b = rhs->data, w = h2 * s->stiffness;
+    if (++sp_project_calls == s->nan_call) b[3 * off + 3 * s->edges[1]] = NAN;
     for (int k = 0; k < s->nedges; ++k) {
         int a = off + s->edges[2 * k], e = off + s->edges[2 * k + 1];
         double v[3], len = 0;
@@ -339,6 +385,8 @@ static const pl_field SP_FIELDS[] = {
     PL_FIELD(springs, device_ok, "deviceOk", PL_F_BOOL, "1", "take device buffers", 0),
     PL_FIELD(springs, device_gradient, "deviceGradient", PL_F_BOOL, "1",
              "add_gradient takes device buffers", 0),
+    PL_FIELD(springs, nan_call, "nanCall", PL_F_INT, "0",
+             "the project call (1-based, since init) that writes a NaN into rhs (0: none)", 0),
 };
 const pl_type fake_springs_type = {
     .abi_version = PL_ABI_VERSION,
@@ -346,7 +394,7 @@ const pl_type fake_springs_type = {
     .help = "test springs on tetrahedron edges",
     .size = sizeof(springs),
     .fields = SP_FIELDS,
-    .nfields = 3,
+    .nfields = 4,
     .ops = {.init = sp_init, .bind = sp_bind, .destroy = sp_destroy},
     .roles = {[PL_ROLE_LOCAL_TERM] = &SP_OPS},
 };

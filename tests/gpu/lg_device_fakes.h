@@ -1,6 +1,7 @@
 /* lg_device_fakes.h - test components for the LocalGlobalSolver's device
  * path without a GPU: a device service in host memory ("HostDevice", no
- * graphs; field profile), springs on tetrahedron edges ("TestSprings",
+ * graphs; fields profile, loops: its loop runs the body once per
+ * iteration with the shared stopping rule), springs on tetrahedron edges ("TestSprings",
  * fields stiffness, deviceOk) and a dense Cholesky global solver
  * ("TestDenseSolver", field deviceOk).  The term and the solver read and
  * write their buffers in place whatever their location says, so the device
@@ -16,7 +17,9 @@ extern const pl_type fake_dense_solver_type;
 
 /* Allocations HostDevice components still held when destroyed (all runs). */
 extern long fake_device_leaks;
-/* Kernel calls (scale, gather, scatter, sub) made on a HostDevice. */
+/* Kernel calls (scale, gather, scatter, sub, gather_sub, residual) made on a HostDevice. */
 long fake_device_calls(const pl_component *c);
+/* stopping rules the HostDevice's loop applied (0: no device loop ran) */
+long fake_device_rules(const pl_component *c);
 
 #endif

@@ -10,7 +10,9 @@
  * device vectors (in its workspace), stepped interleaved with different
  * damping and spin of the prescribed end (input fields) end bitwise where
  * each ends alone; forceTolerance stops at the CPU's iteration with the
- * CPU's residual; and every
+ * CPU's residual; the device loop (pl_device_ops.loop) stops at the CPU's
+ * iterations, with or without tolerances, and reports a NaN at the CPU's
+ * iteration; and every
  * part that cannot run on the device is refused at load with its name, or
  * (auto) sends the loop back to the CPU. */
 #include <check.h>
@@ -153,8 +155,9 @@ START_TEST(device_path_equals_cpu_path_bitwise)
     run(r, &s, 8, &dev, &sim);
     assert_moved(&cpu, &start);
     assert_same(&dev, &cpu);
-    /* the loop did run on the device service: 4 kernels per iteration, 6 iterations, 8 steps */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * 6 * 4);
+    /* the loop did run on the device service: 3 kernels per iteration (M sn,
+     * gather_sub_csr, scatter), 6 iterations, 8 steps */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * 6 * 3);
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
@@ -256,8 +259,8 @@ START_TEST(constant_force_field_on_the_device_equals_the_cpu_bitwise)
     double d = 0;
     for (size_t i = 0; i < cpu.m; ++i) d = fmax(d, fabs(cpu.x[i] - plain_cpu.x[i]));
     ck_assert_msg(d > 1e-4, "the force moved nothing (%g m)", d);
-    /* 5 kernels per iteration: M sn, the force's sub_csr, gather, sub, scatter */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 6 * 6 * 5);
+    /* 4 kernels per iteration: M sn, the force's sub_csr, gather_sub_csr, scatter */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 6 * 6 * 4);
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
@@ -312,7 +315,7 @@ START_TEST(two_data_on_the_device_interleave_exactly)
     for (size_t i = 0; i < alone[0].m; ++i) diff = fmax(diff, fabs(alone[0].x[i] - alone[1].x[i]));
     ck_assert_msg(diff > 1e-3, "the inputs changed nothing (%g m)", diff);
     /* each data made its own device vectors: both ran on the device */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 2 * 6 * 6 * 5);
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 2 * 6 * 6 * 4);
     pl_data_free(d[1]); /* its device vectors go back to the device */
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
@@ -437,6 +440,94 @@ START_TEST(force_tolerance_on_the_device_stops_where_the_cpu_stops)
 }
 END_TEST
 
+/* The iterations of a run with the device loop (HostDevice loops="1", the
+ * default: pl_device_ops.loop applies the shared stopping rule,
+ * device_loop.h) and without it (one iteration at a time, the rule on the
+ * host): both are the CPU's, bitwise, with the same iteration counts, for a
+ * fixed count (the loop only with PLIANT_DEVICE_LOOP=device: nothing to
+ * decide), a tolerance that stops early, forceTolerance and both; the
+ * loop's rule counted every iteration (one read-back a step). */
+START_TEST(device_loop_stops_where_the_cpu_stops)
+{
+    pl_registry *r = registry();
+    static result cpu, dev;
+    static double it_cpu[64], it_dev[64], res_cpu[64], res_dev[64];
+    const char *tol[] = {"0", "2e-3", "0", "2e-3"};
+    const char *scheme[] = {"", "", "forceTolerance=\"3\"", "forceTolerance=\"3\""};
+    for (int k = 0; k < 4; ++k) {
+        setup s = plain("cpu");
+        s.tolerance = tol[k];
+        s.scheme = scheme[k];
+        pl_sim *sim;
+        run(r, &s, 8, &cpu, &sim);
+        int n = series(sim, "iterations", it_cpu, 64);
+        int nr = series(sim, "force residual", res_cpu, 64);
+        pl_sim_free(sim);
+        double lo = 99, total = 0;
+        for (int j = 0; j < n; ++j) lo = fmin(lo, it_cpu[j]), total += it_cpu[j];
+        if (k > 0) ck_assert_msg(n == 8 && lo < 6, "case %d: no early stop (%d, %g)", k, n, lo);
+        for (int loops = 0; loops < (k ? 2 : 3); ++loops) {
+            s.device = "cuda";
+            s.before = loops ? "<HostDevice name=\"dev\"/>" : "<HostDevice name=\"dev\" loops=\"0\"/>";
+            if (loops == 2) setenv("PLIANT_DEVICE_LOOP", "device", 1);
+            run(r, &s, 8, &dev, &sim);
+            ck_assert_int_eq(series(sim, "iterations", it_dev, 64), n);
+            /* without forceTolerance the device reports no residual (computeResidual
+             * auto is off there): compare where both have them */
+            int nd = series(sim, "force residual", res_dev, 64);
+            if (k >= 2) ck_assert_int_eq(nd, nr);
+            if (nd < nr) nr = nd;
+            ck_assert_msg(!memcmp(it_dev, it_cpu, (size_t)n * sizeof(double)),
+                          "case %d, loops %d: iteration counts differ", k, loops);
+            for (int j = 0; j < nr; ++j)
+                ck_assert_msg(fabs(res_dev[j] - res_cpu[j]) <= 1e-12 * res_cpu[j],
+                              "case %d step %d: residual %.17g, CPU %.17g", k, j, res_dev[j],
+                              res_cpu[j]);
+            assert_same(&dev, &cpu);
+            long rules = fake_device_rules(pl_sim_component(sim, "dev"));
+            ck_assert_int_eq(rules, k ? (loops ? (long)total : 0) : (loops == 2 ? 8 * 6 : 0));
+            double looped = 0; /* the stat says which way the steps took */
+            pl_stat_get(pl_sim_timers(sim), "device loop steps", &looped);
+            ck_assert_int_eq((int)looped, rules ? 8 : 0);
+            unsetenv("PLIANT_DEVICE_LOOP");
+            pl_sim_free(sim);
+        }
+    }
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
+/* A NaN in the third iteration of the third step: the device loop (forced
+ * for this fixed count) stops there (its rule's nonfinite flag) and fails
+ * the step with the CPU's iteration and step. */
+START_TEST(device_loop_reports_a_nan_at_the_cpus_iteration)
+{
+    pl_registry *r = registry();
+    const char *dev_before[2] = {"<HostDevice name=\"dev\"/>", ""};
+    const char *devices[2] = {"cuda", "cpu"};
+    for (int k = 0; k < 2; ++k) {
+        setup s = plain(devices[k]);
+        s.before = dev_before[k];
+        s.springs_ok = "1\" nanCall=\"15"; /* 6 iterations a step: step 3, iteration 3 */
+        setenv("PLIANT_DEVICE_LOOP", "device", 1);
+        char msg[1024];
+        pl_sim *sim = load(r, &s, msg, sizeof msg);
+        ck_assert_msg(sim != NULL, "load failed: %s", msg);
+        pl_error err;
+        ck_assert_int_eq(pl_sim_step(sim, 2, &err), PL_OK);
+        ck_assert_int_ne(pl_sim_step(sim, 1, &err), PL_OK);
+        ck_assert_msg(strstr(err.msg, "NaN/inf at iteration 3 of step 3"), "%s: %s", devices[k],
+                      err.msg);
+        if (k == 0) ck_assert_int_eq(fake_device_rules(pl_sim_component(sim, "dev")), 2 * 6 + 3);
+        unsetenv("PLIANT_DEVICE_LOOP");
+        pl_sim_free(sim);
+    }
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
 int main(void)
 {
     Suite *su = suite_create("lg_device");
@@ -451,6 +542,8 @@ int main(void)
     tcase_add_test(tc, cuda_refuses_what_cannot_run_on_the_device_by_name);
     tcase_add_test(tc, stick_start_no_longer_keeps_the_loop_on_the_cpu);
     tcase_add_test(tc, force_tolerance_on_the_device_stops_where_the_cpu_stops);
+    tcase_add_test(tc, device_loop_stops_where_the_cpu_stops);
+    tcase_add_test(tc, device_loop_reports_a_nan_at_the_cpus_iteration);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);
     srunner_run_all(sr, CK_NORMAL);

@@ -44,7 +44,9 @@
  * 5.3: pl_sofa_write_vocabulary (sofa.h).
  * 5.4: pl_registry_plugin_providing, pl_regression_compare_detail and
  * pl_regression_detail, PL_HESSIAN_FIXED_ROTATION (add_hessian's psd = 2;
- * a term built for an older minor reads it as psd != 0: projected). */
+ * a term built for an older minor reads it as psd != 0: projected).
+ * 5.5: device ops version 3 (pl_device_ops.loop, PL_DEVICE_LOOPS,
+ * device_loop.h: an iteration loop kept on the device). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

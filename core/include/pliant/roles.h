@@ -163,7 +163,9 @@ typedef struct pl_global_solver_ops {
      * array W (queued on the solver's stream), for scalar rows H as in
      * apply_inverse_to_rows with 3m rows (coordinate k of row j is row
      * k m + j); its diagonal into the host array diag (returns when it is
-     * written).  PL_EINPUT when the solver is not on a device.  m = 0
+     * written).  PL_EINPUT when the solver is not on a device.  W NULL:
+     * the diagonal alone (a matrix-free W's scaling); an entry the solver
+     * cannot make there is NaN, for the caller to make otherwise.  m = 0
      * (H, W and diag NULL) only prepares: the one-time setup of the first
      * call (library handles, kernels loaded on first use) done ahead, so that
      * the step of the first contact carries none of it. */
@@ -293,14 +295,18 @@ typedef struct pl_animation_loop_ops {
  * one stream, in call order, and returns without waiting unless it says so;
  * other components queue their own kernels on stream().  The vector kernels
  * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
-#if PL_ABI_TARGET_MINOR >= 4
+#if PL_ABI_TARGET_MINOR >= 5
+#include "device_loop.h"
+#define PL_DEVICE_OPS_VERSION 3 /* 2: residual_max; 3: loop, gather_sub_csr */
+#elif PL_ABI_TARGET_MINOR >= 4
 #define PL_DEVICE_OPS_VERSION 2 /* 2: residual_max */
 #else
 #define PL_DEVICE_OPS_VERSION 1
 #endif
 enum {
     PL_DEVICE_GRAPHS = 1, /* callers should capture repeated work (an iteration) as a graph */
-    PL_DEVICE_PROFILE = 2 /* callers should sync after each phase so host timers see device time */
+    PL_DEVICE_PROFILE = 2, /* callers should sync after each phase so host timers see device time */
+    PL_DEVICE_LOOPS = 8    /* since ABI 5.5: loop (version 3) keeps a whole loop on the device */
 };
 #if PL_ABI_TARGET_MINOR >= 1
 /* Since ABI 5.1 (4.1 before 5.0): the service has no device behind it (no GPU answers, or
@@ -358,6 +364,31 @@ typedef struct pl_device_ops {
     int (*residual_max)(pl_component *c, int m, const int *map, const double *s, double h2,
                         const double *x, const double *y, const double *g, const double *t,
                         double *out, pl_error *err);
+#endif
+#if PL_ABI_TARGET_MINOR >= 5
+    /* version 3, optional (NULL, or flags() without PL_DEVICE_LOOPS: not
+     * here; callers then queue or replay one iteration at a time).  Queues
+     *     while (pl_device_loop_rule(state, change, residual)) body(arg);
+     * (device_loop.h) on the stream without a host wait: the rule runs first,
+     * for the iteration queued just before the call.  state (a
+     * pl_device_loop), change and residual are device addresses; the rule
+     * reads them on the device.  body queues one iteration's work on the
+     * stream (kernels, device-to-device copies and memsets; no host copy, no
+     * sync).  *graph caches the loop: when NULL, body is called once and
+     * recorded with the rule into a new graph left in *graph (freed by
+     * graph_free); when not, that graph is replayed and body is not called
+     * (the same buffers and scalars: what changes from step to step lives in
+     * device memory, such as *state).  A device that records nothing may
+     * leave *graph NULL and call body once per iteration.  The caller reads
+     * *state back afterwards (done, converged, nonfinite, residual). */
+    int (*loop)(pl_component *c, int (*body)(void *arg, pl_error *err), void *arg,
+                pl_device_loop *state, const double *change, const double *residual,
+                void **graph, pl_error *err);
+    /* version 3: y[f] = x[map[f]] - (A q)[f] for rows f < m (A: m rows, a CSR
+     * of device arrays, NULL: none), in one launch: gather_rows then sub_csr,
+     * with their arithmetic in their order (bitwise the same) */
+    int (*gather_sub_csr)(pl_component *c, int m, const int *map, const double *x,
+                          const pl_csr *A, const double *q, double *y, pl_error *err);
 #endif
 } pl_device_ops;
 

@@ -216,7 +216,8 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         hyper_cuda_destroy(g);
         return NULL;
     }
-    cudaError_t ce = cudaMemset(g->stats, 0, 3 * sizeof(int));
+    const int fresh[3] = {0, 0, INT_MAX}; /* as k_reset leaves them */
+    cudaError_t ce = cudaMemcpy(g->stats, fresh, sizeof fresh, cudaMemcpyHostToDevice);
     if (ce == cudaSuccess) ce = cudaMemset(g->warm, 0, (n > 0 ? n : 1) * e->d * sizeof(double));
     if (ce == cudaSuccess) ce = cudaMemset(g->acc, 0, kAcc * sizeof(unsigned long long));
     if (ce != cudaSuccess) {
@@ -247,7 +248,8 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                             "hyperelastic (cuda): the ADMM-PD local step needs its dual variables");
     cudaStream_t st = stream;
-    k_reset<<<1, 1, 0, st>>>(g->stats);
+    /* stats are reset once a step (hyper_cuda_begin_step), not here: one
+     * launch less in every iteration */
     if (g->n > 0) {
         unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
@@ -295,6 +297,8 @@ extern "C" int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *strea
     size_t nw = (size_t)(g->n > 0 ? g->n : 1) * (g->k == 4 ? 3 : 2);
     HC_CK(cudaMemsetAsync(g->warm, 0, nw * sizeof(double), stream), "warm start reset");
     HC_CK(cudaMemsetAsync(g->acc, 0, kAcc * sizeof(unsigned long long), stream), "counts reset");
+    k_reset<<<1, 1, 0, stream>>>(g->stats);
+    HC_CK(cudaGetLastError(), "stats reset");
     return PL_OK;
 }
 

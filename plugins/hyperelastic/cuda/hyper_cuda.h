@@ -49,15 +49,17 @@ int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
                           double *rhs, pl_hyper_cuda_assembly mode, struct CUstream_st *stream,
                           pl_error *err);
 
-/* Waits for the last project and reads its statistics as
- * hyper_elements_project reports them: stats[0] the largest Newton
- * iteration count, stats[1] the elements that missed their tolerance.
- * PL_EINTERNAL, naming the first element, if some F was not finite. */
+/* Waits for the step's projects and reads their statistics since
+ * hyper_cuda_begin_step (or creation): stats[0] the largest Newton
+ * iteration count, stats[1] the element solves that missed their
+ * tolerance, summed over the projects (reset once a step, not at each
+ * project: one launch less per iteration).  PL_EINTERNAL, naming the first
+ * element, if some F was not finite. */
 int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
 
 /* Queues the start of a step on stream: every element's prox starts cold
  * (the warm-start rows, n x d on the device, zeroed: as the CPU's
- * workspace, hyper_term_warm) and the counts restart. */
+ * workspace, hyper_term_warm) and the counts and statistics restart. */
 int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err);
 /* Waits for the stream and adds the counts since begin_step (solves,
  * Newton iterations, halvings, capped solves, histogram) to *out. */

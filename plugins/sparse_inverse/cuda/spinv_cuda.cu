@@ -37,7 +37,7 @@ int upload(pl_spinv_cuda *g, void **dst, const void *src, size_t bytes, pl_error
 
 /* Uploads the layout, its values in the object's precision and perm. */
 int upload_layout(pl_spinv_cuda *g, const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
-                  const int *perm, pl_error *err)
+                  const int *perm, const int *parent, pl_error *err)
 {
     size_t rs = real_size(g->prec), nval = (size_t)L->nval;
     void *host = malloc(nval * rs > 0 ? nval * rs : 1);
@@ -52,6 +52,7 @@ int upload_layout(pl_spinv_cuda *g, const pl_spinv_cuda_layout *L, const pl_spin
     if (rc != PL_OK) return rc;
     size_t n = (size_t)g->n;
     if ((rc = upload(g, (void **)&g->perm, perm, n * sizeof(int), err)) ||
+        (rc = upload(g, (void **)&g->parent, parent, n * sizeof(int), err)) ||
         (rc = upload(g, (void **)&g->meta, L->meta, n * sizeof *L->meta, err)) ||
         (rc = upload(g, (void **)&g->items_S, L->items_S, (size_t)L->nitems_S * sizeof *L->items_S, err)) ||
         (rc = upload(g, (void **)&g->items_ST, L->items_ST,
@@ -100,7 +101,7 @@ extern "C" pl_spinv_cuda *spinv_cuda_create_tuned(const pl_sparse_inverse *s,
     const pl_spinv_profile *S = s ? pl_sparse_inverse_S(s) : NULL;
     const pl_spinv_runs *ST = s ? pl_sparse_inverse_ST(s) : NULL;
     const int *perm = s ? sparse_inverse_perm(s) : NULL;
-    if (!S || !ST || !perm) {
+    if (!S || !ST || !perm || !sparse_inverse_parent(s)) {
         pl_error_set(err, PL_EINPUT, NULL, 0, NULL,
                      "sparse inverse (cuda): needs a factored solver in sparse mode");
         return NULL;
@@ -126,7 +127,7 @@ extern "C" pl_spinv_cuda *spinv_cuda_create_tuned(const pl_sparse_inverse *s,
         g->nparts_S = L.nparts_S, g->nparts_ST = L.nparts_ST;
         g->ntiles = L.ntiles, g->vc = L.vc, g->tile = L.tile, g->nval = L.nval;
         g->group = L.group, g->item_blocks = L.item_blocks;
-        rc = upload_layout(g, &L, S, perm, err);
+        rc = upload_layout(g, &L, S, perm, sparse_inverse_parent(s), err);
         spinv_cuda_layout_free(&L);
     }
     /* bytes a step must read: the values of S, twice (S a, then S^T y) */
@@ -144,7 +145,7 @@ extern "C" void spinv_cuda_destroy(pl_spinv_cuda *g)
 {
     if (!g) return;
     spinv_delassus_destroy(g->dl);
-    void *ptrs[] = {g->perm, g->val, g->meta, g->items_S, g->items_ST, g->short_rows, g->rowlist,
+    void *ptrs[] = {g->perm, g->parent, g->val, g->meta, g->items_S, g->items_ST, g->short_rows, g->rowlist,
                     g->a, g->y4, g->part_S, g->part_ST, g->cnt_S, g->cnt_ST, g->hb, g->hx};
     for (void *p : ptrs)
         if (p) cudaFree(p);

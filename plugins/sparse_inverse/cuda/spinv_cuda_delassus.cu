@@ -10,7 +10,8 @@
  * W_ij = sum_k sum_{a in row i} sum_{b in row j} h_ka h_kb G_ab with one
  * thread per entry of the lower triangle, which writes W_ij and W_ji from
  * one sum (bitwise symmetric, deterministic).  Buffers are kept between
- * steps and grow by half. */
+ * steps and grow by half.  With W NULL only the diagonal is made, along the
+ * etree paths (spinv_cuda_wdiag.cu): a matrix-free W's scaling. */
 #include "spinv_cuda_internal.h"
 
 #include <cublas_v2.h>
@@ -158,28 +159,25 @@ extern "C" int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st 
     if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus prepare: SYRK");
     assemble_w<<<1, 32, 0, st>>>(0, 0, NULL, NULL, NULL, d->G, NULL, NULL);
     SPINV_CK(cudaGetLastError(), "Delassus prepare: assemble W");
+    pl_spinv_cuda_drows none = {0, 0, NULL, NULL, NULL, NULL};
+    if ((rc = spinv_cuda_launch_wdiag(g, &none, d->G, st, err))) return rc;
     SPINV_CK(cudaStreamSynchronize(st), "Delassus prepare: wait");
     d->prepared = 1;
     return PL_OK;
 }
 
-extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
-                                      double *diag_host, struct CUstream_st *stream, pl_error *err)
+/* The rows into d->in (pos, rp, ru, rx packed, through the page-locked
+ * staging buffer), queued on st; the device pointers into *A. */
+static int upload_rows(struct spinv_delassus *d, const pl_spinv_cuda_rows *R, cudaStream_t st,
+                       pl_spinv_cuda_drows *A, pl_error *err)
 {
-    int n = g->n, m = R->m, nu = R->nu;
-    if (m <= 0) return PL_OK;
-    int rc0 = delassus_state(g, err);
-    if (rc0) return rc0;
-    struct spinv_delassus *d = g->dl;
-    cudaStream_t st = stream;
+    int m = R->m, nu = R->nu;
     size_t nent = (size_t)R->rp[3 * m];
     size_t b_pos = align16(sizeof(int) * (size_t)nu), b_rp = align16(sizeof(int) * (3 * (size_t)m + 1)),
            b_ru = align16(sizeof(int) * nent), b_rx = sizeof(double) * nent;
     size_t bytes = b_pos + b_rp + b_ru + b_rx;
     int rc = grow((void **)&d->in, &d->in_cap, bytes, err);
     if (!rc) rc = grow_host((void **)&d->h_in, &d->h_in_cap, bytes, err);
-    if (!rc) rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * (size_t)(nu > 0 ? nu : 1), err);
-    if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)nu * (size_t)(nu > 0 ? nu : 1), err);
     if (!rc) rc = grow((void **)&d->diag, &d->diag_cap, sizeof(double) * (size_t)m, err);
     if (rc) return rc;
     /* the staging buffer may still feed the last step's copy */
@@ -190,24 +188,47 @@ extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R
     memcpy(h + b_pos + b_rp, R->ru, sizeof(int) * nent);
     memcpy(h + b_pos + b_rp + b_ru, R->rx, sizeof(double) * nent);
     SPINV_CK(cudaMemcpyAsync(d->in, h, bytes, cudaMemcpyHostToDevice, st), "Delassus: upload rows");
-    const int *pos = (const int *)d->in, *rp = (const int *)(d->in + b_pos),
-              *ru = (const int *)(d->in + b_pos + b_rp);
-    const double *rx = (const double *)(d->in + b_pos + b_rp + b_ru);
-    size_t ny = (size_t)n * (size_t)nu;
-    if (g->prec == PL_F32)
-        gather_columns<float><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const float *)g->val, pos, d->Y);
-    else
-        gather_columns<double><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const double *)g->val, pos, d->Y);
-    SPINV_CK(cudaGetLastError(), "Delassus: gather columns");
-    cublasStatus_t s = cublasSetStream(d->blas, st);
-    const double one = 1.0, zero = 0.0;
-    /* G = Y^T Y, lower triangle (column-major nu x nu) */
-    if (s == CUBLAS_STATUS_SUCCESS)
-        s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, nu, n, &one, d->Y, n, &zero, d->G, nu);
-    if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus: SYRK");
-    size_t mm = (size_t)m * (size_t)m;
-    assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nu, rp, ru, rx, d->G, W, d->diag);
-    SPINV_CK(cudaGetLastError(), "Delassus: assemble W");
+    A->m = m, A->nu = nu;
+    A->pos = (const int *)d->in;
+    A->rp = (const int *)(d->in + b_pos);
+    A->ru = (const int *)(d->in + b_pos + b_rp);
+    A->rx = (const double *)(d->in + b_pos + b_rp + b_ru);
+    return PL_OK;
+}
+
+extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R, double *W,
+                                      double *diag_host, struct CUstream_st *stream, pl_error *err)
+{
+    int n = g->n, m = R->m, nu = R->nu;
+    if (m <= 0) return PL_OK;
+    int rc = delassus_state(g, err);
+    if (rc) return rc;
+    struct spinv_delassus *d = g->dl;
+    cudaStream_t st = stream;
+    pl_spinv_cuda_drows A;
+    if ((rc = upload_rows(d, R, st, &A, err))) return rc;
+    if (!W) { /* the diagonal alone, along the etree paths (spinv_cuda_wdiag.cu) */
+        if ((rc = spinv_cuda_launch_wdiag(g, &A, d->diag, st, err))) return rc;
+    } else {
+        rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * (size_t)(nu > 0 ? nu : 1), err);
+        if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)nu * (size_t)(nu > 0 ? nu : 1), err);
+        if (rc) return rc;
+        size_t ny = (size_t)n * (size_t)nu;
+        if (g->prec == PL_F32)
+            gather_columns<float><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const float *)g->val, A.pos, d->Y);
+        else
+            gather_columns<double><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const double *)g->val, A.pos, d->Y);
+        SPINV_CK(cudaGetLastError(), "Delassus: gather columns");
+        cublasStatus_t s = cublasSetStream(d->blas, st);
+        const double one = 1.0, zero = 0.0;
+        /* G = Y^T Y, lower triangle (column-major nu x nu) */
+        if (s == CUBLAS_STATUS_SUCCESS)
+            s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, nu, n, &one, d->Y, n, &zero, d->G, nu);
+        if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus: SYRK");
+        size_t mm = (size_t)m * (size_t)m;
+        assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nu, A.rp, A.ru, A.rx, d->G, W, d->diag);
+        SPINV_CK(cudaGetLastError(), "Delassus: assemble W");
+    }
     SPINV_CK(cudaMemcpyAsync(diag_host, d->diag, sizeof(double) * (size_t)m, cudaMemcpyDeviceToHost, st),
              "Delassus: diagonal down");
     SPINV_CK(cudaStreamSynchronize(st), "Delassus: wait");

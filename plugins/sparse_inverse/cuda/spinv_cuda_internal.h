@@ -28,6 +28,7 @@ struct pl_spinv_cuda {
     int64_t nval;
     /* device arrays */
     int *perm;                       /* n */
+    int *parent;                     /* n: the etree in the permuted numbering (-1: root) */
     void *val;                       /* nval padded values */
     pl_spinv_cuda_rowmeta *meta;     /* n */
     pl_spinv_cuda_item *items_S, *items_ST;
@@ -45,6 +46,18 @@ struct pl_spinv_cuda {
     pl_precision last_io;
     double bytes_device, bytes_step;
 };
+
+/* A step's rows on the device (pl_spinv_cuda_rows' arrays, uploaded). */
+typedef struct pl_spinv_cuda_drows {
+    int m, nu;
+    const int *pos, *rp, *ru;
+    const double *rx;
+} pl_spinv_cuda_drows;
+
+/* diag[j] = W_jj = sum_k |S P h_kj|^2 for the m rows of A (spinv_cuda_wdiag.cu),
+ * queued on st; m = 0 only loads the kernel. */
+int spinv_cuda_launch_wdiag(pl_spinv_cuda *g, const pl_spinv_cuda_drows *A, double *diag,
+                            cudaStream_t st, pl_error *err);
 
 /* Kernel launches (spinv_cuda_kernels.cu); io: element type of b / x. */
 int spinv_cuda_launch_permute(pl_spinv_cuda *g, const void *b, pl_precision io, const int *perm,
