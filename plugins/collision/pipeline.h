@@ -95,7 +95,7 @@ void coll_detect_ws_free(coll_ws *w);
 /* PLIANT_DETECT=auto puts a step's pairs on the device when the step before
  * had at least this many box overlaps (calibration: docs/benchmarks.md,
  * "Detection on the device: the batch"). */
-#define COLL_DEV_MIN_OVERLAPS 10000
+#define COLL_DEV_MIN_OVERLAPS 40000
 
 /* Stage 3: rows and records (w->work) of the proximities. */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
