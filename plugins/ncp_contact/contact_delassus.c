@@ -289,52 +289,56 @@ static int split_rows(pl_ncpc_delassus *D, const pl_ncpc_rows *r, const double *
     return nmulti;
 }
 
-int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
-                                 const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
+/* The rows list[0..*cnt-1]' diagonal on the global solver's device
+ * (delassus_device with W NULL); list keeps those it did not make (a NaN:
+ * more unknowns than the device's walk holds), *cnt their count. */
+static int diag_on_device(pl_ncpc_delassus *D, const pl_ncpc_rows *r, int *list, int *cnt,
+                          pl_error *err)
+{
+    double *d = malloc(sizeof(double) * (size_t)*cnt);
+    if (!d) return oom(err);
+    pl_csr H = {0};
+    int st = ncpc_rows_scalar_csr(r, D->nfree, list, *cnt, &H, err), left = 0;
+    if (st == PL_OK) st = D->ops->delassus_device(D->solver, &H, *cnt, NULL, d, err);
+    pl_csr_free(&H);
+    for (int u = 0; st == PL_OK && u < *cnt; ++u) {
+        if (isnan(d[u])) list[left++] = list[u];
+        else D->diag[list[u]] = d[u];
+    }
+    if (st == PL_OK) *cnt = left;
+    free(d);
+    return st;
+}
+
+/* Both matrix-free entries: one-vertex rows from inv_diag, the others on the
+ * device when asked and able, the rest from Y columns (or products). */
+static int matrix_free(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
+                       const double *inv_diag, int device, pl_error *err)
 {
     int st = prepare(D, sys, r, err), m = r->m;
     if (st != PL_OK) return st;
     int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
     if (!multi) return oom(err);
     int nmulti = split_rows(D, r, inv_diag, multi);
-    if (nmulti > 0)
+    if (nmulti > 0 && device && D->ops->version >= 3 && D->ops->delassus_device)
+        st = diag_on_device(D, r, multi, &nmulti, err);
+    if (st == PL_OK && nmulti > 0)
         st = D->ops->apply_inverse_to_rows ? diag_from_y(D, r, multi, nmulti, err)
                                            : diag_from_products(D, multi, nmulti, err);
     free(multi);
     return st;
 }
 
+int ncpc_delassus_matrix_free(pl_ncpc_delassus *D, const pl_system *sys,
+                                 const pl_ncpc_rows *r, const double *inv_diag, pl_error *err)
+{
+    return matrix_free(D, sys, r, inv_diag, 0, err);
+}
+
 int ncpc_delassus_matrix_free_device(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,
                                      const double *inv_diag, pl_error *err)
 {
-    int st = prepare(D, sys, r, err), m = r->m;
-    if (st != PL_OK) return st;
-    if (D->ops->version < 3 || !D->ops->delassus_device)
-        return ncpc_delassus_matrix_free(D, sys, r, inv_diag, err);
-    int *multi = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1));
-    double *d = malloc(sizeof(double) * (size_t)(m > 0 ? m : 1));
-    if (!multi || !d) {
-        free(multi);
-        free(d);
-        return oom(err);
-    }
-    int nmulti = split_rows(D, r, inv_diag, multi), nhost = 0;
-    pl_csr H = {0};
-    if (nmulti > 0 && (st = ncpc_rows_scalar_csr(r, D->nfree, multi, nmulti, &H, err)) == PL_OK)
-        st = D->ops->delassus_device(D->solver, &H, nmulti, NULL, d, err);
-    pl_csr_free(&H);
-    /* a NaN: a row the device does not walk (more unknowns than its walk
-     * holds); the host's Y columns make those */
-    for (int u = 0; st == PL_OK && u < nmulti; ++u) {
-        if (isnan(d[u])) multi[nhost++] = multi[u];
-        else D->diag[multi[u]] = d[u];
-    }
-    if (st == PL_OK && nhost > 0)
-        st = D->ops->apply_inverse_to_rows ? diag_from_y(D, r, multi, nhost, err)
-                                           : diag_from_products(D, multi, nhost, err);
-    free(multi);
-    free(d);
-    return st;
+    return matrix_free(D, sys, r, inv_diag, 1, err);
 }
 
 int ncpc_delassus_auto(pl_ncpc_delassus *D, const pl_system *sys, const pl_ncpc_rows *r,

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_device_pack.h"
 #include "ncp_cuda.h"
 
 enum { SERIES_CAP = 1024 };
@@ -228,79 +229,6 @@ static int reserve_host(pl_ncpc_device *g, void **p, size_t *cap, size_t bytes, 
     return PL_OK;
 }
 
-/* Packing of the step's inputs: each array at a 16-byte aligned offset. */
-typedef struct pack {
-    size_t at;
-    char *host; /* NULL: only measure */
-    char *dev;
-    double *lambda, *lambda_all; /* where the warm start went (device) */
-} pack;
-
-static void *put(pack *k, const void *src, size_t bytes)
-{
-    size_t at = k->at;
-    k->at = (at + bytes + 15) & ~(size_t)15;
-    if (k->host && src && bytes) memcpy(k->host + at, src, bytes);
-    return k->dev ? k->dev + at : NULL;
-}
-
-/* Lays out (and, when k->host is set, fills) the inputs; the transpose of
- * the free entries is built in tr (tptr, tent, erow: nfree + 1, nfe, nfe). */
-static void layout(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
-                   const int *kind, const int *tr, pack *k)
-{
-    const pl_ncpc_rows *r = st->rows;
-    int m = r->m, nc = st->work->nc, nfe = r->fstart[m], npe = r->pstart[m], nf = sys->nfree;
-    pl_ncp_cuda_rows *R = &g->R;
-    put(k, NULL, sizeof *R); /* the device copy of R, at offset 0 (filled by upload) */
-    R->m = m, R->nc = nc, R->nall = st->nall, R->nfree = nf;
-    R->kind = put(k, kind, sizeof(int) * (size_t)m);
-    R->contact = put(k, st->work->contact, sizeof(int) * 3 * (size_t)nc);
-    R->full = put(k, r->full, sizeof(int) * (size_t)m);
-    R->fstart = put(k, r->fstart, sizeof(int) * ((size_t)m + 1));
-    R->fcol = put(k, r->fcol, sizeof(int) * (size_t)nfe);
-    R->pstart = put(k, r->pstart, sizeof(int) * ((size_t)m + 1));
-    R->pvert = put(k, r->pvert, sizeof(int) * (size_t)npe);
-    R->tptr = put(k, tr, sizeof(int) * ((size_t)nf + 1));
-    R->tent = put(k, tr ? tr + nf + 1 : NULL, sizeof(int) * (size_t)nfe);
-    R->erow = put(k, tr ? tr + nf + 1 + nfe : NULL, sizeof(int) * (size_t)nfe);
-    R->fvert = g->jacobian ? put(k, sys->free_vertex, sizeof(int) * (size_t)nf) : NULL;
-    R->fcoef = put(k, r->fcoef, sizeof(double) * 3 * (size_t)nfe);
-    R->pcoef = put(k, r->pcoef, sizeof(double) * 3 * (size_t)npe);
-    size_t mb = sizeof(double) * (size_t)m;
-    R->offset = put(k, r->offset, mb);
-    R->mu = put(k, r->mu, mb);
-    R->compliance = put(k, r->compliance, mb);
-    R->lo = put(k, r->lo, mb);
-    R->hi = put(k, r->hi, mb);
-    R->r = put(k, st->r, mb);
-    R->wdiag = put(k, st->D->diag, mb);
-    /* the warm start, copied into the work vectors by upload */
-    k->lambda = put(k, st->lambda, mb);
-    k->lambda_all = put(k, st->lambda_all, sizeof(double) * (size_t)st->nall);
-}
-
-/* The transpose of the free entries: per unknown, its entries in
- * increasing order, and each entry's row. */
-static int *transpose(const pl_ncpc_rows *r, int nfree)
-{
-    int m = r->m, nfe = r->fstart[m];
-    int *t = calloc((size_t)nfree + 1 + 2 * (size_t)nfe + 1, sizeof(int));
-    int *next = malloc(sizeof(int) * ((size_t)nfree + 1));
-    if (!t || !next) return free(t), free(next), NULL;
-    int *tptr = t, *tent = t + nfree + 1, *erow = tent + nfe;
-    for (int e = 0; e < nfe; ++e) tptr[r->fcol[e] + 1]++;
-    for (int f = 0; f < nfree; ++f) tptr[f + 1] += tptr[f];
-    memcpy(next, tptr, sizeof(int) * (size_t)nfree);
-    for (int j = 0; j < m; ++j)
-        for (int e = r->fstart[j]; e < r->fstart[j + 1]; ++e) {
-            tent[next[r->fcol[e]]++] = e;
-            erow[e] = j;
-        }
-    free(next);
-    return t;
-}
-
 double *ncpc_device_w(pl_ncpc_device *g, int m, pl_error *err)
 {
     g->mcap = grow(g->mcap, m); /* W follows the capacity of rows */
@@ -363,21 +291,21 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     g->jacobian = !st->full_force;
     g->explicit_w = st->D->explicit_w;
     g->mcap = grow(g->mcap, m);
-    int *kind = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)), *tr = transpose(r, nf);
+    int *kind = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)), *tr = ncpc_pack_transpose(r, nf);
     if (!kind || !tr) {
         free(kind), free(tr);
         return fail(g, err, PL_EINTERNAL, "out of memory");
     }
     for (int j = 0; j < m; ++j) kind[j] = (int)r->kind[j];
-    pack k = {0, NULL, NULL, NULL, NULL};
-    layout(g, st, sys, kind, tr, &k);
+    ncpc_pack k = {0, NULL, NULL, NULL, NULL};
+    ncpc_pack_layout(&g->R, g->jacobian, st, sys, kind, tr, &k);
     size_t bytes = k.at;
     rc = reserve(g, &g->in_dev, &g->in_cap, bytes, err);
     if (!rc) rc = reserve_host(g, &g->in_host, &g->in_host_cap, bytes, err);
     if (!rc) rc = work_vectors(g, st->nall, err);
-    pack fill = {0, g->in_host, g->in_dev, NULL, NULL};
+    ncpc_pack fill = {0, g->in_host, g->in_dev, NULL, NULL};
     if (!rc) {
-        layout(g, st, sys, kind, tr, &fill);
+        ncpc_pack_layout(&g->R, g->jacobian, st, sys, kind, tr, &fill);
         memcpy(g->in_host, &g->R, sizeof g->R); /* the descriptor the kernels read */
         rc = g->ops->copy(g->dev, g->in_dev, PL_DEVICE, g->in_host, PL_HOST, bytes, err);
     }

@@ -82,18 +82,12 @@ static double stat_of(const pl_timers *t, const char *type, const char *what)
     return isnan(v) ? 0.0 : v;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
+/* The median of v, left as it is. */
 static double median(const double *v, int n)
 {
     double s[MAX_REPS];
     memcpy(s, v, (size_t)n * sizeof *s);
-    qsort(s, (size_t)n, sizeof *s, cmp_double);
-    return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    return bench_median(s, n);
 }
 
 /* xml with every "<from " made "<to " (malloc'd). */

@@ -30,6 +30,9 @@ double bench_stat(const pl_timers *t, const char *name);
 /* Median per frame [ms] of a phase by name, or NAN when it never ran. */
 double bench_phase_median_ms(const pl_timers *t, const char *name);
 
+/* The median of v[0..n-1] (n >= 1), which it sorts in place. */
+double bench_median(double *v, int n);
+
 /* The whole file as a NUL-terminated string (malloc'd), or NULL. */
 char *bench_read_file(const char *path);
 

@@ -29,17 +29,6 @@
  * whole (its global solve, Constraint solve, Correction) */
 static const char *const PHASES[] = {"Schur", "Constraint global"};
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* One step from the saved state with W on `path`: the contact phases [ms];
  * *work and *rows from the step's statistics. */
@@ -89,7 +78,7 @@ static void bins_print(bin *bins)
     for (int b = 0; b < NBINS; ++b)
         if (bins[b].n > 0)
             printf("| %g - %g | %d | %.1f | %.1f | %.2f |\n", bins[b].lo, bins[b].hi, bins[b].n,
-                   bins[b].t_exp, bins[b].t_mf, median(bins[b].ratio, bins[b].n));
+                   bins[b].t_exp, bins[b].t_mf, bench_median(bins[b].ratio, bins[b].n));
 }
 
 /* Frame k: both paths from the saved state, then the step with the scene's
@@ -111,7 +100,7 @@ static int frame(pl_sim *sim, const char *state, const char *own, double nnz_s, 
     pl_stat_set(t, "nnz(S)", nnz_s);
     if (pl_sim_step(sim, 1, &err)) return fprintf(stderr, "step: %s\n", err.msg), 1;
     if (!(rows > 0)) return 0;
-    double e = median(te, reps), m = median(tm, reps), rho = work / (65.0 * 6.0 * nnz_s);
+    double e = bench_median(te, reps), m = bench_median(tm, reps), rho = work / (65.0 * 6.0 * nnz_s);
     printf("%d %.0f %.3f %.3f %.3f %.2f\n", k + 1, rows, rho, e, m, e / m);
     if (rows * rows <= 6.0 * nnz_s) bins_add(bins, rho, e, m); /* else auto is matrix-free anyway */
     return 0;
