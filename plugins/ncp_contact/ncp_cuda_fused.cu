@@ -1,76 +1,38 @@
 /* ncp_cuda_fused.cu - the whole constraint update of Algorithm 4 in one
  * single-block kernel when W is explicit and rows are few (see ncp_cuda.h):
  * the phases of ncp_cuda_phases.cuh in turn, CR's loop with its scalars in
- * registers, the work vectors and (when it fits) W in shared memory, and
- * reductions with one barrier each. */
+ * registers, the work vectors and (when it fits) W in shared memory, the
+ * products in ncp_cuda_dense.cuh's order (k_dense's: the phased path's sums,
+ * bitwise), reductions with one barrier each. */
 #include "ncp_cuda_phases.cuh"
+#include "ncp_cuda_dense.cuh"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 namespace {
 
-/* W's place and shape: global (m x m), or shared (m x ld, ld >= m); the
- * product by rows (as k_dense), or by chunks (below). */
+/* W's place for the products: global (m x m), or shared (m x ld, ld >= m);
+ * summed in ncp_cuda_dense.cuh's order either way. */
 struct wplan {
     const double *W;
-    int shared, chunks, K, ld;
+    int ld;
 };
 
-/* chunks: thread t takes row i = t / K (K a power of two, K m <= kThreads
- * when m allows) and its columns c, c + K, ... (c = t % K); ld = K
- * (mod 16) puts the 16 doubles a half warp reads in distinct banks. */
-__device__ wplan plan_w(int m, const double *W, int chunks)
-{
-    wplan w = {W, 0, chunks, 1, m};
-    int K = 1;
-    while (K < 32 && 2 * K * m <= kThreads) K *= 2;
-    w.K = K;
-    if (chunks && K < 16) w.ld = m + (((K - m) % 16) + 16) % 16;
-    return w;
-}
-
-/* y = W x by rows: warp w takes rows w, w + kWarps, ..., each row exactly
- * as k_dense (ncp_cuda_rows.cu) does it (lanes over columns, the same
- * shuffle tree), so the sums are the phased path's, bitwise. */
-__device__ void dense_rows(int m, int ld, const double *__restrict__ W,
-                           const double *__restrict__ x, double *__restrict__ y)
-{
-    const int lane = threadIdx.x & 31;
-#pragma unroll 2
-    for (int i = threadIdx.x >> 5; i < m; i += kWarps) {
-        const double *row = W + (size_t)i * (size_t)ld;
-        double s = 0.0;
-        for (int j = lane; j < m; j += 32) s += row[j] * x[j];
-        for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
-        if (lane == 0) y[i] = s;
-    }
-}
-
-/* y = W x by chunks (see plan_w): another summation order. */
-__device__ void dense_chunks(int m, const wplan &w, const double *__restrict__ x,
-                             double *__restrict__ y)
-{
-    const int t = threadIdx.x, K = w.K, c = t & (K - 1);
-    for (int i0 = 0; i0 < m; i0 += kThreads / K) { /* uniform bound: shuffles below */
-        const int i = i0 + t / K;
-        double s = 0.0;
-        if (i < m) {
-            const double *row = w.W + (size_t)i * (size_t)w.ld;
-#pragma unroll 4
-            for (int j = c; j < m; j += K) s += row[j] * x[j];
-        }
-        for (int o = K / 2; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o, K);
-        if (c == 0 && i < m) y[i] = s;
-    }
-}
-
+/* y = W x by the block: row i by the K threads i K ... i K + K - 1 (K =
+ * ncp_dense_width(m)), kThreads / K rows at a time.  For W in shared
+ * memory, ld = K (mod 16) puts the 16 doubles a half warp reads in
+ * distinct banks. */
 __device__ void product(int m, const wplan &w, const double *x, double *y)
 {
-    if (w.shared && w.chunks)
-        dense_chunks(m, w, x, y);
-    else
-        dense_rows(m, w.ld, w.W, x, y);
+    const int K = ncp_dense_width(m), c = threadIdx.x & (K - 1);
+    for (int i0 = 0; i0 < m; i0 += kThreads / K) { /* uniform bound: shuffles inside */
+        const int i = i0 + threadIdx.x / K, ok = i < m;
+        const double s = ncp_dense_row(w.W + (ok ? (size_t)i * (size_t)w.ld : 0), x, ok ? m : 0,
+                                       c, K);
+        if (ok && c == 0) y[i] = s;
+    }
 }
 
 /* CR's loop after phase D (phases E and F of ncp_cuda.h with the product
@@ -144,38 +106,53 @@ constexpr int kStaged = 0 NCP_STAGED(NCP_ONE);
 
 /* Points V's m-row vectors (and sc) at shared memory `dyn` (smem bytes)
  * and copies them in, W too when it fits after them; returns W's plan.
- * Without room the vectors stay global (the update is the same). */
+ * Without room the vectors stay global (the update is the same).  Loads
+ * are batched (several in flight a thread) before their stores. */
 __device__ wplan stage_in(int m, pl_ncp_cuda_vecs &V, pl_ncp_cuda_scalars *scs, double *dyn,
-                          int smem, const double *W, int chunks)
+                          int smem, const double *__restrict__ W)
 {
-    wplan w = plan_w(m, W, chunks);
+    const int K = ncp_dense_width(m), t = threadIdx.x;
+    const int ld = K >= 16 ? m : m + (((K - m) % 16) + 16) % 16;
     const size_t vec = sizeof(double) * (size_t)m * kStaged + sizeof(int) * (size_t)(m + 1);
-    const size_t wbytes = sizeof(double) * (size_t)m * (size_t)w.ld;
-    if (vec > (size_t)smem) {
-        w.ld = m; /* W global */
-        return w;
-    }
-    const int t = threadIdx.x;
+    const size_t wbytes = sizeof(double) * (size_t)m * (size_t)ld;
+    wplan w = {W, m};
+    if (vec > (size_t)smem) return w;
     double *p = dyn;
     if (vec + wbytes <= (size_t)smem) { /* W first: the vectors after it */
-        double *Ws = p;
-        for (int k = t; k < m * m; k += kThreads) {
-            const int i = k / m;
-            Ws[(size_t)i * (size_t)w.ld + (k - i * m)] = W[k];
+        constexpr int kBatch = 8;
+        const int mm = m * m;
+        for (int k0 = 0; k0 < mm; k0 += kBatch * kThreads) {
+            double v[kBatch];
+#pragma unroll
+            for (int u = 0; u < kBatch; ++u) {
+                const int k = k0 + u * kThreads + t;
+                v[u] = k < mm ? W[k] : 0.0;
+            }
+#pragma unroll
+            for (int u = 0; u < kBatch; ++u) {
+                const int k = k0 + u * kThreads + t, i = k / m;
+                if (k < mm) p[(size_t)i * (size_t)ld + (k - i * m)] = v[u];
+            }
         }
-        p += (size_t)m * (size_t)w.ld;
-        w.W = Ws, w.shared = 1;
-    } else {
-        w.ld = m;
+        w.W = p, w.ld = ld;
+        p += (size_t)m * (size_t)ld;
     }
-#define NCP_IN(f)                                                \
-    for (int j = t; j < m; j += kThreads) p[j] = V.f[j];         \
-    V.f = p, p += m;
-    NCP_STAGED(NCP_IN)
-#undef NCP_IN
-    int *ic = (int *)p;
-    for (int j = t; j < m; j += kThreads) ic[j] = V.is_clamped[j];
-    V.is_clamped = ic;
+    for (int j = t; j < m; j += kThreads) {
+        double v[kStaged];
+        int k = 0;
+#define NCP_LOAD(f) v[k++] = V.f[j];
+        NCP_STAGED(NCP_LOAD)
+#undef NCP_LOAD
+        const int ic = V.is_clamped[j];
+#pragma unroll
+        for (int u = 0; u < kStaged; ++u) p[(size_t)u * (size_t)m + j] = v[u];
+        ((int *)(p + (size_t)kStaged * (size_t)m))[j] = ic;
+    }
+    int k = 0;
+#define NCP_POINT(f) V.f = p + (size_t)(k++) * (size_t)m;
+    NCP_STAGED(NCP_POINT)
+#undef NCP_POINT
+    V.is_clamped = (int *)(p + (size_t)kStaged * (size_t)m);
     if (t == 0) *scs = *V.sc;
     V.sc = scs;
     return w;
@@ -194,28 +171,58 @@ __device__ void stage_out(int m, const pl_ncp_cuda_vecs &V, const pl_ncp_cuda_ve
     if (t == 0) *G.sc = *V.sc;
 }
 
+/* Diagnostic (PLIANT_NCP_FUSED_PROFILE=N): thread 0 notes the SM clock
+ * after each section and prints the cycles of launches N to N + 19. */
+__device__ int prof_launches;
+
+struct prof {
+    int on, n;
+    long long t[12];
+    __device__ void mark()
+    {
+        if (on && threadIdx.x == 0 && n < 12) t[n++] = clock64();
+    }
+};
+
+__device__ void prof_print(const prof &pf, int skip, int m, int its)
+{
+    if (!pf.on || threadIdx.x != 0) return;
+    const int k = atomicAdd(&prof_launches, 1);
+    if (k < skip || k >= skip + 20 || pf.n < 12) return;
+    const long long *t = pf.t;
+    printf("fused update %d: m %d, CR products %d; cycles: stage in %lld, linearise %lld, "
+           "A %lld, B %lld, C %lld, D %lld, CR loop %lld, G %lld, line search products %lld, "
+           "update %lld, stage out %lld, total %lld\n",
+           k, m, its, t[1] - t[0], t[2] - t[1], t[3] - t[2], t[4] - t[3], t[5] - t[4],
+           t[6] - t[5], t[7] - t[6], t[8] - t[7], t[9] - t[8], t[10] - t[9], t[11] - t[10],
+           t[11] - t[0]);
+}
+
 /* The whole constraint update in one block, W explicit: the sequence of
  * contact_device.c's constraint_update (phases and W products), each
- * phase as k_phase runs it, with a barrier where the phased path ends a
- * kernel; CR's loop as cr_loop.  The m-row vectors live in shared memory
- * for the update (copied in and out), and W too when it fits (`smem`
- * bytes of dynamic shared memory); otherwise each product reads W from
- * global memory as k_dense does.  CR's loop stops once CR is done (the
- * product after it only writes tmp2, which the next phase after CR
- * overwrites before use). */
+ * phase as k_phase runs it and each product as k_dense sums it, with a
+ * barrier where the phased path ends a kernel; CR's loop as cr_loop.  The
+ * m-row vectors live in shared memory for the update (copied in and out),
+ * and W too when it fits (`smem` bytes of dynamic shared memory);
+ * otherwise the products read W in global memory.  CR's loop stops once
+ * CR is done (the product after it only writes tmp2, which the next phase
+ * after CR overwrites before use). */
 __global__ void __launch_bounds__(kThreads)
     k_update(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs G, pl_ncp_cuda_params P,
-             const double *__restrict__ W, int jacobian, int smem, int chunks)
+             const double *__restrict__ W, int jacobian, int smem, int profile)
 {
     extern __shared__ double dyn[];
     __shared__ double sh[2 * kWarps];
     __shared__ pl_ncp_cuda_scalars scs;
     red rd = {sh, 0};
+    prof pf = {profile > 0, 0, {0}};
+    pf.mark();
     const pl_ncp_cuda_rows R = *Rp;
     const int m = R.m;
     pl_ncp_cuda_vecs V = G;
-    const wplan w = stage_in(m, V, &scs, dyn, smem, W, chunks);
+    const wplan w = stage_in(m, V, &scs, dyn, smem, W);
     __syncthreads();
+    pf.mark();
 #define PHASE(p)                             \
     do {                                     \
         run_phase((p), R, V, P, 0, rd);      \
@@ -230,16 +237,23 @@ __global__ void __launch_bounds__(kThreads)
         PRODUCT(V.lambda);
         PHASE(PL_NCP_PHASE_LIN);
     }
+    pf.mark();
     PHASE(PL_NCP_PHASE_A);
+    pf.mark();
     PRODUCT(V.tmp);
     PHASE(PL_NCP_PHASE_B);
+    pf.mark();
     PRODUCT(V.tmp);
     PHASE(PL_NCP_PHASE_C);
+    pf.mark();
     PRODUCT(V.tmp);
     PHASE(PL_NCP_PHASE_D);
+    pf.mark();
     cr_loop(R, V, P, w, rd);
     __syncthreads();
+    pf.mark();
     PHASE(PL_NCP_PHASE_G);
+    pf.mark();
     if (P.line_search) {
         if (jacobian) {
             PHASE(PL_NCP_PHASE_LAMBDA);
@@ -249,25 +263,33 @@ __global__ void __launch_bounds__(kThreads)
         PHASE(PL_NCP_PHASE_DLAMBDA);
         PRODUCT(V.force);
     }
+    pf.mark();
     PHASE(PL_NCP_PHASE_UPDATE);
+    pf.mark();
 #undef PHASE
 #undef PRODUCT
+    const int its = V.sc->its;
     stage_out(m, V, G);
+    __syncthreads();
+    pf.mark();
+    prof_print(pf, profile - 1, m, its);
 }
 
 /* Dynamic shared memory of k_update: the device's opt-in maximum per block
  * less the kernel's static part, set once (-1: not yet; 0: none).
- * PLIANT_NCP_FUSED_STAGE (a diagnostic): 0 keeps the vectors and W in
- * global memory, chunks takes W's product by chunks. */
-int fused_smem = -1, fused_chunks = 0;
+ * Diagnostics: PLIANT_NCP_FUSED_STAGE=0 keeps the vectors and W in global
+ * memory; PLIANT_NCP_FUSED_PROFILE=N prints the cycles of each section of
+ * launches N to N + 19 (printf, shown when the host next waits). */
+int fused_smem = -1, fused_profile = 0;
 
 int fused_setup(void)
 {
     if (fused_smem >= 0) return fused_smem;
-    const char *env = getenv("PLIANT_NCP_FUSED_STAGE");
+    const char *env = getenv("PLIANT_NCP_FUSED_STAGE"), *pe = getenv("PLIANT_NCP_FUSED_PROFILE");
     int dev = 0, optin = 0, bytes = 0;
     cudaFuncAttributes fa;
-    fused_chunks = env && !strcmp(env, "chunks");
+    fused_profile = pe ? 1 + atoi(pe) : 0;
+    if (fused_profile < 0) fused_profile = 0;
     if (!(env && !strcmp(env, "0"))) {
         if (cudaGetDevice(&dev) == cudaSuccess &&
             cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, dev) ==
@@ -291,6 +313,6 @@ extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_r
                                      const double *W, int jacobian)
 {
     const int smem = fused_setup();
-    k_update<<<1, kThreads, (size_t)smem, st>>>(R, *V, *P, W, jacobian, smem, fused_chunks);
+    k_update<<<1, kThreads, (size_t)smem, st>>>(R, *V, *P, W, jacobian, smem, fused_profile);
     return (int)cudaGetLastError();
 }

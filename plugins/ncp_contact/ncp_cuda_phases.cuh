@@ -25,7 +25,7 @@ constexpr int kThreads = 512, kWarps = kThreads / 32;
 
 /* A block's reductions: each warp reduces by a fixed shuffle tree, its
  * lane 0 writes the warp's value, one barrier, then every thread combines
- * the kWarps values in warp order (deterministic, no atomics).  The
+ * the kWarps values by a fixed pairwise tree (deterministic, no atomics).  The
  * buffers alternate: a reduction writes the one that the reduction before
  * the previous read, and every reader of that one has passed the previous
  * reduction's barrier since, so one barrier a reduction suffices.  All
@@ -47,9 +47,14 @@ __device__ double block_reduce(double v, int max, red &rd)
     rd.k += 1;
     if (lane == 0) b[w] = v;
     __syncthreads();
-    double r = b[0];
-    for (int i = 1; i < kWarps; ++i) r = max ? fmax(r, b[i]) : r + b[i];
-    return r;
+    double r[kWarps]; /* the warps' values by a fixed pairwise tree */
+#pragma unroll
+    for (int i = 0; i < kWarps; ++i) r[i] = b[i];
+#pragma unroll
+    for (int s = 1; s < kWarps; s *= 2)
+#pragma unroll
+        for (int i = 0; i < kWarps; i += 2 * s) r[i] = max ? fmax(r[i], r[i + s]) : r[i] + r[i + s];
+    return r[0];
 }
 
 __device__ double dot(int m, const double *a, const double *b, red &rd)

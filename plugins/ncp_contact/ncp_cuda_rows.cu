@@ -3,10 +3,12 @@
  * over the transposed entries (the CPU's scatter adds rows in increasing
  * order; here each unknown sums its rows in that same order, so no atomics
  * and the same sums), H X, and the dense W x of the explicit Delassus
- * operator. */
+ * operator (in ncp_cuda_dense.cuh's order). */
 #include "ncp_cuda.h"
 
 #include <cuda_runtime.h>
+
+#include "ncp_cuda_dense.cuh"
 
 namespace {
 
@@ -78,18 +80,18 @@ __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
 
 /* A warp per row; lanes take columns lane, lane + 32, ... and a fixed
  * shuffle tree sums them (deterministic). */
+/* y = W x, row i by K threads (ncp_cuda_dense.cuh: the fused update's
+ * order); warps wholly past the rows leave, the others shuffle whole. */
 __global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ W,
                         const double *__restrict__ x, double *__restrict__ y)
 {
-    const int m = Rp->m;
-    const long long warp = (blockIdx.x * (long long)blockDim.x + threadIdx.x) >> 5;
-    const int lane = threadIdx.x & 31;
-    if (warp >= m) return;
-    const double *row = W + (size_t)warp * (size_t)m;
-    double s = 0.0;
-    for (int j = lane; j < m; j += 32) s += row[j] * x[j];
-    for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
-    if (lane == 0) y[warp] = s;
+    const int m = Rp->m, K = ncp_dense_width(m);
+    const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
+    if ((g & ~31LL) / K >= m) return;
+    const long long i = g / K;
+    const int c = (int)(g % K), ok = i < m;
+    const double s = ncp_dense_row(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
+    if (ok && c == 0) y[i] = s;
 }
 
 __global__ void k_add(long n, const double *__restrict__ a, const double *__restrict__ b,
