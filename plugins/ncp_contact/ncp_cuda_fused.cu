@@ -36,9 +36,13 @@ __device__ void product(int m, const wplan &w, const double *x, double *y)
 }
 
 /* CR's loop after phase D (phases E and F of ncp_cuda.h with the product
- * between them): the scalars stay in registers (the same in every thread),
- * each thread updates its own rows, five barriers an iteration.  The same
- * arithmetic as cr_e and cr_f; sc gets the scalars at the end. */
+ * between them): the same arithmetic as cr_e and cr_f, with the scalars in
+ * registers (the same in every thread) and each thread on its own rows.
+ * The product after an update of r runs before the stop test, so that
+ * |r|^2 and r.Ar are summed together (block_reduce2): two reductions and
+ * two more barriers an iteration.  When CR stops there, that product only
+ * wrote tmp, tmp2 and cr_Ar, which nothing reads before it writes them
+ * again (phase A, the next products). */
 __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                         const pl_ncp_cuda_params &P, const wplan &w, red &rd)
 {
@@ -55,14 +59,28 @@ __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
             break;
         }
         const double alpha = rAr / ApAp;
-        double ss = 0.0;
+        double ss = 0.0, s = 0.0;
         for (int j = threadIdx.x; j < m; j += kThreads) {
             V.dlambda[j] += alpha * V.cr_p[j];
             const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
             V.cr_r[j] = r;
             ss += r * r;
+            if (!last) V.tmp[j] = V.op_omega[j] * r;
         }
-        rnorm = sqrt(block_reduce(ss, 0, rd));
+        if (last) {
+            ss = block_reduce(ss, 0, rd);
+        } else {
+            __syncthreads();
+            product(m, w, V.tmp, V.tmp2);
+            __syncthreads();
+            for (int j = threadIdx.x; j < m; j += kThreads) {
+                const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+                V.cr_Ar[j] = ar;
+                s += V.cr_r[j] * ar;
+            }
+            block_reduce2(ss, s, rd);
+        }
+        rnorm = sqrt(ss);
         if (!isfinite(rnorm)) error = 2;
         if (!isfinite(rnorm) || rnorm <= P.cr_rtol * bnorm) {
             done = 1;
@@ -70,23 +88,12 @@ __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
         }
         its += 1; /* the product that follows (counted on the last one too, as cr_e) */
         if (last) break;
-        for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
-        __syncthreads();
-        product(m, w, V.tmp, V.tmp2);
-        __syncthreads();
-        double s = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
-            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
-            V.cr_Ar[j] = ar;
-            s += V.cr_r[j] * ar;
-        }
-        const double rAr_new = block_reduce(s, 0, rd);
-        const double beta = rAr_new / rAr;
+        const double beta = s / rAr;
         for (int j = threadIdx.x; j < m; j += kThreads) {
             V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
             V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
         }
-        rAr = rAr_new;
+        rAr = s;
     }
     __syncthreads(); /* every thread has read sc above */
     if (threadIdx.x == 0) {
@@ -212,7 +219,7 @@ __global__ void __launch_bounds__(kThreads)
              const double *__restrict__ W, int jacobian, int smem, int profile)
 {
     extern __shared__ double dyn[];
-    __shared__ double sh[2 * kWarps];
+    __shared__ double sh[kRedShared];
     __shared__ pl_ncp_cuda_scalars scs;
     red rd = {sh, 0};
     prof pf = {profile > 0, 0, {0}};

@@ -31,9 +31,23 @@ constexpr int kThreads = 512, kWarps = kThreads / 32;
  * reduction's barrier since, so one barrier a reduction suffices.  All
  * threads run the same sequence of reductions (uniform control flow). */
 struct red {
-    double *sh; /* 2 x kWarps */
+    double *sh; /* 2 buffers x 2 x kWarps (kRedShared doubles) */
     int k;      /* reductions done: picks the buffer */
 };
+constexpr int kRedShared = 4 * kWarps;
+
+/* The kWarps values of b (sum or maximum) by a fixed pairwise tree. */
+__device__ __forceinline__ double warps_combine(const double *b, int max)
+{
+    double r[kWarps];
+#pragma unroll
+    for (int i = 0; i < kWarps; ++i) r[i] = b[i];
+#pragma unroll
+    for (int s = 1; s < kWarps; s *= 2)
+#pragma unroll
+        for (int i = 0; i < kWarps; i += 2 * s) r[i] = max ? fmax(r[i], r[i + s]) : r[i] + r[i + s];
+    return r[0];
+}
 
 /* Sum (max = 0) or maximum (max = 1) over the block; every thread gets it. */
 __device__ double block_reduce(double v, int max, red &rd)
@@ -43,18 +57,27 @@ __device__ double block_reduce(double v, int max, red &rd)
         const double u = __shfl_down_sync(0xffffffffu, v, o);
         v = max ? fmax(v, u) : v + u;
     }
-    double *b = rd.sh + (rd.k & 1) * kWarps;
+    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
     rd.k += 1;
     if (lane == 0) b[w] = v;
     __syncthreads();
-    double r[kWarps]; /* the warps' values by a fixed pairwise tree */
-#pragma unroll
-    for (int i = 0; i < kWarps; ++i) r[i] = b[i];
-#pragma unroll
-    for (int s = 1; s < kWarps; s *= 2)
-#pragma unroll
-        for (int i = 0; i < kWarps; i += 2 * s) r[i] = max ? fmax(r[i], r[i + s]) : r[i] + r[i + s];
-    return r[0];
+    return warps_combine(b, max);
+}
+
+/* Two sums at once (each as block_reduce sums it, bitwise). */
+__device__ void block_reduce2(double &a, double &c, red &rd)
+{
+    const int lane = threadIdx.x & 31, w = threadIdx.x >> 5;
+    for (int o = 16; o > 0; o >>= 1) {
+        a += __shfl_down_sync(0xffffffffu, a, o);
+        c += __shfl_down_sync(0xffffffffu, c, o);
+    }
+    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
+    rd.k += 1;
+    if (lane == 0) b[w] = a, b[kWarps + w] = c;
+    __syncthreads();
+    a = warps_combine(b, 0);
+    c = warps_combine(b + kWarps, 0);
 }
 
 __device__ double dot(int m, const double *a, const double *b, red &rd)

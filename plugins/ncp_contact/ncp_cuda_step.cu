@@ -10,7 +10,7 @@ __global__ void __launch_bounds__(kThreads)
             pl_ncp_cuda_params P, int last)
 {
     const pl_ncp_cuda_rows R = *Rp; /* the step's rows (a graph keeps only the address) */
-    __shared__ double sh[2 * kWarps];
+    __shared__ double sh[kRedShared];
     red rd = {sh, 0};
     run_phase(phase, R, V, P, last, rd);
 }
