@@ -124,9 +124,7 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
  * phases above and the products y = W x between them, CR's loop included)
  * in one single-block kernel, W explicit (m x m, m = R->m): the same
  * arithmetic as those phases and ncp_cuda_dense queued one by one (bitwise
- * the same results), without their launches.  The work vectors, and W when
- * it fits, are copied into shared memory for the update (the device's
- * opt-in maximum, set on the first call); reductions take one barrier
+ * the same results), without their launches; reductions take one barrier
  * each.  jacobian: the correction's kind (no linearisation).  For few
  * rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
 #define NCP_CUDA_FUSED_MAX_ROWS 256
