@@ -43,6 +43,62 @@ __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
     delta[j] = s - R.offset[j];
 }
 
+/* Both row values of a jacobian iteration in one launch: delta at q (free
+ * part read at R.fvert) and delta_free at x; each sum as k_delta's. */
+__device__ __forceinline__ double row_value(const pl_ncp_cuda_rows &R, int j, const double *x,
+                                            const double *q, const int *free_vertex)
+{
+    double s = 0.0;
+    for (int p = R.pstart[j]; p < R.pstart[j + 1]; ++p)
+        s += dot3(R.pcoef + 3 * (size_t)p, q + 3 * (size_t)R.pvert[p]);
+    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e) {
+        const int f = R.fcol[e];
+        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+        s += dot3(R.fcoef + 3 * (size_t)e, xe);
+    }
+    return s - R.offset[j];
+}
+
+__global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
+                         const double *__restrict__ q, double *__restrict__ delta,
+                         double *__restrict__ delta_free)
+{
+    const pl_ncp_cuda_rows R = *Rp;
+    const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (j >= R.m) return;
+    delta[j] = row_value(R, j, NULL, q, R.fvert);
+    delta_free[j] = row_value(R, j, x, q, NULL);
+}
+
+/* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
+ * multipliers phase (force = S lambda, ncp_cuda_step.cu) and k_scatter in
+ * one launch; l = alpha (scale lambda) rounds as force then alpha force. */
+__global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
+                                 const double *__restrict__ scale,
+                                 const double *__restrict__ lambda, double alpha,
+                                 double *__restrict__ force, double *__restrict__ X)
+{
+    const pl_ncp_cuda_rows R = *Rp;
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (f < R.m) force[f] = scale[f] * lambda[f];
+    if (f >= R.nfree) return;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
+        const int e = R.tent[k];
+        const int r = R.erow[e];
+        const double fr = scale[r] * lambda[r];
+        const double l = alpha * fr;
+        if (l == 0.0) continue; /* as the CPU, which skips such rows */
+        const double *c = R.fcoef + 3 * (size_t)e;
+        a0 += l * c[0];
+        a1 += l * c[1];
+        a2 += l * c[2];
+    }
+    X[3 * (size_t)f] = a0;
+    X[3 * (size_t)f + 1] = a1;
+    X[3 * (size_t)f + 2] = a2;
+}
+
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                           double alpha, double *__restrict__ X)
 {
@@ -122,6 +178,26 @@ extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *
 {
     if (nfree <= 0) return 0;
     k_scatter<<<blocks(nfree), kThreads, 0, st>>>(R, x, alpha, X);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                               const double *x, const double *q, double *delta,
+                               double *delta_free)
+{
+    if (mcap <= 0) return 0;
+    k_delta2<<<blocks(mcap), kThreads, 0, st>>>(R, x, q, delta, delta_free);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                       int mcap, int nfree, const double *scale,
+                                       const double *lambda, double alpha, double *force,
+                                       double *X)
+{
+    int n = mcap > nfree ? mcap : nfree;
+    if (n <= 0) return 0;
+    k_scatter_scaled<<<blocks(n), kThreads, 0, st>>>(R, scale, lambda, alpha, force, X);
     return (int)cudaGetLastError();
 }
 

@@ -29,6 +29,7 @@
 #define PLIANT_SPINV_CUDA_LAYOUT_H
 
 #include <stdint.h>
+#include <stddef.h>
 #include "pliant/error.h"
 #include "sparse_inverse.h"
 
@@ -99,6 +100,17 @@ void spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_pr
 void spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    float *val);
 void spinv_cuda_layout_free(pl_spinv_cuda_layout *L);
+
+/* The single-block solve of small systems (spinv_cuda_small.cu) is used
+ * when n <= SMALL_N, S's padded values take <= SMALL_BYTES (one block reads
+ * them twice a solve), no row of S is split (nparts_S = 0) and its shared
+ * memory (spinv_cuda_small_shmem: a, y and the tile sums) is at most
+ * shmem_max, the device's per-block limit. */
+#define PL_SPINV_CUDA_SMALL_N 512
+#define PL_SPINV_CUDA_SMALL_BYTES (128 * 1024)
+#define PL_SPINV_CUDA_SMALL_RED_BYTES (4 * 8 * 32 * 48) /* 4 groups of 8 warps, 48 B a lane */
+size_t spinv_cuda_small_shmem(int n, int elem_size);
+int spinv_cuda_small_fits(int n, int64_t nval, int nparts_S, int elem_size, int shmem_max);
 
 #ifdef __cplusplus
 }
