@@ -7,6 +7,7 @@
 #include "ncp_cuda.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
 
 namespace {
 
@@ -28,6 +29,8 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
 __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                         const double *__restrict__ q, int use_fvert, double *__restrict__ delta)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int *free_vertex = use_fvert ? R.fvert : NULL;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
@@ -63,6 +66,8 @@ __global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
                          const double *__restrict__ q, double *__restrict__ delta,
                          double *__restrict__ delta_free)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= R.m) return;
@@ -78,6 +83,8 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
                                  const double *__restrict__ lambda, double alpha,
                                  double *__restrict__ force, double *__restrict__ X)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f < R.m) force[f] = scale[f] * lambda[f];
@@ -102,6 +109,8 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                           double alpha, double *__restrict__ X)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= R.nfree) return;
@@ -123,6 +132,8 @@ __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
                          double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= R.m) return;
@@ -137,6 +148,8 @@ __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
 __global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ W,
                         const double *__restrict__ x, double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int m = Rp->m;
     const long long warp = (blockIdx.x * (long long)blockDim.x + threadIdx.x) >> 5;
     const int lane = threadIdx.x & 31;
@@ -151,6 +164,8 @@ __global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
 __global__ void k_add(long n, const double *__restrict__ a, const double *__restrict__ b,
                       double *__restrict__ out)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const long i = (long)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i < n) out[i] = a[i] + b[i];
 }
@@ -169,7 +184,7 @@ extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                               const double *x, const double *q, int use_fvert, double *delta)
 {
     if (mcap <= 0) return 0;
-    k_delta<<<blocks(mcap), kThreads, 0, st>>>(R, x, q, use_fvert, delta);
+    pl_cuda_launch(k_delta, blocks(mcap), kThreads, 0, st, R, x, q, use_fvert, delta);
     return (int)cudaGetLastError();
 }
 
@@ -177,7 +192,7 @@ extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *
                                 const double *x, double alpha, double *X)
 {
     if (nfree <= 0) return 0;
-    k_scatter<<<blocks(nfree), kThreads, 0, st>>>(R, x, alpha, X);
+    pl_cuda_launch(k_scatter, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
     return (int)cudaGetLastError();
 }
 
@@ -186,7 +201,7 @@ extern "C" int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R
                                double *delta_free)
 {
     if (mcap <= 0) return 0;
-    k_delta2<<<blocks(mcap), kThreads, 0, st>>>(R, x, q, delta, delta_free);
+    pl_cuda_launch(k_delta2, blocks(mcap), kThreads, 0, st, R, x, q, delta, delta_free);
     return (int)cudaGetLastError();
 }
 
@@ -197,7 +212,7 @@ extern "C" int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda
 {
     int n = mcap > nfree ? mcap : nfree;
     if (n <= 0) return 0;
-    k_scatter_scaled<<<blocks(n), kThreads, 0, st>>>(R, scale, lambda, alpha, force, X);
+    pl_cuda_launch(k_scatter_scaled, blocks(n), kThreads, 0, st, R, scale, lambda, alpha, force, X);
     return (int)cudaGetLastError();
 }
 
@@ -205,7 +220,7 @@ extern "C" int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R
                                const double *X, double *y)
 {
     if (mcap <= 0) return 0;
-    k_gather<<<blocks(mcap), kThreads, 0, st>>>(R, X, y);
+    pl_cuda_launch(k_gather, blocks(mcap), kThreads, 0, st, R, X, y);
     return (int)cudaGetLastError();
 }
 
@@ -213,7 +228,7 @@ extern "C" int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                               const double *W, const double *x, double *y)
 {
     if (mcap <= 0) return 0;
-    k_dense<<<blocks(32LL * mcap), kThreads, 0, st>>>(R, W, x, y);
+    pl_cuda_launch(k_dense, blocks(32LL * mcap), kThreads, 0, st, R, W, x, y);
     return (int)cudaGetLastError();
 }
 
@@ -221,7 +236,7 @@ extern "C" int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, con
                                double *out)
 {
     if (n <= 0) return 0;
-    k_add<<<blocks(n), kThreads, 0, st>>>(n, a, b, out);
+    pl_cuda_launch(k_add, blocks(n), kThreads, 0, st, n, a, b, out);
     return (int)cudaGetLastError();
 }
 

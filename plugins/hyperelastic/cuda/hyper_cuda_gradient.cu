@@ -2,15 +2,12 @@
  * set on the GPU (see hyper_cuda_gradient.h): one thread per element writes
  * V P D^T to its k corner slots, then hyper_cuda_gather sums each vertex's
  * slots in the CPU's order (hyper_elements_add_gradient's algorithm, with
- * the same SVD and material law, local_solve.h compiled as CUDA).  For few
- * vertices (<= FUSED_GATHER_MAX) the gather is the gradient kernel's tail:
- * the last block to finish sums the slots, in the same order, one launch
- * instead of two (a device-loop iteration of a small scene is launch-bound). */
+ * the same SVD and material law, local_solve.h compiled as CUDA). */
 #include "hyper_cuda_gradient.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
 #include <stdlib.h>
-#include <string.h>
 
 #include "local_solve.h" /* hm_svd3 / hm_svd32, hm_sv_eval */
 
@@ -21,20 +18,11 @@ struct pl_hyper_cuda_grad {
     double *volume, *mu, *lambda; /* n */
     int *vptr, *vinc;       /* nverts + 1, k n */
     double *slots;          /* n x 3k */
-    int *ticket;            /* blocks done (the fused gather; reset by the last) */
 };
 
 namespace {
 
 constexpr int kThreads = 128;
-constexpr int kFusedGatherMax = 512; /* vertices the last block gathers (4 rounds) */
-
-/* A diagnostic switch: PLIANT_HYPER_GRAD_FUSED=0 keeps two launches. */
-int getenv_is(const char *name, const char *value)
-{
-    const char *v = getenv(name);
-    return v && !strcmp(v, value);
-}
 
 int cuda_fail(pl_error *err, cudaError_t e, const char *what)
 {
@@ -46,15 +34,17 @@ int cuda_fail(pl_error *err, cudaError_t e, const char *what)
  * F 3 x Dd).  Outside the law's domain (Neo-Hookean, some s <= 0) P is NaN,
  * as hyper_piola makes it. */
 template <int K, int Dd>
-__device__ __forceinline__ void element_gradient(int i, int material,
-                                                 const int *__restrict__ verts,
-                                                 const double *__restrict__ D,
-                                                 const double *__restrict__ volume,
-                                                 const double *__restrict__ mu,
-                                                 const double *__restrict__ lambda, int offset,
-                                                 const double *__restrict__ q, double *slots)
+__global__ void __launch_bounds__(kThreads)
+    k_gradient(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
+               const double *__restrict__ volume, const double *__restrict__ mu,
+               const double *__restrict__ lambda, int offset, const double *__restrict__ q,
+               double *__restrict__ slots)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     constexpr int ND = 3 * Dd, KD = K * Dd;
+    const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (i >= n) return;
     double Dl[KD], F[ND], P[ND];
 #pragma unroll
     for (int c = 0; c < KD; ++c) Dl[c] = D[KD * (size_t)i + c];
@@ -104,54 +94,6 @@ __device__ __forceinline__ void element_gradient(int i, int material,
         }
 }
 
-/* grad[offset + v] += the sum of v's slots in increasing slot order (as
- * hyper_cuda_gather), v = first, first + stride, ...; L2 loads (the slots
- * come from other blocks of this launch). */
-__device__ __forceinline__ void gather_tail(int first, int stride, int nverts,
-                                            const int *__restrict__ vptr,
-                                            const int *__restrict__ vinc, const double *slots,
-                                            int offset, double *grad)
-{
-    for (int v = first; v < nverts; v += stride) {
-        double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-        for (int k = vptr[v]; k < vptr[v + 1]; ++k) {
-            const double *x = slots + 3 * (size_t)vinc[k];
-            a0 += __ldcg(x);
-            a1 += __ldcg(x + 1);
-            a2 += __ldcg(x + 2);
-        }
-        double *o = grad + 3 * ((size_t)offset + v);
-        o[0] += a0;
-        o[1] += a1;
-        o[2] += a2;
-    }
-}
-
-/* One thread per element; with ticket (fused), the last block to finish
- * then gathers every vertex (grid-wide: the ticket orders it after all the
- * slot writes). */
-template <int K, int Dd>
-__global__ void __launch_bounds__(kThreads)
-    k_gradient(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
-               const double *__restrict__ volume, const double *__restrict__ mu,
-               const double *__restrict__ lambda, int offset, const double *__restrict__ q,
-               double *slots, int *ticket, int nverts, const int *__restrict__ vptr,
-               const int *__restrict__ vinc, double *grad)
-{
-    const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (i < n) element_gradient<K, Dd>(i, material, verts, D, volume, mu, lambda, offset, q, slots);
-    if (!ticket) return;
-    __shared__ int last;
-    __threadfence();
-    __syncthreads();
-    if (threadIdx.x == 0) last = atomicAdd(ticket, 1) == (int)gridDim.x - 1;
-    __syncthreads();
-    if (!last) return;
-    __threadfence();
-    gather_tail(threadIdx.x, blockDim.x, nverts, vptr, vinc, slots, offset, grad);
-    if (threadIdx.x == 0) *ticket = 0; /* ready for the next launch */
-}
-
 template <typename T>
 int upload(T **dst, const T *src, size_t count, pl_error *err)
 {
@@ -184,13 +126,7 @@ extern "C" pl_hyper_cuda_grad *hyper_cuda_grad_create(const pl_hyper_elements *e
         upload(&g->lambda, e->lambda, n, err) ||
         upload(&g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
         upload(&g->vinc, e->vinc, k * n, err) ||
-        upload(&g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
-        upload(&g->ticket, static_cast<const int *>(NULL), 1, err)) {
-        hyper_cuda_grad_destroy(g);
-        return NULL;
-    }
-    if (cudaMemset(g->ticket, 0, sizeof(int)) != cudaSuccess) {
-        pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "hyperelastic (cuda): cudaMemset");
+        upload(&g->slots, static_cast<const double *>(NULL), 3 * k * n, err)) {
         hyper_cuda_grad_destroy(g);
         return NULL;
     }
@@ -200,8 +136,7 @@ extern "C" pl_hyper_cuda_grad *hyper_cuda_grad_create(const pl_hyper_elements *e
 extern "C" void hyper_cuda_grad_destroy(pl_hyper_cuda_grad *g)
 {
     if (!g) return;
-    void *ptrs[] = {g->verts, g->D,    g->volume, g->mu,    g->lambda,
-                    g->vptr,  g->vinc, g->slots,  g->ticket};
+    void *ptrs[] = {g->verts, g->D, g->volume, g->mu, g->lambda, g->vptr, g->vinc, g->slots};
     for (void *p : ptrs)
         if (p) cudaFree(p);
     free(g);
@@ -215,21 +150,16 @@ extern "C" int hyper_cuda_grad_add(pl_hyper_cuda_grad *g, int offset, const doub
     cudaStream_t st = stream;
     if (g->n > 0) {
         unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
-        int fused = g->nverts <= kFusedGatherMax && !getenv_is("PLIANT_HYPER_GRAD_FUSED", "0");
-        int *ticket = fused && g->nverts > 0 ? g->ticket : NULL;
         if (g->k == 4)
-            k_gradient<4, 3><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->volume,
-                                                      g->mu, g->lambda, offset, q, g->slots,
-                                                      ticket, g->nverts, g->vptr, g->vinc, grad);
+            pl_cuda_launch(k_gradient<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts,
+                           g->D, g->volume, g->mu, g->lambda, offset, q, g->slots);
         else
-            k_gradient<3, 2><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->volume,
-                                                      g->mu, g->lambda, offset, q, g->slots,
-                                                      ticket, g->nverts, g->vptr, g->vinc, grad);
+            pl_cuda_launch(k_gradient<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts,
+                           g->D, g->volume, g->mu, g->lambda, offset, q, g->slots);
         cudaError_t e = cudaGetLastError();
         if (e != cudaSuccess) return cuda_fail(err, e, "gradient kernel");
-        if (!fused && g->nverts > 0)
-            return hyper_cuda_gather(g->nverts, g->vptr, g->vinc, g->slots, offset, grad, stream,
-                                     err);
+        if (g->nverts > 0) return hyper_cuda_gather(g->nverts, g->vptr, g->vinc, g->slots, offset,
+                                                    grad, stream, err);
     }
     return PL_OK;
 }

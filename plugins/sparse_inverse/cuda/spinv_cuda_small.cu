@@ -19,6 +19,7 @@
  * PLIANT_SPINV_SMALL=0 keeps the three launches (a diagnostic, for
  * comparisons in one run). */
 #include "spinv_cuda_items.cuh"
+#include "pliant/cuda_launch.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -45,6 +46,8 @@ __global__ void __launch_bounds__(kSmallThreads)
                   const pl_spinv_cuda_item *__restrict__ items_ST, int nitems_ST,
                   const pl_spinv_cuda_tilerow *__restrict__ rowlist, T *part_ST)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     constexpr int NV = 3 * 16 / sizeof(T);
     extern __shared__ __align__(16) unsigned char smem[];
     T(*red)[kWarps][32][NV] = reinterpret_cast<T(*)[kWarps][32][NV]>(smem);
@@ -127,7 +130,7 @@ cudaError_t allow_group(int group, int bytes)
 template <typename T, typename Ti, typename To, int G>
 void launch(pl_spinv_cuda *g, const void *b, void *x, cudaStream_t st)
 {
-    k_solve_small<T, Ti, To, G><<<1, kSmallThreads, g->small_shmem, st>>>(
+    pl_cuda_launch(k_solve_small<T, Ti, To, G>, 1, kSmallThreads, g->small_shmem, st,
         g->n, g->npad, g->perm, static_cast<const Ti *>(b), static_cast<To *>(x), g->items_S,
         g->nitems_S, g->meta, g->short_rows, static_cast<const T *>(g->val), g->items_ST,
         g->nitems_ST, g->rowlist, static_cast<T *>(g->part_ST));
