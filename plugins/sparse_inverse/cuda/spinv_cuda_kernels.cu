@@ -2,6 +2,7 @@
  * the padded profile layout, float32 and float64; the permutation in and
  * out.  See spinv_cuda.h and spinv_cuda_layout.h for the layout. */
 #include "spinv_cuda_items.cuh"
+#include "pliant/cuda_launch.h"
 
 namespace {
 
@@ -16,6 +17,8 @@ __global__ void __launch_bounds__(kThreads)
              const T *__restrict__ val, const T *__restrict__ a, T *__restrict__ y4,
              T *__restrict__ part, int *__restrict__ cnt)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int w = (int)((blockIdx.x * (size_t)blockDim.x + threadIdx.x) >> 5);
     const int lane = threadIdx.x & 31;
     if (w >= nitems) return;
@@ -35,6 +38,8 @@ __global__ void __launch_bounds__(kThreads)
               const int *__restrict__ perm, To *__restrict__ out, T *__restrict__ part,
               int *__restrict__ cnt)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     constexpr int VC = 16 / sizeof(T), NV = 3 * VC;
     __shared__ T red[kWarps][32][NV];
     const int wib = threadIdx.x >> 5, lane = threadIdx.x & 31;
@@ -66,6 +71,8 @@ template <typename Ti, typename T>
 __global__ void k_permute_in(int n, int npad, const int *__restrict__ perm,
                              const Ti *__restrict__ b, T *__restrict__ a)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i >= npad) return;
     T v0 = 0, v1 = 0, v2 = 0;
@@ -79,6 +86,8 @@ __global__ void k_permute_in(int n, int npad, const int *__restrict__ perm,
 template <typename T>
 __global__ void k_to4(int n, const T *__restrict__ x, T *__restrict__ y4)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i >= n) return;
     y4[4 * (size_t)i] = x[3 * (size_t)i];
@@ -90,6 +99,8 @@ __global__ void k_to4(int n, const T *__restrict__ x, T *__restrict__ y4)
 template <typename T>
 __global__ void k_from4(int n, const T *__restrict__ y4, T *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i >= n) return;
     y[3 * (size_t)i] = y4[4 * (size_t)i];
@@ -112,18 +123,18 @@ template <typename T, typename Ti>
 void permute_in(pl_spinv_cuda *g, const void *b, const int *perm, cudaStream_t st)
 {
     if (g->npad > 0)
-        k_permute_in<Ti, T><<<blocks_for(g->npad), kThreads, 0, st>>>(
-            g->n, g->npad, perm, static_cast<const Ti *>(b), static_cast<T *>(g->a));
+        pl_cuda_launch(k_permute_in<Ti, T>, blocks_for(g->npad), kThreads, 0, st, g->n, g->npad,
+                       perm, static_cast<const Ti *>(b), static_cast<T *>(g->a));
 }
 
 template <typename T, typename To>
 void mult_ST(pl_spinv_cuda *g, void *x, const int *perm, cudaStream_t st)
 {
     if (g->nitems_ST > 0)
-        k_mult_ST<T, To><<<(unsigned)g->nitems_ST, kThreads, 0, st>>>(
-            g->items_ST, g->rowlist, static_cast<const T *>(g->val),
-            static_cast<const T *>(g->y4), g->n, perm, static_cast<To *>(x),
-            static_cast<T *>(g->part_ST), g->cnt_ST);
+        pl_cuda_launch(k_mult_ST<T, To>, (unsigned)g->nitems_ST, kThreads, 0, st, g->items_ST,
+                       g->rowlist, static_cast<const T *>(g->val),
+                       static_cast<const T *>(g->y4), g->n, perm, static_cast<To *>(x),
+                       static_cast<T *>(g->part_ST), g->cnt_ST);
 }
 
 } // namespace
@@ -143,9 +154,10 @@ int spinv_cuda_launch_permute(pl_spinv_cuda *g, const void *b, pl_precision io, 
 template <typename T, int G>
 void mult_S(pl_spinv_cuda *g, cudaStream_t st)
 {
-    k_mult_S<T, G><<<blocks_for(32LL * g->nitems_S), kThreads, 0, st>>>(
-        g->items_S, g->nitems_S, g->meta, g->short_rows, static_cast<const T *>(g->val),
-        static_cast<const T *>(g->a), static_cast<T *>(g->y4), static_cast<T *>(g->part_S), g->cnt_S);
+    pl_cuda_launch(k_mult_S<T, G>, blocks_for(32LL * g->nitems_S), kThreads, 0, st, g->items_S,
+                   g->nitems_S, g->meta, g->short_rows, static_cast<const T *>(g->val),
+                   static_cast<const T *>(g->a), static_cast<T *>(g->y4),
+                   static_cast<T *>(g->part_S), g->cnt_S);
 }
 
 template <typename T>
@@ -183,22 +195,22 @@ int spinv_cuda_launch_ST(pl_spinv_cuda *g, void *x, pl_precision io, const int *
 int spinv_cuda_launch_to4(pl_spinv_cuda *g, const void *x, cudaStream_t st, pl_error *err)
 {
     if (g->prec == PL_F32)
-        k_to4<float><<<blocks_for(g->n), kThreads, 0, st>>>(g->n, static_cast<const float *>(x),
-                                                           static_cast<float *>(g->y4));
+        pl_cuda_launch(k_to4<float>, blocks_for(g->n), kThreads, 0, st, g->n,
+                       static_cast<const float *>(x), static_cast<float *>(g->y4));
     else
-        k_to4<double><<<blocks_for(g->n), kThreads, 0, st>>>(g->n, static_cast<const double *>(x),
-                                                            static_cast<double *>(g->y4));
+        pl_cuda_launch(k_to4<double>, blocks_for(g->n), kThreads, 0, st, g->n,
+                       static_cast<const double *>(x), static_cast<double *>(g->y4));
     return launched(err, "copy kernel");
 }
 
 int spinv_cuda_launch_from4(pl_spinv_cuda *g, void *y, cudaStream_t st, pl_error *err)
 {
     if (g->prec == PL_F32)
-        k_from4<float><<<blocks_for(g->n), kThreads, 0, st>>>(
-            g->n, static_cast<const float *>(g->y4), static_cast<float *>(y));
+        pl_cuda_launch(k_from4<float>, blocks_for(g->n), kThreads, 0, st, g->n,
+                       static_cast<const float *>(g->y4), static_cast<float *>(y));
     else
-        k_from4<double><<<blocks_for(g->n), kThreads, 0, st>>>(
-            g->n, static_cast<const double *>(g->y4), static_cast<double *>(y));
+        pl_cuda_launch(k_from4<double>, blocks_for(g->n), kThreads, 0, st, g->n,
+                       static_cast<const double *>(g->y4), static_cast<double *>(y));
     return launched(err, "copy kernel");
 }
 
