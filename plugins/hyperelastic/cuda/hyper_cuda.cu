@@ -12,6 +12,7 @@
 
 struct pl_hyper_cuda {
     int n, nverts, material;
+    double wscale;          /* the ADMM-PD penalty's scale (elements' weight_scale) */
     int k;                  /* corners: 4 (tetrahedra) or 3 (triangles) */
     int *verts;             /* n x k local vertices */
     double *D;              /* n x (k d): k x d shape matrices */
@@ -64,7 +65,8 @@ template <int K, int Dd>
 __global__ void __launch_bounds__(kThreads)
     k_project(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
               const double *__restrict__ mu, const double *__restrict__ lambda,
-              const double *__restrict__ w, int offset, double h2, const double *__restrict__ q,
+              const double *__restrict__ w, double wscale, int offset, double h2,
+              const double *__restrict__ q,
               double *__restrict__ dual, double *__restrict__ warm, double *__restrict__ slots,
               double *__restrict__ rhs, int atomic, int *__restrict__ stats,
               unsigned long long *__restrict__ acc)
@@ -94,7 +96,7 @@ __global__ void __launch_bounds__(kThreads)
             }
         }
         const double m = mu[i], la = lambda[i];
-        const double what = material == 0 ? 2.0 * m : 2.0 * m + la;
+        const double what = wscale * (material == 0 ? 2.0 * m : 2.0 * m + la);
         double *u = material != 0 ? dual + ND * (size_t)i : NULL;
         double ul[ND];
 #pragma unroll
@@ -208,6 +210,7 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         return NULL;
     }
     g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material, g->k = e->k;
+    g->wscale = e->weight_scale;
     size_t n = (size_t)e->n, k = (size_t)e->k;
     if (upload(g, &g->verts, e->verts, k * n, err) ||
         upload(g, &g->D, e->D, k * (size_t)e->d * n, err) || upload(g, &g->mu, e->mu, n, err) ||
@@ -260,12 +263,12 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
         if (g->k == 4)
             pl_cuda_launch(k_project<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, offset, h2, q, dual, g->warm, g->slots, rhs,
-                           atomic, g->stats, g->acc);
+                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->slots, rhs, atomic, g->stats, g->acc);
         else
             pl_cuda_launch(k_project<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, offset, h2, q, dual, g->warm, g->slots, rhs,
-                           atomic, g->stats, g->acc);
+                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)
             pl_cuda_launch(k_gather, (unsigned)((g->nverts + 255) / 256), 256, 0, st, g->nverts,
                            g->vptr, g->vinc, g->slots, offset, rhs);
