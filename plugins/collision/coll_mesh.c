@@ -2,7 +2,8 @@
  * adjacency and closedness (once), then every step the unit face normals at
  * the start of the step (outward for closed meshes: the sign of the enclosed
  * volume decides), the swept boxes of vertices, triangles and edges over the
- * step, and the BVHs of triangles and edges (built once, refitted after). */
+ * step, and the BVHs of triangles and edges (built once, refitted after).
+ * The loops are serial below COLL_PAR_MIN elements. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +21,6 @@ void coll_mesh_free(pl_coll_mesh *m)
 {
     free(m->fnormal);
     free(m->edge_tris);
-    free(m->sharp);
     free(m->border);
     free(m->vbox);
     free(m->tbox);
@@ -29,7 +29,6 @@ void coll_mesh_free(pl_coll_mesh *m)
     bvh_free(&m->ebvh);
     m->fnormal = NULL;
     m->edge_tris = NULL;
-    m->sharp = NULL;
     m->border = NULL;
     m->vbox = m->tbox = m->ebox = NULL;
     m->built = 0;
@@ -128,9 +127,8 @@ static int first_prepare(pl_coll_mesh *m, pl_error *err)
     m->vbox = malloc(nv * sizeof *m->vbox);
     m->tbox = malloc(nt * sizeof *m->tbox);
     m->ebox = malloc(ne * sizeof *m->ebox);
-    m->sharp = malloc(ne);
     m->border = calloc(nv, 1);
-    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->sharp || !m->border)
+    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->border)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     for (int e = 0; e < m->nedges; ++e)
         if (m->edge_tris[2 * e + 1] < 0) m->border[m->edges[2 * e]] = m->border[m->edges[2 * e + 1]] = 1;
@@ -171,55 +169,49 @@ static int opposite(const pl_coll_mesh *m, int t, int e)
     return m->tris[3 * t];
 }
 
-/* Sharp edges at x0: boundary edges, and edges whose faces turn by more than
- * 30 degrees (for a closed mesh only convex ones: a concave crease cannot
- * poke anything). */
-static void sharp_edges(pl_coll_mesh *m)
+/* Sharp at x0: a boundary edge, or one whose faces turn by more than 30
+ * degrees (for a closed mesh only a convex one: a concave crease cannot
+ * poke anything).  Asked of the few edge pairs the broad phase gives (the
+ * narrow phase), not computed for every edge every step. */
+int coll_edge_sharp(const pl_coll_mesh *m, int e)
 {
-#pragma omp parallel for schedule(static)
-    for (int e = 0; e < m->nedges; ++e) {
-        int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
-        if (t1 < 0 || t2 < 0) {
-            m->sharp[e] = 1;
-            continue;
-        }
-        const double *n1 = &m->fnormal[3 * t1], *n2 = &m->fnormal[3 * t2];
-        double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
-        if (m->two_sided) {
-            m->sharp[e] = fabs(c) < PL_SHARP_COS;
-            continue;
-        }
-        const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
-        double behind = (o[0] - a[0]) * n1[0] + (o[1] - a[1]) * n1[1] + (o[2] - a[2]) * n1[2];
-        m->sharp[e] = c < PL_SHARP_COS && behind < 0.0;
-    }
+    int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
+    if (t1 < 0 || t2 < 0) return 1;
+    const double *n1 = &m->fnormal[3 * t1], *n2 = &m->fnormal[3 * t2];
+    double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
+    if (m->two_sided) return fabs(c) < PL_SHARP_COS;
+    const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
+    double behind = (o[0] - a[0]) * n1[0] + (o[1] - a[1]) * n1[1] + (o[2] - a[2]) * n1[2];
+    return c < PL_SHARP_COS && behind < 0.0;
 }
 
-static void boxes(pl_coll_mesh *m, double margin)
+/* The swept boxes, not grown: aabb_overlap_grown adds the margin where
+ * they are compared, which gives the bounds of boxes grown first and then
+ * united (detect_cand.h's order), bitwise. */
+static void boxes(pl_coll_mesh *m)
 {
-    double h = 0.5 * margin;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m->nverts > COLL_PAR_MIN)
     for (int i = 0; i < m->nverts; ++i) {
         pl_aabb *b = &m->vbox[i];
         for (int k = 0; k < 3; ++k) {
             double p = m->x0[3 * i + k], q = m->x1[3 * i + k];
-            b->lo[k] = (p < q ? p : q) - h;
-            b->hi[k] = (p < q ? q : p) + h;
+            b->lo[k] = p < q ? p : q;
+            b->hi[k] = p < q ? q : p;
         }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m->ntris > COLL_PAR_MIN)
     for (int t = 0; t < m->ntris; ++t) {
         pl_aabb *b = &m->tbox[t];
         *b = m->vbox[m->tris[3 * t]];
         for (int j = 1; j < 3; ++j) {
             const pl_aabb *v = &m->vbox[m->tris[3 * t + j]];
             for (int k = 0; k < 3; ++k) {
-                if (v->lo[k] < b->lo[k]) b->lo[k] = v->lo[k];
-                if (v->hi[k] > b->hi[k]) b->hi[k] = v->hi[k];
+                b->lo[k] = v->lo[k] < b->lo[k] ? v->lo[k] : b->lo[k];
+                b->hi[k] = v->hi[k] > b->hi[k] ? v->hi[k] : b->hi[k];
             }
         }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m->nedges > COLL_PAR_MIN)
     for (int e = 0; e < m->nedges; ++e) {
         pl_aabb *b = &m->ebox[e];
         const pl_aabb *v0 = &m->vbox[m->edges[2 * e]], *v1 = &m->vbox[m->edges[2 * e + 1]];
@@ -237,8 +229,7 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         if (rc) return rc;
     }
     face_normals(m);
-    sharp_edges(m);
-    boxes(m, margin);
+    boxes(m);
     m->margin = margin;
     if (!m->built) {
         if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
@@ -251,13 +242,9 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
     return PL_OK;
 }
 
-/* The inflation is symmetric: the boxes' centres, and so the trees built
- * from them, do not depend on it. */
+/* The boxes are compared grown by margin / 2 (aabb_overlap_grown): a new
+ * margin changes no box and no tree. */
 void coll_mesh_inflate(pl_coll_mesh *m, double margin)
 {
-    if (!m->built || margin == m->margin) return;
-    boxes(m, margin);
-    m->margin = margin;
-    bvh_refit(&m->tbvh, m->tbox);
-    bvh_refit(&m->ebvh, m->ebox);
+    if (m->built) m->margin = margin;
 }

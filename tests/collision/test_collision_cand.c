@@ -39,8 +39,10 @@ static long check_lists(const pl_coll_mesh *A, const pl_coll_mesh *B, const coll
         pl_ivec q = {0};
         for (int i = 0; i < items; ++i) {
             q.n = 0;
-            ck_assert_int_eq(bvh_query(edges ? &T->ebvh : &T->tbvh, edges ? T->ebox : T->tbox,
-                                       edges ? &P->ebox[i] : &P->vbox[i], &q),
+            ck_assert_int_eq(bvh_query_grown(edges ? &T->ebvh : &T->tbvh,
+                                             edges ? T->ebox : T->tbox, coll_mesh_half(T),
+                                             edges ? &P->ebox[i] : &P->vbox[i],
+                                             coll_mesh_half(P), &q),
                              PL_OK);
             *hits += q.n;
             int k = 0;
