@@ -2,7 +2,8 @@
  * adjacency and closedness (once), then every step the unit face normals at
  * the start of the step (outward for closed meshes: the sign of the enclosed
  * volume decides), the swept boxes of vertices, triangles and edges over the
- * step, and the BVHs of triangles and edges (built once, refitted after).
+ * step, and the BVHs of triangles and edges (built once, refitted after
+ * when detection walks them: coll_mesh_fit).
  * The loops are serial below COLL_PAR_MIN elements. */
 #include <math.h>
 #include <stdlib.h>
@@ -235,11 +236,19 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
         m->built = 1;
+        m->stale = 0;
     } else {
-        bvh_refit(&m->tbvh, m->tbox);
-        bvh_refit(&m->ebvh, m->ebox);
+        m->stale = COLL_TREE_TRIS | COLL_TREE_EDGES; /* coll_mesh_fit, when walked */
     }
     return PL_OK;
+}
+
+void coll_mesh_fit(pl_coll_mesh *m, int trees)
+{
+    int todo = m->stale & trees;
+    if (todo & COLL_TREE_TRIS) bvh_refit(&m->tbvh, m->tbox);
+    if (todo & COLL_TREE_EDGES) bvh_refit(&m->ebvh, m->ebox);
+    m->stale &= ~todo;
 }
 
 /* The boxes are compared grown by margin / 2 (aabb_overlap_grown): a new

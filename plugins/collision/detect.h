@@ -127,6 +127,7 @@ typedef struct pl_coll_mesh {
     double margin;              /* what the boxes stand for grown by now [m]: margin / 2 on
                                    every side */
     int built;
+    int stale;                  /* trees not yet refitted to this step's boxes (COLL_TREE_*) */
 } pl_coll_mesh;
 
 /* What a mesh's boxes are grown by on every side when compared [m]. */
@@ -158,6 +159,13 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
  * much farther apart (the same candidates as a coll_mesh_prepare with that
  * margin, bitwise: aabb_overlap_grown; nothing is recomputed). */
 void coll_mesh_inflate(pl_coll_mesh *m, double margin);
+/* The trees: of the triangles, of the edges. */
+enum { COLL_TREE_TRIS = 1, COLL_TREE_EDGES = 2 };
+/* Refits the given trees (COLL_TREE_* bits) to this step's boxes unless
+ * done: coll_mesh_prepare leaves them for detect_pair to refit the ones its
+ * passes walk (a mesh whose vertices alone are queried, or detected on the
+ * device, never needs its edge tree). */
+void coll_mesh_fit(pl_coll_mesh *m, int trees);
 
 /* ---- proximities ------------------------------------------------------------ */
 
@@ -246,10 +254,10 @@ pl_detect_params detect_defaults(double alarm);
  * them).  A proximity is kept when its gap minus the predicted
  * approach over the step (relative motion x1 - x0 along the normal) is below
  * alarm, so fast bodies are caught before they cross.  Parallel (OpenMP),
- * deterministic: the order depends on the inputs only.  PL_OK or
- * PL_EINTERNAL. */
-int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
-                   const pl_detect_params *prm, pl_proximities *out);
+ * deterministic: the order depends on the inputs only.  Refits the trees
+ * it walks (coll_mesh_fit).  PL_OK or PL_EINTERNAL. */
+int detect_pair(pl_coll_mesh *A, int ia, pl_coll_mesh *B, int ib, const pl_detect_params *prm,
+                pl_proximities *out);
 
 /* The same by brute force over all primitive pairs (tests, small meshes):
  * identical results, possibly in another order. */

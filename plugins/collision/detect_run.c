@@ -303,9 +303,16 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
     return rc;
 }
 
-int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
-                   const pl_detect_params *prm, pl_proximities *out)
+int detect_pair(pl_coll_mesh *A, int ia, pl_coll_mesh *B, int ib, const pl_detect_params *prm,
+                pl_proximities *out)
 {
+    /* the passes walk B's triangles (A's vertices), A's (B's vertices) and
+     * B's edges (A's edges) */
+    if (prm->vertex_face) {
+        coll_mesh_fit(B, COLL_TREE_TRIS);
+        coll_mesh_fit(A, COLL_TREE_TRIS);
+    }
+    if (prm->edge_edge) coll_mesh_fit(B, COLL_TREE_EDGES);
     return detect(A, ia, B, ib, prm, out, 0, NULL);
 }
 

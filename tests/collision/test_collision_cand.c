@@ -59,7 +59,7 @@ static long check_lists(const pl_coll_mesh *A, const pl_coll_mesh *B, const coll
     return kept;
 }
 
-static void expect_given_equal(const pl_coll_mesh *A, const pl_coll_mesh *B,
+static void expect_given_equal(pl_coll_mesh *A, pl_coll_mesh *B,
                                const pl_detect_params *prm, long *kept, long *hits, int *found)
 {
     coll_cand_list g[3];
