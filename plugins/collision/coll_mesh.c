@@ -1,12 +1,10 @@
 /* coll_mesh.c - a triangle mesh prepared for detection: edge-triangle
- * adjacency and closedness (once), then every step the orientation of a
- * closed mesh (the sign of the enclosed volume: face normals point out),
- * the swept boxes of vertices, triangles and edges over the step, and the
- * BVHs of triangles and edges (built once, refitted after when detection
- * walks them: coll_mesh_fit).  Face normals and sharp edges are computed
- * where the narrow phase asks.  What a step costs does not depend on
- * anything but the mesh (docs/benchmarks.md, "The host detection's fixed
- * cost"); the loops are serial below COLL_PAR_MIN elements. */
+ * adjacency and closedness (once), then every step the unit face normals at
+ * the start of the step (outward for closed meshes: the sign of the enclosed
+ * volume decides), the swept boxes of vertices, triangles and edges over the
+ * step, and the BVHs of triangles and edges (built once, refitted after
+ * when detection walks them: coll_mesh_fit).
+ * The loops are serial below COLL_PAR_MIN elements. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +20,7 @@ void coll_mesh_init(pl_coll_mesh *m)
 
 void coll_mesh_free(pl_coll_mesh *m)
 {
+    free(m->fnormal);
     free(m->edge_tris);
     free(m->border);
     free(m->vbox);
@@ -29,6 +28,7 @@ void coll_mesh_free(pl_coll_mesh *m)
     free(m->ebox);
     bvh_free(&m->tbvh);
     bvh_free(&m->ebvh);
+    m->fnormal = NULL;
     m->edge_tris = NULL;
     m->border = NULL;
     m->vbox = m->tbox = m->ebox = NULL;
@@ -124,47 +124,40 @@ static int first_prepare(pl_coll_mesh *m, pl_error *err)
     m->two_sided = m->sides == PL_SIDES_TWO || (m->sides == PL_SIDES_AUTO && !closed);
     size_t nv = (size_t)(m->nverts ? m->nverts : 1), nt = (size_t)(m->ntris ? m->ntris : 1),
            ne = (size_t)(m->nedges ? m->nedges : 1);
+    m->fnormal = malloc(nt * 3 * sizeof *m->fnormal);
     m->vbox = malloc(nv * sizeof *m->vbox);
     m->tbox = malloc(nt * sizeof *m->tbox);
     m->ebox = malloc(ne * sizeof *m->ebox);
     m->border = calloc(nv, 1);
-    if (!m->vbox || !m->tbox || !m->ebox || !m->border)
+    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->border)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     for (int e = 0; e < m->nedges; ++e)
         if (m->edge_tris[2 * e + 1] < 0) m->border[m->edges[2 * e]] = m->border[m->edges[2 * e + 1]] = 1;
     return PL_OK;
 }
 
-/* The orientation of a one-sided mesh: the sign of the enclosed volume
- * (a two-sided one keeps its triangles' own). */
-static void orient(pl_coll_mesh *m)
+/* Unit normals (b - a) x (c - a) at x0 and the enclosed volume's sign. */
+static void face_normals(pl_coll_mesh *m)
 {
     double vol = 0.0;
-    for (int t = 0; t < m->ntris && !m->two_sided; ++t) {
+    for (int t = 0; t < m->ntris; ++t) {
         const double *a = &m->x0[3 * m->tris[3 * t]], *b = &m->x0[3 * m->tris[3 * t + 1]],
                      *c = &m->x0[3 * m->tris[3 * t + 2]];
+        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double *n = &m->fnormal[3 * t];
+        n[0] = u[1] * v[2] - u[2] * v[1];
+        n[1] = u[2] * v[0] - u[0] * v[2];
+        n[2] = u[0] * v[1] - u[1] * v[0];
         vol += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                a[2] * (b[0] * c[1] - b[1] * c[0]);
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        double inv = len > 0.0 ? 1.0 / len : 0.0;
+        for (int k = 0; k < 3; ++k) n[k] *= inv;
     }
     m->orientation = (m->two_sided || vol >= 0.0) ? 1.0 : -1.0;
-}
-
-/* Computed where the narrow phase asks (a few triangles a step), not for
- * every triangle every step. */
-void coll_face_normal(const pl_coll_mesh *m, int t, double n[3])
-{
-    const double *a = &m->x0[3 * m->tris[3 * t]], *b = &m->x0[3 * m->tris[3 * t + 1]],
-                 *c = &m->x0[3 * m->tris[3 * t + 2]];
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    double inv = len > 0.0 ? 1.0 / len : 0.0;
-    for (int k = 0; k < 3; ++k) n[k] *= inv;
     if (m->orientation < 0.0)
-        for (int k = 0; k < 3; ++k) n[k] = -n[k];
+        for (int k = 0; k < 3 * m->ntris; ++k) m->fnormal[k] = -m->fnormal[k];
 }
 
 /* The vertex of triangle t that is not on edge e. */
@@ -185,9 +178,7 @@ int coll_edge_sharp(const pl_coll_mesh *m, int e)
 {
     int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
     if (t1 < 0 || t2 < 0) return 1;
-    double n1[3], n2[3];
-    coll_face_normal(m, t1, n1);
-    coll_face_normal(m, t2, n2);
+    const double *n1 = &m->fnormal[3 * t1], *n2 = &m->fnormal[3 * t2];
     double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
     if (m->two_sided) return fabs(c) < PL_SHARP_COS;
     const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
@@ -238,7 +229,7 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         int rc = first_prepare(m, err);
         if (rc) return rc;
     }
-    orient(m);
+    face_normals(m);
     boxes(m);
     m->margin = margin;
     if (!m->built) {

@@ -85,7 +85,7 @@ static void offset_and_motion(const pl_coll_mesh *P, int p, const pl_coll_mesh *
 static void face_normal_at(const pl_coll_mesh *T, int j, double s, double nf[3])
 {
     if (s == 0.0) {
-        coll_face_normal(T, j, nf);
+        memcpy(nf, &T->fnormal[3 * j], 3 * sizeof *nf);
         return;
     }
     double a[3], b[3], c[3], u[3], v[3];
@@ -298,9 +298,7 @@ static int outside_of(const pl_coll_mesh *m, int e, const double d[3])
         int t = m->edge_tris[2 * e + k];
         if (t < 0) continue;
         any = 1;
-        double nf[3];
-        coll_face_normal(m, t, nf);
-        if (dot3(d, nf) > 0.0) return 1;
+        if (dot3(d, &m->fnormal[3 * t]) > 0.0) return 1;
     }
     return !any;
 }
@@ -319,9 +317,7 @@ static int outward(const pl_coll_mesh *m, int e, const double *cr, double len, d
     for (int k = 0; k < 2; ++k) {
         int t = m->edge_tris[2 * e + k];
         if (t < 0) continue;
-        double nf[3];
-        coll_face_normal(m, t, nf);
-        for (int i = 0; i < 3; ++i) mo[i] += nf[i];
+        for (int i = 0; i < 3; ++i) mo[i] += m->fnormal[3 * t + i];
     }
     double l = sqrt(dot3(mo, mo));
     if (!(l > 0.0)) return 0;
@@ -335,9 +331,7 @@ static int outward(const pl_coll_mesh *m, int e, const double *cr, double len, d
 static double height_over(const pl_coll_mesh *m, int t, const double q[3], int *over)
 {
     const int *tri = &m->tris[3 * t];
-    const double *a = &m->x0[3 * tri[0]];
-    double nf[3];
-    coll_face_normal(m, t, nf);
+    const double *a = &m->x0[3 * tri[0]], *nf = &m->fnormal[3 * t];
     double w[3], h = 0.0;
     double d = sqrt(closest_point_triangle(q, a, &m->x0[3 * tri[1]], &m->x0[3 * tri[2]], w));
     for (int i = 0; i < 3; ++i) h += (q[i] - a[i]) * nf[i];
@@ -359,10 +353,7 @@ static int along_face(const pl_coll_mesh *m, int e, const double n[3], const dou
 {
     for (int k = 0; k < 2; ++k) {
         int t = m->edge_tris[2 * e + k], o0, o1;
-        if (t < 0) continue;
-        double nf[3];
-        coll_face_normal(m, t, nf);
-        if (!(fabs(dot3(n, nf)) > EDGE_FLAT)) continue;
+        if (t < 0 || !(fabs(dot3(n, &m->fnormal[3 * t])) > EDGE_FLAT)) continue;
         /* a closed surface's edge: the other edge cannot wrap round it to
          * its inside, the ends' contacts hold it (as before the knives) */
         if (!m->two_sided) return 1;
@@ -384,9 +375,7 @@ static int border_out(const pl_coll_mesh *m, int e, double mo[3])
     int t = m->edge_tris[2 * e], a = m->edges[2 * e], b = m->edges[2 * e + 1], o = a;
     for (int k = 0; k < 3; ++k)
         if (m->tris[3 * t + k] != a && m->tris[3 * t + k] != b) o = m->tris[3 * t + k];
-    const double *xa = &m->x0[3 * a], *xb = &m->x0[3 * b];
-    double nf[3];
-    coll_face_normal(m, t, nf);
+    const double *nf = &m->fnormal[3 * t], *xa = &m->x0[3 * a], *xb = &m->x0[3 * b];
     double ed[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]}, ao[3];
     mo[0] = ed[1] * nf[2] - ed[2] * nf[1];
     mo[1] = ed[2] * nf[0] - ed[0] * nf[2];
@@ -409,9 +398,7 @@ static int border_out(const pl_coll_mesh *m, int e, double mo[3])
 static double border_side(const pl_coll_mesh *m, int e, const double mo[3], const double q0[3],
                           const double q1[3], const double cr[3], double len)
 {
-    const double *p = &m->x0[3 * m->edges[2 * e]];
-    double nf[3];
-    coll_face_normal(m, m->edge_tris[2 * e], nf);
+    const double *nf = &m->fnormal[3 * m->edge_tris[2 * e]], *p = &m->x0[3 * m->edges[2 * e]];
     double s0 = 0.0, s1 = 0.0;
     for (int k = 0; k < 3; ++k) {
         s0 += (q0[k] - p[k]) * nf[k];

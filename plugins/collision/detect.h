@@ -118,6 +118,7 @@ typedef struct pl_coll_mesh {
     /* derived, by coll_mesh_prepare */
     int two_sided;              /* resolved from sides */
     double orientation;         /* +1 outward-oriented triangles, -1 flipped (one-sided) */
+    double *fnormal;            /* ntris x 3 unit face normals at x0, outward for one-sided */
     int *edge_tris;             /* nedges x 2 adjacent triangles (-1 when missing) */
     unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
     pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges (x0 to x1, not
@@ -141,9 +142,6 @@ static inline double coll_mesh_half(const pl_coll_mesh *m) { return 0.5 * m->mar
 /* cos of the smallest angle between the face normals of a sharp edge (30 deg) */
 #define PL_SHARP_COS 0.8660254037844386
 
-/* The unit normal of triangle t of a prepared mesh at x0, (b - a) x (c - a)
- * normalised, outward for a one-sided mesh (times orientation). */
-void coll_face_normal(const pl_coll_mesh *m, int t, double n[3]);
 /* Whether edge e of a prepared mesh is a feature that can poke through a
  * surface between its vertices (a boundary edge, a fold, a convex crease
  * of a closed mesh sharper than PL_SHARP_COS), at x0. */

@@ -97,8 +97,7 @@ static double height_over(const pl_coll_mesh *m, int tri, const double *x, int *
 {
     const double *v[3] = {&m->x0[3 * m->tris[3 * tri]], &m->x0[3 * m->tris[3 * tri + 1]],
                           &m->x0[3 * m->tris[3 * tri + 2]]};
-    double f[3];
-    coll_face_normal(m, tri, f);
+    const double *f = &m->fnormal[3 * tri];
     double h = 0.0;
     for (int k = 0; k < 3; ++k) h += (x[k] - v[0][k]) * f[k];
     *over = 1;
@@ -127,8 +126,7 @@ static int flat_on_face(const pl_coll_mesh *m, int e, const double *p0, const do
     for (int j = 0; j < 2; ++j) {
         int tri = m->edge_tris[2 * e + j];
         if (tri < 0) continue;
-        double f[3];
-        coll_face_normal(m, tri, f);
+        const double *f = &m->fnormal[3 * tri];
         if (!(fabs(n[0] * f[0] + n[1] * f[1] + n[2] * f[2]) > cos(20.0 * M_PI / 180.0))) continue;
         if (!m->two_sided) return 1; /* a closed surface: flat beside the edge suffices */
         int over0, over1;
