@@ -22,6 +22,7 @@ void coll_mesh_free(pl_coll_mesh *m)
 {
     free(m->fnormal);
     free(m->edge_tris);
+    free(m->sharp);
     free(m->border);
     free(m->vbox);
     free(m->tbox);
@@ -30,6 +31,7 @@ void coll_mesh_free(pl_coll_mesh *m)
     bvh_free(&m->ebvh);
     m->fnormal = NULL;
     m->edge_tris = NULL;
+    m->sharp = NULL;
     m->border = NULL;
     m->vbox = m->tbox = m->ebox = NULL;
     m->built = 0;
@@ -128,8 +130,9 @@ static int first_prepare(pl_coll_mesh *m, pl_error *err)
     m->vbox = malloc(nv * sizeof *m->vbox);
     m->tbox = malloc(nt * sizeof *m->tbox);
     m->ebox = malloc(ne * sizeof *m->ebox);
+    m->sharp = malloc(ne);
     m->border = calloc(nv, 1);
-    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->border)
+    if (!m->fnormal || !m->vbox || !m->tbox || !m->ebox || !m->sharp || !m->border)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     for (int e = 0; e < m->nedges; ++e)
         if (m->edge_tris[2 * e + 1] < 0) m->border[m->edges[2 * e]] = m->border[m->edges[2 * e + 1]] = 1;
@@ -172,9 +175,8 @@ static int opposite(const pl_coll_mesh *m, int t, int e)
 
 /* Sharp at x0: a boundary edge, or one whose faces turn by more than 30
  * degrees (for a closed mesh only a convex one: a concave crease cannot
- * poke anything).  Asked of the few edge pairs the broad phase gives (the
- * narrow phase), not computed for every edge every step. */
-int coll_edge_sharp(const pl_coll_mesh *m, int e)
+ * poke anything). */
+static int edge_sharp(const pl_coll_mesh *m, int e)
 {
     int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
     if (t1 < 0 || t2 < 0) return 1;
@@ -184,6 +186,20 @@ int coll_edge_sharp(const pl_coll_mesh *m, int e)
     const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
     double behind = (o[0] - a[0]) * n1[0] + (o[1] - a[1]) * n1[1] + (o[2] - a[2]) * n1[2];
     return c < PL_SHARP_COS && behind < 0.0;
+}
+
+/* Asked of the edge pairs the broad phase gives (the narrow phase), not
+ * computed for every edge every step, and remembered for the step
+ * (m->sharp: 0 not asked yet, 1 no, 2 yes).  Threads of a pass may ask for
+ * the same edge at once: relaxed atomic bytes, and the value is a function
+ * of x0, so whoever writes it writes the same. */
+int coll_edge_sharp(const pl_coll_mesh *m, int e)
+{
+    unsigned char known = __atomic_load_n(&m->sharp[e], __ATOMIC_RELAXED);
+    if (known) return known == 2;
+    int sharp = edge_sharp(m, e);
+    __atomic_store_n(&m->sharp[e], (unsigned char)(sharp ? 2 : 1), __ATOMIC_RELAXED);
+    return sharp;
 }
 
 /* The swept boxes, not grown: aabb_overlap_grown adds the margin where
@@ -230,6 +246,7 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         if (rc) return rc;
     }
     face_normals(m);
+    memset(m->sharp, 0, (size_t)m->nedges); /* asked anew (coll_edge_sharp) */
     boxes(m);
     m->margin = margin;
     if (!m->built) {

@@ -120,6 +120,8 @@ typedef struct pl_coll_mesh {
     double orientation;         /* +1 outward-oriented triangles, -1 flipped (one-sided) */
     double *fnormal;            /* ntris x 3 unit face normals at x0, outward for one-sided */
     int *edge_tris;             /* nedges x 2 adjacent triangles (-1 when missing) */
+    unsigned char *sharp;       /* per edge, this step: 0 not asked yet, 1 not sharp, 2 sharp
+                                   (coll_edge_sharp) */
     unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
     pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges (x0 to x1, not
                                    grown: compare them with coll_mesh_half) */
@@ -144,7 +146,8 @@ static inline double coll_mesh_half(const pl_coll_mesh *m) { return 0.5 * m->mar
 
 /* Whether edge e of a prepared mesh is a feature that can poke through a
  * surface between its vertices (a boundary edge, a fold, a convex crease
- * of a closed mesh sharper than PL_SHARP_COS), at x0. */
+ * of a closed mesh sharper than PL_SHARP_COS), at x0: computed when first
+ * asked in a step, then remembered (safe from several threads). */
 int coll_edge_sharp(const pl_coll_mesh *m, int e);
 
 void coll_mesh_init(pl_coll_mesh *m);
