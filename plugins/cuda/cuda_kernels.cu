@@ -5,6 +5,8 @@
 
 #include <cuda_runtime.h>
 
+#include "pliant/cuda_launch.h"
+
 namespace {
 
 constexpr int kThreads = 256;
@@ -17,6 +19,8 @@ unsigned blocks(long long n)
 __global__ void k_scale_rows(int n, const double *__restrict__ s, const double *__restrict__ x,
                              double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i >= n) return;
     const double m = s[i];
@@ -28,6 +32,8 @@ __global__ void k_scale_rows(int n, const double *__restrict__ s, const double *
 __global__ void k_gather_rows(int m, const int *__restrict__ map, const double *__restrict__ x,
                               double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= m) return;
     const double *src = x + 3 * (size_t)map[f];
@@ -41,6 +47,8 @@ __global__ void k_gather_rows(int m, const int *__restrict__ map, const double *
 __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double *__restrict__ y,
                                double *__restrict__ x, double *__restrict__ change)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     __shared__ double red[kThreads / 32];
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     double d = 0.0;
@@ -70,6 +78,8 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
                           const double *__restrict__ a, const double *__restrict__ x,
                           double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int r = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (r >= nrows) return;
     const int b = p[r], e = p[r + 1];
@@ -92,6 +102,8 @@ __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const doubl
                                  const double *__restrict__ a, const double *__restrict__ q,
                                  double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= m) return;
     const double *src = x + 3 * (size_t)map[f];
@@ -116,6 +128,8 @@ __global__ void k_residual_max(int m, const int *__restrict__ map, const double 
                                const double *__restrict__ g, const double *__restrict__ t,
                                double *__restrict__ out)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     __shared__ double red[kThreads / 32];
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     double d = 0.0;
@@ -149,7 +163,7 @@ extern "C" int cuda_residual_max(struct CUstream_st *st, int m, const int *map, 
                                  const double *t, double *out)
 {
     if (m <= 0) return 0;
-    k_residual_max<<<blocks(m), kThreads, 0, st>>>(m, map, s, h2, x, y, g, t, out);
+    pl_cuda_launch(k_residual_max, blocks(m), kThreads, 0, st, m, map, s, h2, x, y, g, t, out);
     return (int)cudaGetLastError();
 }
 
@@ -158,7 +172,7 @@ extern "C" int cuda_gather_sub_csr(struct CUstream_st *st, int m, const int *map
                                    const double *q, double *y)
 {
     if (m <= 0) return 0;
-    k_gather_sub_csr<<<blocks(m), kThreads, 0, st>>>(m, map, x, p, j, a, q, y);
+    pl_cuda_launch(k_gather_sub_csr, blocks(m), kThreads, 0, st, m, map, x, p, j, a, q, y);
     return (int)cudaGetLastError();
 }
 
@@ -166,7 +180,7 @@ extern "C" int cuda_scale_rows(struct CUstream_st *st, int n, const double *s, c
                                   double *y)
 {
     if (n <= 0) return 0;
-    k_scale_rows<<<blocks(n), kThreads, 0, st>>>(n, s, x, y);
+    pl_cuda_launch(k_scale_rows, blocks(n), kThreads, 0, st, n, s, x, y);
     return (int)cudaGetLastError();
 }
 
@@ -174,7 +188,7 @@ extern "C" int cuda_gather_rows(struct CUstream_st *st, int m, const int *map, c
                                    double *y)
 {
     if (m <= 0) return 0;
-    k_gather_rows<<<blocks(m), kThreads, 0, st>>>(m, map, x, y);
+    pl_cuda_launch(k_gather_rows, blocks(m), kThreads, 0, st, m, map, x, y);
     return (int)cudaGetLastError();
 }
 
@@ -182,7 +196,7 @@ extern "C" int cuda_scatter_rows(struct CUstream_st *st, int m, const int *map, 
                                     double *x, double *change)
 {
     if (m <= 0) return 0;
-    k_scatter_rows<<<blocks(m), kThreads, 0, st>>>(m, map, y, x, change);
+    pl_cuda_launch(k_scatter_rows, blocks(m), kThreads, 0, st, m, map, y, x, change);
     return (int)cudaGetLastError();
 }
 
@@ -190,6 +204,6 @@ extern "C" int cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, con
                                const double *a, const double *x, double *y)
 {
     if (nrows <= 0) return 0;
-    k_sub_csr<<<blocks(nrows), kThreads, 0, st>>>(nrows, p, j, a, x, y);
+    pl_cuda_launch(k_sub_csr, blocks(nrows), kThreads, 0, st, nrows, p, j, a, x, y);
     return (int)cudaGetLastError();
 }

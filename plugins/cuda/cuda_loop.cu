@@ -17,6 +17,7 @@
 #include "cuda_loop.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
 
 #include "pliant/device_loop.h"
 
@@ -26,6 +27,8 @@ namespace {
 __global__ void k_loop_rule(cudaGraphConditionalHandle h, pl_device_loop *s,
                             const double *change, const double *residual)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     cudaGraphSetConditional(h, pl_device_loop_rule(s, change, residual) ? 1u : 0u);
 }
 
@@ -79,7 +82,7 @@ extern "C" int cuda_loop_build(struct CUstream_st *st, int (*body)(void *arg), v
                                           cudaStreamCaptureModeThreadLocal);
     if (e == cudaSuccess) {
         *body_rc = body(arg);
-        if (!*body_rc) k_loop_rule<<<1, 1, 0, st>>>(h, state, change, residual);
+        if (!*body_rc) pl_cuda_launch(k_loop_rule, 1, 1, 0, st, h, state, change, residual);
         cudaError_t launch = cudaGetLastError();
         cudaGraph_t captured = NULL; /* the body graph itself, owned by the node */
         e = cudaStreamEndCapture(st, &captured);

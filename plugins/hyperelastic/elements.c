@@ -93,6 +93,7 @@ int hyper_elements_build(pl_hyper_elements *e, pl_hyper_material material, int k
         pl_hyper_law law = hyper_elements_law(e, i);
         e->w[i] = hyper_law_weight(&law) * e->volume[i];
     }
+    e->weight_scale = 1.0;
     if (hyper_incidence_build(nverts, nelem * k, e->verts, &e->vptr, &e->vinc) != 0)
         return fail(e, err, PL_EINTERNAL, "out of memory building the incidence", -1);
     return PL_OK;

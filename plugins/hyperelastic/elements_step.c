@@ -62,7 +62,7 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
         double *u = dual ? dual + (size_t)i * nd : NULL;
         for (int a = 0; a < nd; ++a) z[a] = u && e->material != PL_HYPER_ARAP ? F[a] + u[a] : F[a];
         int nhalf = 0;
-        int it = hyper_local_solve_warm(&law, hyper_law_weight(&law), z, p,
+        int it = hyper_local_solve_warm(&law, e->weight_scale * hyper_law_weight(&law), z, p,
                                         warm ? warm + (size_t)i * d : NULL, &nhalf);
         halvings += nhalf;
         int finite = 1;

@@ -68,6 +68,13 @@ int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
         if (rc != PL_OK) return pl_component_error(c, ctx, rc, "element %d: %s", i, e.msg);
         if (f->young.n == 1 && f->poisson.n == 1) break;
     }
+    if (!(f->admm_weight > 0.0 && isfinite(f->admm_weight)))
+        return pl_component_error(c, ctx, PL_EINPUT, "admmWeight must be positive, got %g",
+                                  f->admm_weight);
+    if (material == PL_HYPER_ARAP && f->admm_weight != 1.0)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "admmWeight is the ADMM-PD penalty of Corotational and "
+                                  "NeoHookean; ARAP's weight is its stiffness (2 mu V)");
     if (f->k == 3 && !(f->thickness > 0.0))
         return pl_component_error(c, ctx, PL_EINPUT, "thickness must be positive [m], got %g",
                                   f->thickness);
@@ -105,12 +112,20 @@ int hyper_fem_reinit(pl_component *c, pl_ctx *ctx)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "rotation=\"edges\" (SOFA's 'large') needs tetrahedra");
     f->el.edge_rotation = f->rotation;
+    /* the penalty scales the weights everywhere they appear: the system
+     * matrix, the local prox and the right-hand side (ARAP: 1, init) */
+    f->el.weight_scale = f->admm_weight;
     double wsum = 0.0;
-    for (int i = 0; i < f->el.n; ++i) wsum += f->el.w[i];
+    for (int i = 0; i < f->el.n; ++i) wsum += f->el.w[i] *= f->admm_weight;
+    char law[64];
+    if (f->material == PL_HYPER_ARAP)
+        snprintf(law, sizeof law, "PD (w = 2 mu V)");
+    else if (f->admm_weight == 1.0)
+        snprintf(law, sizeof law, "ADMM-PD (w = (2 mu + lambda) V)");
+    else
+        snprintf(law, sizeof law, "ADMM-PD (w = %g (2 mu + lambda) V)", f->admm_weight);
     pl_log_info("%s: %d %s, %s, mean weight w = %g N m", c->name, f->el.n,
-                f->k == 4 ? "tetrahedra" : "triangles",
-                f->material == PL_HYPER_ARAP ? "PD (w = 2 mu V)" : "ADMM-PD (w = (2 mu + lambda) V)",
-                f->el.n ? wsum / f->el.n : 0.0);
+                f->k == 4 ? "tetrahedra" : "triangles", law, f->el.n ? wsum / f->el.n : 0.0);
     return PL_OK;
 }
 

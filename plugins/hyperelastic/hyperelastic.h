@@ -145,7 +145,8 @@ typedef struct pl_hyper_elements {
     double *D;          /* n x (k*d): each a k x d row-major shape matrix */
     double *volume;     /* n rest volumes [m^3] (triangles: area * thickness) */
     double *mu, *lambda;/* n Lame parameters [Pa] (lambda plane-stress for triangles) */
-    double *w;          /* n PD weights [N m] = hyper_law_weight * volume */
+    double *w;          /* n PD weights [N m] = weight_scale * hyper_law_weight * volume */
+    double weight_scale;/* the ADMM-PD penalty's scale (admmWeight; 1 by default, ARAP: 1) */
     int *vptr, *vinc;   /* vertex -> (element*k + corner) incidence, for gathers */
     int edge_rotation;  /* 1: SOFA's 'large' rotation from the edges (edge_rotation.c) */
 } pl_hyper_elements;

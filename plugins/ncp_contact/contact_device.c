@@ -482,9 +482,11 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     }
     int e = 0;
     lap(g, ctx, profile, st->t_assembly, 1, err);
-    if (g->jacobian)
-        e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, NULL, q_k->data, 1, g->V.delta);
-    if (!e) e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, 0, g->V.delta_free);
+    if (g->jacobian) /* delta at q_k and delta_free at q_free, one launch */
+        e = ncp_cuda_delta2(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, g->V.delta,
+                            g->V.delta_free);
+    else
+        e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, 0, g->V.delta_free);
     if (e) return cuda_fail(g, err, e, "row values");
     if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
     lap(g, ctx, profile, st->t_solve, 1, err);
@@ -494,9 +496,9 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     if (rc) return rc;
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
     lap(g, ctx, profile, st->t_corr, 1, err);
-    rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
-    if (!rc && (e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, g->V.force, st->h * st->h,
-                                     g->corr)))
+    /* force = S lambda and its h^2 H^T force, one launch */
+    if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, sys->nfree, g->V.scale,
+                                     g->V.lambda, st->h * st->h, g->V.force, g->corr)))
         rc = cuda_fail(g, err, e, "H^T lambda");
     if (!rc) rc = gs->solve(sys->global_solver, &cb, &cb, err);
     if (!rc && (e = ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))

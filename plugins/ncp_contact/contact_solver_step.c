@@ -102,11 +102,30 @@ static int device_wdiag(void)
     return !(e && !strcmp(e, "0"));
 }
 
+/* A few rows' W is cheaper to build here and upload than on the device:
+ * the device build (gather, SYRK, sum, the diagonal back) is a chain of
+ * launches and a wait whatever m (cable_finger, 1 row: 0.27 ms a step on
+ * the H100 against 0.05 ms for the CPU's whole Schur phase). The upload
+ * of the iterations' first call takes the host's W. PLIANT_DEVICE_W=host
+ * or device forces one (the comparison of docs/benchmarks.md). */
+enum { HOST_W_MAX_ROWS = 16 };
+
+static int w_on_host(int m)
+{
+    const char *e = getenv("PLIANT_DEVICE_W");
+    if (e && !strcmp(e, "host")) return 1;
+    if (e && !strcmp(e, "device")) return 0;
+    return m <= HOST_W_MAX_ROWS;
+}
+
 int ncpc_build_delassus(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
                            const pl_system *sys, pl_error *err)
 {
     const pl_global_solver_ops *ops = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     int dev = on_device(s, ops, sys), dev_w = dev && ops->version >= 3 && ops->delassus_device;
+    if (dev_w && w->rows.m > 0 && w_on_host(w->rows.m) && ops->apply_inverse_to_rows &&
+        (s->delassus == W_EXPLICIT || s->delassus == W_AUTO))
+        return ncpc_delassus_explicit(&w->D, sys, &w->rows, err);
     int explicit_w = s->delassus == W_EXPLICIT || (s->delassus == W_AUTO && ops && ops->apply_inverse_to_rows &&
                                                    auto_explicit(s, ctx->timers, w->rows.m, sys->nfree, dev_w) &&
                                                    (w->rows.m <= DEVICE_EXPLICIT_MAX_ROWS || !dev || dev_w));

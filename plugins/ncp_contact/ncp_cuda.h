@@ -1,6 +1,8 @@
 /* ncp_cuda.h - the kernels of the contact solver's device path (CUDA
  * builds): the rows' products (ncp_cuda_rows.cu) and the constraint update
- * of Algorithm 4 split into phases around its W products (ncp_cuda_step.cu).
+ * of Algorithm 4 split into phases around its W products (ncp_cuda_step.cu,
+ * the phases' code in ncp_cuda_phases.cuh) or in one kernel
+ * (ncp_cuda_fused.cu).
  *
  * Every function queues work on `stream` and returns the launch's
  * cudaError_t as an int (0: queued); nothing waits, so a whole iteration
@@ -80,13 +82,23 @@ typedef struct pl_ncp_cuda_params {
  * use_fvert, x is ignored and the free part reads q at R->fvert too. */
 int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *x,
                    const double *q, int use_fvert, double *delta);
+/* Both at once, as the two ncp_cuda_delta calls of a jacobian iteration:
+ * delta at q (use_fvert) and delta_free at x (the same sums, one launch). */
+int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *x,
+                    const double *q, double *delta, double *delta_free);
 /* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order). */
 int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int nfree,
                      const double *x, double alpha, double *X);
+/* force = scale .* lambda (PL_NCP_PHASE_LAMBDA) and X = alpha H_free^T
+ * force (ncp_cuda_scatter) in one launch, the same values. */
+int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                            int nfree, const double *scale, const double *lambda, double alpha,
+                            double *force, double *X);
 /* y_j = H_j,free X. */
 int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *X,
                     double *y);
-/* y = W x, W dense m x m row-major, m = R->m (a warp per row). */
+/* y = W x, W dense m x m row-major, m = R->m (summed as ncp_cuda_dense.cuh
+ * says: K threads a row, a warp for many rows). */
 int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *W,
                    const double *x, double *y);
 /* out[i] = a[i] + b[i], i < n. */
@@ -120,9 +132,10 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
 /* The whole constraint update (contact_device.c's constraint_update: the
  * phases above and the products y = W x between them, CR's loop included)
  * in one single-block kernel, W explicit (m x m, m = R->m): the same
- * arithmetic as those phases and ncp_cuda_dense queued one by one, without
- * their launches.  jacobian: the correction's kind (no linearisation).  For
- * few rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
+ * arithmetic as those phases and ncp_cuda_dense queued one by one (bitwise
+ * the same results), without their launches; reductions take one barrier
+ * each.  jacobian: the correction's kind (no linearisation).  For few
+ * rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
 #define NCP_CUDA_FUSED_MAX_ROWS 256
 int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                           const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,

@@ -3,10 +3,13 @@
  * over the transposed entries (the CPU's scatter adds rows in increasing
  * order; here each unknown sums its rows in that same order, so no atomics
  * and the same sums), H X, and the dense W x of the explicit Delassus
- * operator. */
+ * operator (in ncp_cuda_dense.cuh's order). */
 #include "ncp_cuda.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
+
+#include "ncp_cuda_dense.cuh"
 
 namespace {
 
@@ -28,6 +31,8 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
 __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                         const double *__restrict__ q, int use_fvert, double *__restrict__ delta)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int *free_vertex = use_fvert ? R.fvert : NULL;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
@@ -43,9 +48,71 @@ __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
     delta[j] = s - R.offset[j];
 }
 
+/* Both row values of a jacobian iteration in one launch: delta at q (free
+ * part read at R.fvert) and delta_free at x; each sum as k_delta's. */
+__device__ __forceinline__ double row_value(const pl_ncp_cuda_rows &R, int j, const double *x,
+                                            const double *q, const int *free_vertex)
+{
+    double s = 0.0;
+    for (int p = R.pstart[j]; p < R.pstart[j + 1]; ++p)
+        s += dot3(R.pcoef + 3 * (size_t)p, q + 3 * (size_t)R.pvert[p]);
+    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e) {
+        const int f = R.fcol[e];
+        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+        s += dot3(R.fcoef + 3 * (size_t)e, xe);
+    }
+    return s - R.offset[j];
+}
+
+__global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
+                         const double *__restrict__ q, double *__restrict__ delta,
+                         double *__restrict__ delta_free)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const pl_ncp_cuda_rows R = *Rp;
+    const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (j >= R.m) return;
+    delta[j] = row_value(R, j, NULL, q, R.fvert);
+    delta_free[j] = row_value(R, j, x, q, NULL);
+}
+
+/* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
+ * multipliers phase (force = S lambda, ncp_cuda_step.cu) and k_scatter in
+ * one launch; l = alpha (scale lambda) rounds as force then alpha force. */
+__global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
+                                 const double *__restrict__ scale,
+                                 const double *__restrict__ lambda, double alpha,
+                                 double *__restrict__ force, double *__restrict__ X)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const pl_ncp_cuda_rows R = *Rp;
+    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
+    if (f < R.m) force[f] = scale[f] * lambda[f];
+    if (f >= R.nfree) return;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
+        const int e = R.tent[k];
+        const int r = R.erow[e];
+        const double fr = scale[r] * lambda[r];
+        const double l = alpha * fr;
+        if (l == 0.0) continue; /* as the CPU, which skips such rows */
+        const double *c = R.fcoef + 3 * (size_t)e;
+        a0 += l * c[0];
+        a1 += l * c[1];
+        a2 += l * c[2];
+    }
+    X[3 * (size_t)f] = a0;
+    X[3 * (size_t)f + 1] = a1;
+    X[3 * (size_t)f + 2] = a2;
+}
+
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                           double alpha, double *__restrict__ X)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= R.nfree) return;
@@ -67,6 +134,8 @@ __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
                          double *__restrict__ y)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= R.m) return;
@@ -78,23 +147,27 @@ __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
 
 /* A warp per row; lanes take columns lane, lane + 32, ... and a fixed
  * shuffle tree sums them (deterministic). */
+/* y = W x, row i by K threads (ncp_cuda_dense.cuh: the fused update's
+ * order); warps wholly past the rows leave, the others shuffle whole. */
 __global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ W,
                         const double *__restrict__ x, double *__restrict__ y)
 {
-    const int m = Rp->m;
-    const long long warp = (blockIdx.x * (long long)blockDim.x + threadIdx.x) >> 5;
-    const int lane = threadIdx.x & 31;
-    if (warp >= m) return;
-    const double *row = W + (size_t)warp * (size_t)m;
-    double s = 0.0;
-    for (int j = lane; j < m; j += 32) s += row[j] * x[j];
-    for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
-    if (lane == 0) y[warp] = s;
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const int m = Rp->m, K = ncp_dense_width(m);
+    const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
+    if ((g & ~31LL) / K >= m) return;
+    const long long i = g / K;
+    const int c = (int)(g % K), ok = i < m;
+    const double s = ncp_dense_row(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
+    if (ok && c == 0) y[i] = s;
 }
 
 __global__ void k_add(long n, const double *__restrict__ a, const double *__restrict__ b,
                       double *__restrict__ out)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const long i = (long)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i < n) out[i] = a[i] + b[i];
 }
@@ -113,7 +186,7 @@ extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                               const double *x, const double *q, int use_fvert, double *delta)
 {
     if (mcap <= 0) return 0;
-    k_delta<<<blocks(mcap), kThreads, 0, st>>>(R, x, q, use_fvert, delta);
+    pl_cuda_launch(k_delta, blocks(mcap), kThreads, 0, st, R, x, q, use_fvert, delta);
     return (int)cudaGetLastError();
 }
 
@@ -121,7 +194,27 @@ extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *
                                 const double *x, double alpha, double *X)
 {
     if (nfree <= 0) return 0;
-    k_scatter<<<blocks(nfree), kThreads, 0, st>>>(R, x, alpha, X);
+    pl_cuda_launch(k_scatter, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                               const double *x, const double *q, double *delta,
+                               double *delta_free)
+{
+    if (mcap <= 0) return 0;
+    pl_cuda_launch(k_delta2, blocks(mcap), kThreads, 0, st, R, x, q, delta, delta_free);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                       int mcap, int nfree, const double *scale,
+                                       const double *lambda, double alpha, double *force,
+                                       double *X)
+{
+    int n = mcap > nfree ? mcap : nfree;
+    if (n <= 0) return 0;
+    pl_cuda_launch(k_scatter_scaled, blocks(n), kThreads, 0, st, R, scale, lambda, alpha, force, X);
     return (int)cudaGetLastError();
 }
 
@@ -129,7 +222,7 @@ extern "C" int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R
                                const double *X, double *y)
 {
     if (mcap <= 0) return 0;
-    k_gather<<<blocks(mcap), kThreads, 0, st>>>(R, X, y);
+    pl_cuda_launch(k_gather, blocks(mcap), kThreads, 0, st, R, X, y);
     return (int)cudaGetLastError();
 }
 
@@ -137,7 +230,7 @@ extern "C" int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                               const double *W, const double *x, double *y)
 {
     if (mcap <= 0) return 0;
-    k_dense<<<blocks(32LL * mcap), kThreads, 0, st>>>(R, W, x, y);
+    pl_cuda_launch(k_dense, blocks(32LL * mcap), kThreads, 0, st, R, W, x, y);
     return (int)cudaGetLastError();
 }
 
@@ -145,7 +238,7 @@ extern "C" int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, con
                                double *out)
 {
     if (n <= 0) return 0;
-    k_add<<<blocks(n), kThreads, 0, st>>>(n, a, b, out);
+    pl_cuda_launch(k_add, blocks(n), kThreads, 0, st, n, a, b, out);
     return (int)cudaGetLastError();
 }
 

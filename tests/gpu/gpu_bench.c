@@ -2,6 +2,7 @@
  * tests/gpu/run.sh; not a ctest test).
  *
  *   gpu_bench [tables.md] [repetitions]
+ *   gpu_bench chain [tables.md] [repetitions]     (gpu_bench_chain.c)
  *
  * Bars 44x11x11 and 72x17x17 (gpu_bar.h).  Global step x = A^-1 b on
  * device n x 3 blocks, float32 and float64: median over `repetitions` (100)
@@ -321,8 +322,19 @@ static void bench_iteration(gpu_bar *bar, cudaStream_t st)
     free(q);
 }
 
+void gpu_bench_chain(FILE *md, int reps, cudaStream_t st);
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "chain")) {
+        cudaStream_t st;
+        FILE *out = argc > 2 ? fopen(argv[2], "w") : stdout;
+        if (cudaStreamCreate(&st) != cudaSuccess || !out) return 1;
+        gpu_bench_chain(out, argc > 3 && atoi(argv[3]) > 0 ? atoi(argv[3]) : 100, st);
+        if (out != stdout) fclose(out);
+        cudaStreamDestroy(st);
+        return 0;
+    }
     md = argc > 1 ? fopen(argv[1], "w") : stdout;
     if (!md) md = stdout;
     if (argc > 2) reps = atoi(argv[2]) > 0 ? atoi(argv[2]) : 100;

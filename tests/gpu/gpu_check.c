@@ -13,6 +13,10 @@
  *    to the CPU sparse inverse; also a random b (float64 checked, float32
  *    reported), S x and S^T x alone, x = b in place, host copies, float32
  *    S with float64 blocks, and bitwise repeatability of the own kernels;
+ *  - small bars (10x3x3, 12x4x3; 12x4x3 in float32 has split tiles): the
+ *    single-block solve against the three-launch one (PLIANT_SPINV_SMALL=0),
+ *    float64 and float32: bitwise equal, also x = b in place, and float64
+ *    <= 1e-9 from the CPU;
  *  - W's diagonal on the device (etree walk and explicit W) vs the host's Y;
  *  - the scene (SparseInverseSolver device=cuda, precision float64 and
  *    float32) against device=cpu after 10 steps.
@@ -277,6 +281,74 @@ done:
     free(q), free(b), free(br), free(xc), free(xrc), free(x);
 }
 
+/* x = A^-1 b on the device in place (x = b). */
+static int device_solve_inplace(pl_spinv_cuda *g, const double *b, double *x, size_t n3,
+                                pl_precision io)
+{
+    void *d = gpu_put(b, n3, io);
+    pl_error err;
+    int rc = d ? spinv_cuda_solve(g, d, d, io, NULL, &err) : PL_EINTERNAL;
+    if (rc == PL_OK) rc = gpu_sync("in place") || gpu_get(x, d, n3, io) ? -1 : PL_OK;
+    gpu_free(d);
+    return rc == PL_OK ? 0 : -1;
+}
+
+/* Values of a and b whose bits differ. */
+static double bits_differing(const double *a, const double *b, size_t m)
+{
+    size_t diff = 0;
+    for (size_t i = 0; i < m; ++i) diff += memcmp(&a[i], &b[i], sizeof *a) != 0;
+    return (double)diff;
+}
+
+/* The single-block solve of a small system against the three launches. */
+static void check_small_solve(int nx, int ny, int nz)
+{
+    gpu_bar bar;
+    pl_error err;
+    char what[200];
+    if (gpu_bar_build(&bar, nx, ny, nz, &err) != PL_OK) {
+        gpu_check_line(md, "building the small bar", 1.0, 0.0);
+        return;
+    }
+    size_t n3 = (size_t)bar.n * 3;
+    double *b = malloc(n3 * sizeof *b), *xc = malloc(n3 * sizeof *xc);
+    double *x1 = malloc(n3 * sizeof *x1), *x3 = malloc(n3 * sizeof *x3);
+    unsigned st = 23;
+    if (!b || !xc || !x1 || !x3) goto done;
+    for (size_t i = 0; i < n3; ++i) b[i] = gpu_rand(&st);
+    if (sparse_inverse_solve(bar.spinv, b, xc, 3, &err) != PL_OK) goto done;
+    for (int pi = 0; pi < 2; ++pi) {
+        pl_precision p = pi ? PL_F32 : PL_F64;
+        setenv("PLIANT_SPINV_SMALL", "0", 1);
+        pl_spinv_cuda *g3 = spinv_cuda_create(bar.spinv, p, &err);
+        unsetenv("PLIANT_SPINV_SMALL");
+        pl_spinv_cuda *g1 = spinv_cuda_create(bar.spinv, p, &err);
+        snprintf(what, sizeof what, "%dx%dx%d (n = %d) %s: single block chosen (1), not with "
+                 "PLIANT_SPINV_SMALL=0 (0)", nx, ny, nz, bar.n, pi ? "float32" : "float64");
+        int chosen = g1 && g3 && spinv_cuda_single_block(g1) && !spinv_cuda_single_block(g3);
+        gpu_check_line(md, what, chosen ? 0.0 : 1.0, 0.0);
+        if (chosen && device_solve(g1, b, x1, n3, p) == 0 && device_solve(g3, b, x3, n3, p) == 0) {
+            snprintf(what, sizeof what, "%dx%dx%d %s: single block vs three launches, values "
+                     "differing", nx, ny, nz, pi ? "float32" : "float64");
+            gpu_check_line(md, what, bits_differing(x1, x3, n3), 0.0);
+            if (!pi) {
+                snprintf(what, sizeof what, "%dx%dx%d float64 single block vs CPU", nx, ny, nz);
+                gpu_check_line(md, what, gpu_rel_diff(x1, xc, n3), 1e-9);
+            }
+            snprintf(what, sizeof what, "%dx%dx%d %s single block, x = b in place: values "
+                     "differing", nx, ny, nz, pi ? "float32" : "float64");
+            double d = device_solve_inplace(g1, b, x1, n3, p) ? INFINITY : bits_differing(x1, x3, n3);
+            gpu_check_line(md, what, d, 0.0);
+        }
+        spinv_cuda_destroy(g1);
+        spinv_cuda_destroy(g3);
+    }
+done:
+    free(b), free(xc), free(x1), free(x3);
+    gpu_bar_free(&bar);
+}
+
 /* Positions of bar/dofs after nsteps of the scene with the given overrides. */
 static int run_scene(const char *path, const char *const *ov, int nov, int nsteps, double *out,
                      size_t cap, size_t *m)
@@ -349,6 +421,8 @@ int main(int argc, char **argv)
         check_global(&bar);
         gpu_bar_free(&bar);
     }
+    check_small_solve(10, 3, 3);
+    check_small_solve(12, 4, 3);
     if (nsizes == 2) check_scene(scene);
     printf("gpu_check: %d failed\n", gpu_failures());
     if (md) fclose(md);

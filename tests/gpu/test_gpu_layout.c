@@ -237,6 +237,37 @@ START_TEST(test_layout_replay_splits_long_rows_and_tiles)
 }
 END_TEST
 
+/* The single-block solve's threshold (spinv_cuda_small_fits): small n,
+ * S's padded values within 64 KB, no split row, shared memory within the
+ * device's limit (H100: 227 KB a block). */
+START_TEST(test_small_solve_threshold)
+{
+    const int h100 = 232448;
+    /* a, y and the tile sums: 12 KB a group of 8 warps, 4 groups */
+    ck_assert_uint_eq(spinv_cuda_small_shmem(144, 8), 49152 + (3 * 144 + 4 * 144) * 8);
+    ck_assert_uint_eq(spinv_cuda_small_shmem(138, 4), 49152 + (3 * 144 + 4 * 138) * 4);
+    fixture f;
+    fixture_grid(&f, 12, 4, 3); /* 144 unknowns, about the cable finger's 138 */
+    pl_spinv_cuda_layout L;
+    pl_error err;
+    for (int es = 8; es >= 4; es -= 4) {
+        ck_assert_int_eq(spinv_cuda_layout_build(f.S, f.ST, es, 0, 0, &L, &err), PL_OK);
+        int bytes_ok = L.nval * es <= PL_SPINV_CUDA_SMALL_BYTES;
+        ck_assert_int_eq(spinv_cuda_small_fits(L.n, L.nval, L.nparts_S, es, h100),
+                         bytes_ok && L.nparts_S == 0);
+        /* a device with too little shared memory a block keeps three launches */
+        ck_assert_int_eq(spinv_cuda_small_fits(L.n, L.nval, L.nparts_S, es, 48 * 1024), 0);
+        spinv_cuda_layout_free(&L);
+    }
+    fixture_free(&f);
+    ck_assert_int_eq(spinv_cuda_small_fits(144, 5376, 0, 8, h100), 1);     /* 43 KB */
+    ck_assert_int_eq(spinv_cuda_small_fits(256, 13712, 0, 8, h100), 0);    /* 110 KB */
+    ck_assert_int_eq(spinv_cuda_small_fits(256, 13712, 0, 4, h100), 1);    /* 55 KB */
+    ck_assert_int_eq(spinv_cuda_small_fits(144, 5376, 1, 8, h100), 0);     /* a split row */
+    ck_assert_int_eq(spinv_cuda_small_fits(PL_SPINV_CUDA_SMALL_N + 1, 100, 0, 8, h100), 0);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("gpu_layout");
@@ -244,6 +275,7 @@ int main(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_layout_replay_matches_cpu_products_small_bar);
     tcase_add_test(tc, test_layout_replay_splits_long_rows_and_tiles);
+    tcase_add_test(tc, test_small_solve_threshold);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

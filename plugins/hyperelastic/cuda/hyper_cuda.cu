@@ -4,6 +4,7 @@
 #include "hyper_cuda.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
 #include <limits.h>
 #include <stdlib.h>
 
@@ -11,6 +12,7 @@
 
 struct pl_hyper_cuda {
     int n, nverts, material;
+    double wscale;          /* the ADMM-PD penalty's scale (elements' weight_scale) */
     int k;                  /* corners: 4 (tetrahedra) or 3 (triangles) */
     int *verts;             /* n x k local vertices */
     double *D;              /* n x (k d): k x d shape matrices */
@@ -63,11 +65,14 @@ template <int K, int Dd>
 __global__ void __launch_bounds__(kThreads)
     k_project(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
               const double *__restrict__ mu, const double *__restrict__ lambda,
-              const double *__restrict__ w, int offset, double h2, const double *__restrict__ q,
+              const double *__restrict__ w, double wscale, int offset, double h2,
+              const double *__restrict__ q,
               double *__restrict__ dual, double *__restrict__ warm, double *__restrict__ slots,
               double *__restrict__ rhs, int atomic, int *__restrict__ stats,
               unsigned long long *__restrict__ acc)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     constexpr int ND = 3 * Dd, KD = K * Dd;
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     int iters = 0, missed = 0, bad = INT_MAX, newton = 0, halvings = 0, bin = -1;
@@ -91,7 +96,7 @@ __global__ void __launch_bounds__(kThreads)
             }
         }
         const double m = mu[i], la = lambda[i];
-        const double what = material == 0 ? 2.0 * m : 2.0 * m + la;
+        const double what = wscale * (material == 0 ? 2.0 * m : 2.0 * m + la);
         double *u = material != 0 ? dual + ND * (size_t)i : NULL;
         double ul[ND];
 #pragma unroll
@@ -164,6 +169,8 @@ __global__ void __launch_bounds__(kThreads)
 __global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
                          const double *__restrict__ slots, int offset, double *__restrict__ rhs)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     const int v = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (v >= nverts) return;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
@@ -203,6 +210,7 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         return NULL;
     }
     g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material, g->k = e->k;
+    g->wscale = e->weight_scale;
     size_t n = (size_t)e->n, k = (size_t)e->k;
     if (upload(g, &g->verts, e->verts, k * n, err) ||
         upload(g, &g->D, e->D, k * (size_t)e->d * n, err) || upload(g, &g->mu, e->mu, n, err) ||
@@ -254,16 +262,16 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
         unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
         if (g->k == 4)
-            k_project<4, 3><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
-                                                     g->lambda, g->w, offset, h2, q, dual, g->warm,
-                                                     g->slots, rhs, atomic, g->stats, g->acc);
+            pl_cuda_launch(k_project<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
+                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->slots, rhs, atomic, g->stats, g->acc);
         else
-            k_project<3, 2><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->mu,
-                                                     g->lambda, g->w, offset, h2, q, dual, g->warm,
-                                                     g->slots, rhs, atomic, g->stats, g->acc);
+            pl_cuda_launch(k_project<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
+                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)
-            k_gather<<<(unsigned)((g->nverts + 255) / 256), 256, 0, st>>>(g->nverts, g->vptr, g->vinc,
-                                                                         g->slots, offset, rhs);
+            pl_cuda_launch(k_gather, (unsigned)((g->nverts + 255) / 256), 256, 0, st, g->nverts,
+                           g->vptr, g->vinc, g->slots, offset, rhs);
     }
     HC_CK(cudaGetLastError(), "local step kernels");
     return PL_OK;
@@ -286,8 +294,8 @@ extern "C" int hyper_cuda_gather(int nverts, const int *vptr, const int *vinc, c
                                  int offset, double *out, struct CUstream_st *stream, pl_error *err)
 {
     if (nverts > 0)
-        k_gather<<<(unsigned)((nverts + 255) / 256), 256, 0, (cudaStream_t)stream>>>(
-            nverts, vptr, vinc, slots, offset, out);
+        pl_cuda_launch(k_gather, (unsigned)((nverts + 255) / 256), 256, 0, (cudaStream_t)stream,
+                       nverts, vptr, vinc, slots, offset, out);
     HC_CK(cudaGetLastError(), "gather");
     return PL_OK;
 }

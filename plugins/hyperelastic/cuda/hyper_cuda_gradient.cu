@@ -6,6 +6,7 @@
 #include "hyper_cuda_gradient.h"
 
 #include <cuda_runtime.h>
+#include "pliant/cuda_launch.h"
 #include <stdlib.h>
 
 #include "local_solve.h" /* hm_svd3 / hm_svd32, hm_sv_eval */
@@ -39,6 +40,8 @@ __global__ void __launch_bounds__(kThreads)
                const double *__restrict__ lambda, int offset, const double *__restrict__ q,
                double *__restrict__ slots)
 {
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
     constexpr int ND = 3 * Dd, KD = K * Dd;
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (i >= n) return;
@@ -148,11 +151,11 @@ extern "C" int hyper_cuda_grad_add(pl_hyper_cuda_grad *g, int offset, const doub
     if (g->n > 0) {
         unsigned nb = (unsigned)((g->n + kThreads - 1) / kThreads);
         if (g->k == 4)
-            k_gradient<4, 3><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->volume,
-                                                      g->mu, g->lambda, offset, q, g->slots);
+            pl_cuda_launch(k_gradient<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts,
+                           g->D, g->volume, g->mu, g->lambda, offset, q, g->slots);
         else
-            k_gradient<3, 2><<<nb, kThreads, 0, st>>>(g->n, g->material, g->verts, g->D, g->volume,
-                                                      g->mu, g->lambda, offset, q, g->slots);
+            pl_cuda_launch(k_gradient<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts,
+                           g->D, g->volume, g->mu, g->lambda, offset, q, g->slots);
         cudaError_t e = cudaGetLastError();
         if (e != cudaSuccess) return cuda_fail(err, e, "gradient kernel");
         if (g->nverts > 0) return hyper_cuda_gather(g->nverts, g->vptr, g->vinc, g->slots, offset,

@@ -132,6 +132,7 @@ extern "C" pl_spinv_cuda *spinv_cuda_create_tuned(const pl_sparse_inverse *s,
     }
     /* bytes a step must read: the values of S, twice (S a, then S^T y) */
     g->bytes_step = 2.0 * (double)S->start[S->n] * (double)real_size(precision);
+    if (rc == PL_OK) rc = spinv_cuda_small_setup(g, err);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hb, (size_t)g->n * 3 * sizeof(double), err);
     if (rc == PL_OK) rc = dev_alloc(g, (void **)&g->hx, (size_t)g->n * 3 * sizeof(double), err);
     if (rc != PL_OK) {
@@ -161,6 +162,7 @@ extern "C" int spinv_cuda_solve(pl_spinv_cuda *g, const void *b, void *x, pl_pre
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "sparse inverse (cuda): NULL block");
     g->last_b = b, g->last_x = x, g->last_io = io;
     cudaStream_t st = stream;
+    if (g->small) return spinv_cuda_launch_small(g, b, x, io, st, err);
     if ((rc = spinv_cuda_launch_permute(g, b, io, g->perm, st, err))) return rc;
     if ((rc = spinv_cuda_launch_S(g, st, err))) return rc;
     return spinv_cuda_launch_ST(g, x, io, g->perm, st, err);
@@ -218,6 +220,11 @@ extern "C" int spinv_cuda_run_stage(pl_spinv_cuda *g, pl_spinv_cuda_stage stage,
 extern "C" int spinv_cuda_size(const pl_spinv_cuda *g)
 {
     return g ? g->n : 0;
+}
+
+extern "C" int spinv_cuda_single_block(const pl_spinv_cuda *g)
+{
+    return g ? g->small : 0;
 }
 
 extern "C" pl_precision spinv_cuda_precision(const pl_spinv_cuda *g)

@@ -61,6 +61,9 @@ int spinv_cuda_solve_host(pl_spinv_cuda *g, const double *b, double *x,
 
 int spinv_cuda_size(const pl_spinv_cuda *g);
 pl_precision spinv_cuda_precision(const pl_spinv_cuda *g);
+/* 1 when solve runs as one single-block launch (small systems:
+ * spinv_cuda_small.cu), 0 when as three launches. */
+int spinv_cuda_single_block(const pl_spinv_cuda *g);
 /* Device bytes held (matrix, metadata, workspaces). */
 double spinv_cuda_device_bytes(const pl_spinv_cuda *g);
 /* Bytes of matrix values one global step must read: the floor on its

@@ -38,6 +38,8 @@ struct pl_spinv_cuda {
     void *y4;                        /* n x 4: S P b (4th column unused) */
     void *part_S, *part_ST;          /* partial sums of split rows and tiles */
     int *cnt_S, *cnt_ST;             /* arrival counters (reset by the last warp) */
+    int small;                       /* the single-block solve (spinv_cuda_small.cu) */
+    size_t small_shmem;              /* its shared memory, bytes */
     double *hb, *hx;                 /* n x 3 float64 staging for solve_host */
     struct spinv_delassus *dl;       /* spinv_cuda_delassus's state */
     /* the last solve's buffers, for run_stage */
@@ -65,6 +67,12 @@ int spinv_cuda_launch_permute(pl_spinv_cuda *g, const void *b, pl_precision io, 
 int spinv_cuda_launch_S(pl_spinv_cuda *g, cudaStream_t st, pl_error *err);
 int spinv_cuda_launch_ST(pl_spinv_cuda *g, void *x, pl_precision io, const int *perm,
                          cudaStream_t st, pl_error *err);
+/* The single-block solve (spinv_cuda_small.cu; when: spinv_cuda_small_fits). */
+/* Decides g->small at create (and lets the kernels use their shared memory). */
+int spinv_cuda_small_setup(pl_spinv_cuda *g, pl_error *err);
+/* x = A^-1 b in one launch (g->small set). */
+int spinv_cuda_launch_small(pl_spinv_cuda *g, const void *b, void *x, pl_precision io,
+                            cudaStream_t st, pl_error *err);
 /* y4 (n x 4) <- x (n x 3) and y (n x 3) <- y4, in the object's precision. */
 int spinv_cuda_launch_to4(pl_spinv_cuda *g, const void *x, cudaStream_t st, pl_error *err);
 int spinv_cuda_launch_from4(pl_spinv_cuda *g, void *y, cudaStream_t st, pl_error *err);

@@ -208,3 +208,16 @@ void spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_pr
             val[m->vbase + j] = (j >= f && j <= i) ? (float)src[j - f] : 0.0f;
     }
 }
+
+size_t spinv_cuda_small_shmem(int n, int elem_size)
+{
+    size_t npad = ((size_t)n + BLK - 1) / BLK * BLK;
+    return PL_SPINV_CUDA_SMALL_RED_BYTES + (3 * npad + 4 * (size_t)n) * (size_t)elem_size;
+}
+
+int spinv_cuda_small_fits(int n, int64_t nval, int nparts_S, int elem_size, int shmem_max)
+{
+    return n >= 1 && n <= PL_SPINV_CUDA_SMALL_N && nparts_S == 0 &&
+           nval * elem_size <= PL_SPINV_CUDA_SMALL_BYTES &&
+           spinv_cuda_small_shmem(n, elem_size) <= (size_t)shmem_max;
+}

@@ -29,6 +29,7 @@
 #define PLIANT_SPINV_CUDA_LAYOUT_H
 
 #include <stdint.h>
+#include <stddef.h>
 #include "pliant/error.h"
 #include "sparse_inverse.h"
 
@@ -99,6 +100,20 @@ void spinv_cuda_layout_fill_f64(const pl_spinv_cuda_layout *L, const pl_spinv_pr
 void spinv_cuda_layout_fill_f32(const pl_spinv_cuda_layout *L, const pl_spinv_profile *S,
                                    float *val);
 void spinv_cuda_layout_free(pl_spinv_cuda_layout *L);
+
+/* The single-block solve of small systems (spinv_cuda_small.cu) is used
+ * when n <= SMALL_N, S's padded values take <= SMALL_BYTES, no row of S is
+ * split (nparts_S = 0) and its shared memory (spinv_cuda_small_shmem: a, y
+ * and the tile sums) is at most shmem_max, the device's per-block limit.
+ * SMALL_BYTES: one block reads the values twice a solve; on the H100 a solve
+ * in a graph chain took 5.4 / 6.1 / 11.5 us as one block against 8.6 / 8.2
+ * / 9.9 us as three launches with 19 / 43 / 110 KB of values (float64;
+ * gpu_bench chain, docs/benchmarks.md): the crossing is near 80 KB. */
+#define PL_SPINV_CUDA_SMALL_N 512
+#define PL_SPINV_CUDA_SMALL_BYTES (64 * 1024)
+#define PL_SPINV_CUDA_SMALL_RED_BYTES (4 * 8 * 32 * 48) /* 4 groups of 8 warps, 48 B a lane */
+size_t spinv_cuda_small_shmem(int n, int elem_size);
+int spinv_cuda_small_fits(int n, int64_t nval, int nparts_S, int elem_size, int shmem_max);
 
 #ifdef __cplusplus
 }

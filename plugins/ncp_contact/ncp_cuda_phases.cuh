@@ -1,0 +1,393 @@
+/* ncp_cuda_phases.cuh - the device code of the constraint update's phases
+ * (see ncp_cuda.h for the sequence), shared by the phase kernels
+ * (ncp_cuda_step.cu) and the fused update (ncp_cuda_fused.cu).  Each
+ * phase is run by one block: rows and contacts are strided over its
+ * threads, and sums and maxima go through a fixed reduction order
+ * (block_reduce: deterministic, no atomics).  The NCP functions, residual
+ * parts and projections are the CPU's own (ncp_functions.h, ncp_residual.h,
+ * ncp_project.h); the rest follows ncp_step.c (evaluate_rows, the clamped
+ * rows, the full_force operator), cr.c and ncp_linesearch.c. */
+#ifndef PLIANT_NCP_CUDA_PHASES_CUH
+#define PLIANT_NCP_CUDA_PHASES_CUH
+
+#include "ncp_cuda.h"
+
+#include <cuda_runtime.h>
+
+/* the row and contact functions the CPU runs too (compiled as CUDA) */
+#include "ncp_functions.h"
+#include "ncp_project.h"
+#include "ncp_residual.h"
+
+namespace {
+
+constexpr int kThreads = 512, kWarps = kThreads / 32;
+
+/* A block's reductions: each warp reduces by a fixed shuffle tree, its
+ * lane 0 writes the warp's value, one barrier, then every thread combines
+ * the kWarps values by a fixed pairwise tree (deterministic, no atomics).  The
+ * buffers alternate: a reduction writes the one that the reduction before
+ * the previous read, and every reader of that one has passed the previous
+ * reduction's barrier since, so one barrier a reduction suffices.  All
+ * threads run the same sequence of reductions (uniform control flow). */
+struct red {
+    double *sh; /* 2 buffers x 2 x kWarps (kRedShared doubles) */
+    int k;      /* reductions done: picks the buffer */
+};
+constexpr int kRedShared = 4 * kWarps;
+
+/* The kWarps values of b (sum or maximum) by a fixed pairwise tree. */
+__device__ __forceinline__ double warps_combine(const double *b, int max)
+{
+    double r[kWarps];
+#pragma unroll
+    for (int i = 0; i < kWarps; ++i) r[i] = b[i];
+#pragma unroll
+    for (int s = 1; s < kWarps; s *= 2)
+#pragma unroll
+        for (int i = 0; i < kWarps; i += 2 * s) r[i] = max ? fmax(r[i], r[i + s]) : r[i] + r[i + s];
+    return r[0];
+}
+
+/* Sum (max = 0) or maximum (max = 1) over the block; every thread gets it. */
+__device__ double block_reduce(double v, int max, red &rd)
+{
+    const int lane = threadIdx.x & 31, w = threadIdx.x >> 5;
+    for (int o = 16; o > 0; o >>= 1) {
+        const double u = __shfl_down_sync(0xffffffffu, v, o);
+        v = max ? fmax(v, u) : v + u;
+    }
+    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
+    rd.k += 1;
+    if (lane == 0) b[w] = v;
+    __syncthreads();
+    return warps_combine(b, max);
+}
+
+/* Two sums at once (each as block_reduce sums it, bitwise). */
+__device__ void block_reduce2(double &a, double &c, red &rd)
+{
+    const int lane = threadIdx.x & 31, w = threadIdx.x >> 5;
+    for (int o = 16; o > 0; o >>= 1) {
+        a += __shfl_down_sync(0xffffffffu, a, o);
+        c += __shfl_down_sync(0xffffffffu, c, o);
+    }
+    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
+    rd.k += 1;
+    if (lane == 0) b[w] = a, b[kWarps + w] = c;
+    __syncthreads();
+    a = warps_combine(b, 0);
+    c = warps_combine(b + kWarps, 0);
+}
+
+__device__ double dot(int m, const double *a, const double *b, red &rd)
+{
+    double s = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) s += a[j] * b[j];
+    return block_reduce(s, 0, rd);
+}
+
+/* evaluate_rows (ncp_step.c): phi, omega, e of every row; friction per contact. */
+__device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                         const pl_ncp_cuda_params &P)
+{
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        const int k = R.kind[j];
+        const double d = V.delta[j], l = V.lambda[j];
+        if (k == PL_ROW_BILATERAL) {
+            ncp_bilateral(d, l, R.compliance[j], &V.phi[j], &V.omega[j], &V.e[j]);
+        } else if (k == PL_ROW_NORMAL) {
+            ncp_normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
+        } else if (k == PL_ROW_BOUNDED) {
+            ncp_bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
+        }
+    }
+    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+        const int *ct = R.contact + 3 * c;
+        int nt = 0, t[2];
+        double y[2], lf[2], phi[2], om, e;
+        for (int i = 1; i <= 2; ++i)
+            if (ct[i] >= 0) {
+                t[nt] = ct[i];
+                y[nt] = V.delta[ct[i]];
+                lf[nt] = V.lambda[ct[i]];
+                ++nt;
+            }
+        if (nt == 0) continue;
+        ncp_friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
+        for (int i = 0; i < nt; ++i) {
+            V.phi[t[i]] = phi[i];
+            V.omega[t[i]] = om;
+            V.e[t[i]] = e;
+        }
+    }
+}
+
+/* The residual's 2-norm at (delta0 + a ddelta, lambda + a dlambda). */
+__device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, const double *d0,
+                        const double *dd, const double *l0, const double *dl, double a, red &rd)
+{
+    double ss = 0.0;
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        const int k = R.kind[j];
+        if (k == PL_ROW_FRICTION) continue;
+        const double v = ncp_row_residual(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j],
+                                          R.r[j], R.lo[j], R.hi[j]);
+        ss += v * v;
+    }
+    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+        const int *ct = R.contact + 3 * c;
+        int nt = 0;
+        double y[2], lf[2];
+        for (int i = 1; i <= 2; ++i)
+            if (ct[i] >= 0) {
+                y[nt] = d0[ct[i]] + a * dd[ct[i]];
+                lf[nt] = l0[ct[i]] + a * dl[ct[i]];
+                ++nt;
+            }
+        if (nt == 0) continue;
+        const double rho = P.h * R.r[ct[1] >= 0 ? ct[1] : ct[2]];
+        double cone, fric;
+        ncp_friction_residual(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho, &cone, &fric);
+        ss += ncp_friction_residual2(rho, cone, fric);
+    }
+    return sqrt(block_reduce(ss, 0, rd));
+}
+
+/* lambda += damping alpha dlambda, then ncp_project. */
+__device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                       const pl_ncp_cuda_params &P, double alpha)
+{
+    const double step = P.damping * alpha;
+    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+        double l = V.lambda[j] + step * V.dlambda[j];
+        if (P.project) l = ncp_project_row(R.kind[j], l, R.lo[j], R.hi[j]);
+        V.lambda[j] = l;
+    }
+    __syncthreads();
+    if (P.project)
+        for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+            const int *ct = R.contact + 3 * c;
+            ncp_project_contact(ct, R.mu[ct[0]], V.lambda);
+        }
+    __syncthreads();
+    for (int j = threadIdx.x; j < R.m; j += kThreads) V.lambda_all[R.full[j]] = V.lambda[j];
+}
+
+/* CR phase E: x, r update, stop test; tmp = ox (see ncp_cuda.h). */
+__device__ void cr_e(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                     const pl_ncp_cuda_params &P, int last, red &rd)
+{
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m, t0 = threadIdx.x == 0;
+    if (sc->done) return;
+    const double ApAp = dot(m, V.cr_Ap, V.cr_Ap, rd), rAr = sc->rAr;
+    if (!(ApAp > 0.0) || rAr == 0.0) {
+        if (t0) sc->done = 1;
+        return;
+    }
+    const double alpha = rAr / ApAp;
+    double ss = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        V.dlambda[j] += alpha * V.cr_p[j];
+        const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
+        V.cr_r[j] = r;
+        ss += r * r;
+    }
+    const double rnorm = sqrt(block_reduce(ss, 0, rd));
+    const int stop = !isfinite(rnorm) || rnorm <= P.cr_rtol * sc->bnorm;
+    if (!stop && !last)
+        for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
+    __syncthreads();
+    if (t0) {
+        sc->rnorm = rnorm;
+        if (!isfinite(rnorm)) sc->error = 2;
+        if (stop)
+            sc->done = 1;
+        else
+            sc->its += 1; /* the product that follows */
+    }
+}
+
+/* CR phase F: Ar from tmp2, beta, p, Ap. */
+__device__ void cr_f(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                     const pl_ncp_cuda_params &P, red &rd)
+{
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m;
+    const double h2 = P.h * P.h;
+    if (sc->done) return;
+    double s = 0.0;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+        V.cr_Ar[j] = ar;
+        s += V.cr_r[j] * ar;
+    }
+    const double rAr_new = block_reduce(s, 0, rd);
+    const double beta = rAr_new / sc->rAr;
+    for (int j = threadIdx.x; j < m; j += kThreads) {
+        V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
+        V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
+    }
+    __syncthreads();
+    if (threadIdx.x == 0) sc->rAr = rAr_new;
+}
+
+/* One phase by the block (k_phase; the fused update runs them in turn). */
+__device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
+                          const pl_ncp_cuda_params &P, int last, red &rd)
+{
+    pl_ncp_cuda_scalars *sc = V.sc;
+    const int m = R.m, t0 = threadIdx.x == 0;
+    const double h2 = P.h * P.h;
+    switch (phase) {
+    case PL_NCP_PHASE_LIN:
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.delta[j] = V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
+        break;
+    case PL_NCP_PHASE_A: {
+        evaluate(R, V, P);
+        __syncthreads();
+        double phin = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            int c;
+            double s;
+            if (P.full_force) {
+                s = 1.0;
+                c = !(V.omega[j] > PL_NCP_OMEGA_CLAMP);
+            } else {
+                s = R.kind[j] == PL_ROW_BOUNDED ? 1.0 : V.omega[j];
+                c = s != V.omega[j];
+            }
+            V.scale[j] = s;
+            V.is_clamped[j] = c;
+            V.tmp[j] = s * V.lambda[j];
+            phin = fmax(phin, fabs(V.phi[j]));
+        }
+        phin = block_reduce(phin, 1, rd);
+        if (t0) sc->phin = phin;
+        break;
+    }
+    case PL_NCP_PHASE_B:
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            double p = V.delta[j] - V.delta_free[j] - h2 * V.tmp2[j];
+            double rhs = -V.phi[j] + V.omega[j] * p;
+            const int c = V.is_clamped[j];
+            V.dlambda[j] = 0.0;
+            V.clamped[j] = c ? rhs / V.e[j] : 0.0;
+            V.tmp[j] = c ? V.scale[j] * V.clamped[j] : 0.0;
+            V.rhs[j] = c ? 0.0 : rhs;
+        }
+        break;
+    case PL_NCP_PHASE_C: {
+        double ss = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            const int c = V.is_clamped[j];
+            double rhs = V.rhs[j];
+            if (!c) rhs -= h2 * V.omega[j] * V.tmp2[j];
+            if (P.full_force) {
+                V.op_omega[j] = c ? 0.0 : 1.0;
+                V.op_e[j] = c ? V.e[j] : V.e[j] / V.omega[j];
+                if (!c) rhs /= V.omega[j];
+            } else {
+                V.op_omega[j] = V.omega[j];
+                V.op_e[j] = V.e[j];
+            }
+            /* Jacobi scaling (ncp_step): S A S, rhs S, dlambda = S y */
+            const double d = h2 * V.op_omega[j] * V.op_omega[j] * R.wdiag[j] + V.op_e[j];
+            const double sj = P.cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
+            V.cr_s[j] = sj;
+            V.op_omega[j] *= sj;
+            V.op_e[j] *= sj * sj;
+            rhs *= sj;
+            V.rhs[j] = rhs;
+            V.cr_r[j] = rhs; /* zero initial guess: r = b */
+            V.tmp[j] = V.op_omega[j] * rhs;
+            ss += rhs * rhs;
+        }
+        const double bnorm = sqrt(block_reduce(ss, 0, rd));
+        if (t0) {
+            sc->bnorm = sc->rnorm = bnorm;
+            sc->its = 0;
+            sc->done = !isfinite(bnorm) || bnorm == 0.0 || bnorm <= P.cr_rtol * bnorm;
+            if (!isfinite(bnorm)) sc->error = 1;
+        }
+        break;
+    }
+    case PL_NCP_PHASE_D: {
+        if (sc->done) break;
+        double s = 0.0;
+        for (int j = threadIdx.x; j < m; j += kThreads) {
+            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+            V.cr_Ar[j] = V.cr_Ap[j] = ar;
+            V.cr_p[j] = V.cr_r[j];
+            s += V.cr_r[j] * ar;
+        }
+        s = block_reduce(s, 0, rd);
+        if (t0) sc->rAr = s, sc->its = 1;
+        break;
+    }
+    case PL_NCP_PHASE_E:
+        cr_e(R, V, P, last, rd);
+        break;
+    case PL_NCP_PHASE_F:
+        cr_f(R, V, P, rd);
+        break;
+    case PL_NCP_PHASE_G:
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j];
+        break;
+    case PL_NCP_PHASE_LAMBDA:
+        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.lambda[j];
+        break;
+    case PL_NCP_PHASE_LS0:
+        for (int j = threadIdx.x; j < m; j += kThreads)
+            V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
+        break;
+    case PL_NCP_PHASE_DLAMBDA:
+        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.dlambda[j];
+        break;
+    case PL_NCP_PHASE_UPDATE: {
+        double alpha = 1.0;
+        if (P.line_search) {
+            /* ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
+            for (int j = threadIdx.x; j < m; j += kThreads) V.ls1[j] = h2 * V.tmp2[j];
+            __syncthreads();
+            const double m0 = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, rd);
+            int bad = !isfinite(m0);
+            double a = 1.0;
+            for (int t = 0; t <= 3 && !bad; ++t, a *= 0.5) {
+                const double mt = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, a, rd);
+                if (!isfinite(mt)) {
+                    bad = 1;
+                    break;
+                }
+                if (mt <= (1.0 - 1e-4 * a) * m0) {
+                    alpha = a;
+                    break;
+                }
+            }
+            if (bad && t0) sc->error = 3;
+        }
+        update(R, V, P, alpha);
+        if (t0) {
+            const int k = sc->iter;
+            if (k < V.series_cap) {
+                double *s = V.series + 4 * (size_t)k;
+                s[0] = sc->phin;
+                s[1] = sc->its;
+                s[2] = sc->bnorm > 0.0 ? sc->rnorm / sc->bnorm : 0.0;
+                s[3] = alpha;
+            }
+            sc->iter = k + 1;
+        }
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+} // namespace
+
+#endif
