@@ -3,8 +3,8 @@
  * the start of the step (outward for closed meshes: the sign of the enclosed
  * volume decides), the swept boxes of vertices, triangles and edges over the
  * step, and the BVHs of triangles and edges (built once, refitted after
- * when detection walks them: coll_mesh_fit).
- * The loops are serial below COLL_PAR_MIN elements. */
+ * when detection walks them: coll_mesh_fit); sharp edges when the narrow
+ * phase first asks.  The loops are serial below COLL_PAR_MIN elements. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -2,7 +2,7 @@
  * CollisionPipeline (static library collision_core, no scene code):
  *   - narrow phase: closest points point-triangle and segment-segment;
  *   - a bounding-volume hierarchy over axis-aligned boxes, built once from a
- *     mesh's primitives and refitted every step;
+ *     mesh's primitives and refitted in the steps that walk it;
  *   - detection between two triangle meshes (or one mesh and itself):
  *     vertex-triangle proximities in both directions and edge-edge
  *     proximities within alarmDistance, with the motion over the step.
