@@ -38,8 +38,9 @@ static void mesh_of(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double
     if (sheet_mesh(s, m, sides, margin, &err)) printf("prepare: %s\n", err.msg);
 }
 
-/* Lists and contacts of one pair; returns the differences. */
-static int compare_pair(coll_dev *dev, const pl_coll_mesh *A, const pl_coll_mesh *B,
+/* Lists and contacts of one pair; returns the differences.  Not const:
+ * detect_pair refits the trees it walks (coll_mesh_fit). */
+static int compare_pair(coll_dev *dev, pl_coll_mesh *A, pl_coll_mesh *B,
                         const pl_detect_params *prm, long *cands, int *found)
 {
     coll_cand_list h[3], g[3];
