@@ -2,7 +2,9 @@
  * adjacency and closedness (once), then every step the unit face normals at
  * the start of the step (outward for closed meshes: the sign of the enclosed
  * volume decides), the swept boxes of vertices, triangles and edges over the
- * step, and the BVHs of triangles and edges (built once, refitted after). */
+ * step, and the BVHs of triangles and edges (built once, refitted after
+ * when detection walks them: coll_mesh_fit); sharp edges when the narrow
+ * phase first asks.  The loops are serial below COLL_PAR_MIN elements. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,55 +173,62 @@ static int opposite(const pl_coll_mesh *m, int t, int e)
     return m->tris[3 * t];
 }
 
-/* Sharp edges at x0: boundary edges, and edges whose faces turn by more than
- * 30 degrees (for a closed mesh only convex ones: a concave crease cannot
+/* Sharp at x0: a boundary edge, or one whose faces turn by more than 30
+ * degrees (for a closed mesh only a convex one: a concave crease cannot
  * poke anything). */
-static void sharp_edges(pl_coll_mesh *m)
+static int edge_sharp(const pl_coll_mesh *m, int e)
 {
-#pragma omp parallel for schedule(static)
-    for (int e = 0; e < m->nedges; ++e) {
-        int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
-        if (t1 < 0 || t2 < 0) {
-            m->sharp[e] = 1;
-            continue;
-        }
-        const double *n1 = &m->fnormal[3 * t1], *n2 = &m->fnormal[3 * t2];
-        double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
-        if (m->two_sided) {
-            m->sharp[e] = fabs(c) < PL_SHARP_COS;
-            continue;
-        }
-        const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
-        double behind = (o[0] - a[0]) * n1[0] + (o[1] - a[1]) * n1[1] + (o[2] - a[2]) * n1[2];
-        m->sharp[e] = c < PL_SHARP_COS && behind < 0.0;
-    }
+    int t1 = m->edge_tris[2 * e], t2 = m->edge_tris[2 * e + 1];
+    if (t1 < 0 || t2 < 0) return 1;
+    const double *n1 = &m->fnormal[3 * t1], *n2 = &m->fnormal[3 * t2];
+    double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
+    if (m->two_sided) return fabs(c) < PL_SHARP_COS;
+    const double *a = &m->x0[3 * m->edges[2 * e]], *o = &m->x0[3 * opposite(m, t2, e)];
+    double behind = (o[0] - a[0]) * n1[0] + (o[1] - a[1]) * n1[1] + (o[2] - a[2]) * n1[2];
+    return c < PL_SHARP_COS && behind < 0.0;
 }
 
-static void boxes(pl_coll_mesh *m, double margin)
+/* Asked of the edge pairs the broad phase gives (the narrow phase), not
+ * computed for every edge every step, and remembered for the step
+ * (m->sharp: 0 not asked yet, 1 no, 2 yes).  Threads of a pass may ask for
+ * the same edge at once: relaxed atomic bytes, and the value is a function
+ * of x0, so whoever writes it writes the same. */
+int coll_edge_sharp(const pl_coll_mesh *m, int e)
 {
-    double h = 0.5 * margin;
-#pragma omp parallel for schedule(static)
+    unsigned char known = __atomic_load_n(&m->sharp[e], __ATOMIC_RELAXED);
+    if (known) return known == 2;
+    int sharp = edge_sharp(m, e);
+    __atomic_store_n(&m->sharp[e], (unsigned char)(sharp ? 2 : 1), __ATOMIC_RELAXED);
+    return sharp;
+}
+
+/* The swept boxes, not grown: aabb_overlap_grown adds the margin where
+ * they are compared, which gives the bounds of boxes grown first and then
+ * united (detect_cand.h's order), bitwise. */
+static void boxes(pl_coll_mesh *m)
+{
+#pragma omp parallel for schedule(static) if (m->nverts > COLL_PAR_MIN)
     for (int i = 0; i < m->nverts; ++i) {
         pl_aabb *b = &m->vbox[i];
         for (int k = 0; k < 3; ++k) {
             double p = m->x0[3 * i + k], q = m->x1[3 * i + k];
-            b->lo[k] = (p < q ? p : q) - h;
-            b->hi[k] = (p < q ? q : p) + h;
+            b->lo[k] = p < q ? p : q;
+            b->hi[k] = p < q ? q : p;
         }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m->ntris > COLL_PAR_MIN)
     for (int t = 0; t < m->ntris; ++t) {
         pl_aabb *b = &m->tbox[t];
         *b = m->vbox[m->tris[3 * t]];
         for (int j = 1; j < 3; ++j) {
             const pl_aabb *v = &m->vbox[m->tris[3 * t + j]];
             for (int k = 0; k < 3; ++k) {
-                if (v->lo[k] < b->lo[k]) b->lo[k] = v->lo[k];
-                if (v->hi[k] > b->hi[k]) b->hi[k] = v->hi[k];
+                b->lo[k] = v->lo[k] < b->lo[k] ? v->lo[k] : b->lo[k];
+                b->hi[k] = v->hi[k] > b->hi[k] ? v->hi[k] : b->hi[k];
             }
         }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m->nedges > COLL_PAR_MIN)
     for (int e = 0; e < m->nedges; ++e) {
         pl_aabb *b = &m->ebox[e];
         const pl_aabb *v0 = &m->vbox[m->edges[2 * e]], *v1 = &m->vbox[m->edges[2 * e + 1]];
@@ -237,27 +246,31 @@ int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err)
         if (rc) return rc;
     }
     face_normals(m);
-    sharp_edges(m);
-    boxes(m, margin);
+    memset(m->sharp, 0, (size_t)m->nedges); /* asked anew (coll_edge_sharp) */
+    boxes(m);
     m->margin = margin;
     if (!m->built) {
         if (bvh_build(&m->tbvh, m->tbox, m->ntris) || bvh_build(&m->ebvh, m->ebox, m->nedges))
             return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
         m->built = 1;
+        m->stale = 0;
     } else {
-        bvh_refit(&m->tbvh, m->tbox);
-        bvh_refit(&m->ebvh, m->ebox);
+        m->stale = COLL_TREE_TRIS | COLL_TREE_EDGES; /* coll_mesh_fit, when walked */
     }
     return PL_OK;
 }
 
-/* The inflation is symmetric: the boxes' centres, and so the trees built
- * from them, do not depend on it. */
+void coll_mesh_fit(pl_coll_mesh *m, int trees)
+{
+    int todo = m->stale & trees;
+    if (todo & COLL_TREE_TRIS) bvh_refit(&m->tbvh, m->tbox);
+    if (todo & COLL_TREE_EDGES) bvh_refit(&m->ebvh, m->ebox);
+    m->stale &= ~todo;
+}
+
+/* The boxes are compared grown by margin / 2 (aabb_overlap_grown): a new
+ * margin changes no box and no tree. */
 void coll_mesh_inflate(pl_coll_mesh *m, double margin)
 {
-    if (!m->built || margin == m->margin) return;
-    boxes(m, margin);
-    m->margin = margin;
-    bvh_refit(&m->tbvh, m->tbox);
-    bvh_refit(&m->ebvh, m->ebox);
+    if (m->built) m->margin = margin;
 }

@@ -170,7 +170,8 @@ int coll_vf_candidate(const pl_coll_mesh *P, int ip, int p, const pl_coll_mesh *
 {
     const int *tri = &T->tris[3 * j];
     if (self && (tri[0] == p || tri[1] == p || tri[2] == p)) return 0;
-    if (!aabb_overlap(&P->vbox[p], &T->tbox[j])) return 0; /* the broad phase's test */
+    if (!aabb_overlap_grown(&P->vbox[p], coll_mesh_half(P), &T->tbox[j], coll_mesh_half(T)))
+        return 0; /* the broad phase's test */
     if (!is_active(P, p) && !is_active(T, tri[0]) && !is_active(T, tri[1]) &&
         !is_active(T, tri[2]))
         return 0;
@@ -442,8 +443,9 @@ int coll_ee_candidate(const pl_coll_mesh *A, int ia, int e, const pl_coll_mesh *
     int a0 = A->edges[2 * e], a1 = A->edges[2 * e + 1];
     int b0 = B->edges[2 * f], b1 = B->edges[2 * f + 1];
     if (self && (f <= e || a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) return 0;
-    if (!aabb_overlap(&A->ebox[e], &B->ebox[f])) return 0;
-    if (!A->sharp[e] && !B->sharp[f]) return 0;
+    if (!aabb_overlap_grown(&A->ebox[e], coll_mesh_half(A), &B->ebox[f], coll_mesh_half(B)))
+        return 0;
+    if (!coll_edge_sharp(A, e) && !coll_edge_sharp(B, f)) return 0;
     if (!is_active(A, a0) && !is_active(A, a1) && !is_active(B, b0) && !is_active(B, b1))
         return 0;
     const double *pa0 = &A->x0[3 * a0], *pa1 = &A->x0[3 * a1];

@@ -2,7 +2,7 @@
  * CollisionPipeline (static library collision_core, no scene code):
  *   - narrow phase: closest points point-triangle and segment-segment;
  *   - a bounding-volume hierarchy over axis-aligned boxes, built once from a
- *     mesh's primitives and refitted every step;
+ *     mesh's primitives and refitted in the steps that walk it;
  *   - detection between two triangle meshes (or one mesh and itself):
  *     vertex-triangle proximities in both directions and edge-edge
  *     proximities within alarmDistance, with the motion over the step.
@@ -47,6 +47,19 @@ static inline int aabb_overlap(const pl_aabb *a, const pl_aabb *b)
            b->lo[1] <= a->hi[1] && a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
 }
 
+/* Whether a grown by ha on every side overlaps b grown by hb: bitwise
+ * aabb_overlap of the grown boxes, whose bounds are a->lo - ha, a->hi + ha
+ * and so on, rounded as stored.  Rounding is monotonic, so a union of boxes
+ * grown by h is the union grown by h, bitwise: a tree fitted once to
+ * ungrown boxes answers for every growth (coll_mesh_inflate costs
+ * nothing). */
+static inline int aabb_overlap_grown(const pl_aabb *a, double ha, const pl_aabb *b, double hb)
+{
+    return a->lo[0] - ha <= b->hi[0] + hb && b->lo[0] - hb <= a->hi[0] + ha &&
+           a->lo[1] - ha <= b->hi[1] + hb && b->lo[1] - hb <= a->hi[1] + ha &&
+           a->lo[2] - ha <= b->hi[2] + hb && b->lo[2] - hb <= a->hi[2] + ha;
+}
+
 /* A binary tree over primitive boxes: node 0 is the root, children come
  * after their parent (so refitting runs from the last node back), a leaf
  * holds up to PL_BVH_LEAF primitives order[start .. start + count - 1]. */
@@ -79,6 +92,10 @@ int ivec_push(pl_ivec *a, int x);
  * (the same whatever the tree's shape).
  * PL_OK or PL_EINTERNAL. */
 int bvh_query(const pl_bvh *b, const pl_aabb *prims, const pl_aabb *q, pl_ivec *out);
+/* The same with the tree's boxes and prims grown by hp and q by hq
+ * (aabb_overlap_grown); bvh_query is hp = hq = 0. */
+int bvh_query_grown(const pl_bvh *b, const pl_aabb *prims, double hp, const pl_aabb *q,
+                    double hq, pl_ivec *out);
 
 /* ---- meshes prepared for detection ----------------------------------------- */
 
@@ -103,30 +120,55 @@ typedef struct pl_coll_mesh {
     double orientation;         /* +1 outward-oriented triangles, -1 flipped (one-sided) */
     double *fnormal;            /* ntris x 3 unit face normals at x0, outward for one-sided */
     int *edge_tris;             /* nedges x 2 adjacent triangles (-1 when missing) */
-    unsigned char *sharp;       /* per edge: a feature that can poke through a surface between
-                                   its vertices (a boundary edge, a fold, a convex crease of a
-                                   closed mesh sharper than PL_SHARP_COS) */
+    unsigned char *sharp;       /* per edge, this step: 0 not asked yet, 1 not sharp, 2 sharp
+                                   (coll_edge_sharp) */
     unsigned char *border;      /* per vertex: on an edge with one triangle (the mesh's rim) */
-    pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges */
+    pl_aabb *vbox, *tbox, *ebox;/* swept boxes of vertices, triangles, edges (x0 to x1, not
+                                   grown: compare them with coll_mesh_half) */
     pl_bvh tbvh, ebvh;          /* over tbox and ebox */
-    double margin;              /* what the boxes are inflated by now [m] */
+    double margin;              /* what the boxes stand for grown by now [m]: margin / 2 on
+                                   every side */
     int built;
+    int stale;                  /* trees not yet refitted to this step's boxes (COLL_TREE_*) */
 } pl_coll_mesh;
+
+/* What a mesh's boxes are grown by on every side when compared [m]. */
+static inline double coll_mesh_half(const pl_coll_mesh *m) { return 0.5 * m->margin; }
+
+/* Loops over fewer elements than this run on one thread: waking a team
+ * costs more than they do (OMP_WAIT_POLICY=PASSIVE, pliant's default, makes
+ * every region a futex wake of each thread; docs/benchmarks.md, "The
+ * host detection's fixed cost"). */
+#define COLL_PAR_MIN 16384
 
 /* cos of the smallest angle between the face normals of a sharp edge (30 deg) */
 #define PL_SHARP_COS 0.8660254037844386
 
+/* Whether edge e of a prepared mesh is a feature that can poke through a
+ * surface between its vertices (a boundary edge, a fold, a convex crease
+ * of a closed mesh sharper than PL_SHARP_COS), at x0: computed when first
+ * asked in a step, then remembered (safe from several threads). */
+int coll_edge_sharp(const pl_coll_mesh *m, int e);
+
 void coll_mesh_init(pl_coll_mesh *m);
 void coll_mesh_free(pl_coll_mesh *m);
-/* Once per step after x0/x1 changed: face normals, swept boxes inflated by
- * margin / 2 on every side [m], BVHs built on first use and refitted after.
- * The topology (counts, tris, edges) must not change between calls.
- * PL_OK, PL_EINPUT (an index out of range), PL_EINTERNAL. */
+/* Once per step after x0/x1 changed: face normals, swept boxes (compared
+ * inflated by margin / 2 on every side [m]), BVHs built on first use and
+ * refitted after.  The topology (counts, tris, edges) must not change
+ * between calls.  PL_OK, PL_EINPUT (an index out of range), PL_EINTERNAL. */
 int coll_mesh_prepare(pl_coll_mesh *m, double margin, pl_error *err);
-/* After coll_mesh_prepare, in the same step: the swept boxes inflated by
- * margin / 2 instead (BVHs refitted), for a detection that keeps pairs
- * that much farther apart; nothing done when they already are. */
+/* After coll_mesh_prepare, in the same step: the swept boxes compared
+ * inflated by margin / 2 instead, for a detection that keeps pairs that
+ * much farther apart (the same candidates as a coll_mesh_prepare with that
+ * margin, bitwise: aabb_overlap_grown; nothing is recomputed). */
 void coll_mesh_inflate(pl_coll_mesh *m, double margin);
+/* The trees: of the triangles, of the edges. */
+enum { COLL_TREE_TRIS = 1, COLL_TREE_EDGES = 2 };
+/* Refits the given trees (COLL_TREE_* bits) to this step's boxes unless
+ * done: coll_mesh_prepare leaves them for detect_pair to refit the ones its
+ * passes walk (a mesh whose vertices alone are queried, or detected on the
+ * device, never needs its edge tree). */
+void coll_mesh_fit(pl_coll_mesh *m, int trees);
 
 /* ---- proximities ------------------------------------------------------------ */
 
@@ -215,10 +257,10 @@ pl_detect_params detect_defaults(double alarm);
  * them).  A proximity is kept when its gap minus the predicted
  * approach over the step (relative motion x1 - x0 along the normal) is below
  * alarm, so fast bodies are caught before they cross.  Parallel (OpenMP),
- * deterministic: the order depends on the inputs only.  PL_OK or
- * PL_EINTERNAL. */
-int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
-                   const pl_detect_params *prm, pl_proximities *out);
+ * deterministic: the order depends on the inputs only.  Refits the trees
+ * it walks (coll_mesh_fit).  PL_OK or PL_EINTERNAL. */
+int detect_pair(pl_coll_mesh *A, int ia, pl_coll_mesh *B, int ib, const pl_detect_params *prm,
+                pl_proximities *out);
 
 /* The same by brute force over all primitive pairs (tests, small meshes):
  * identical results, possibly in another order. */

@@ -156,7 +156,8 @@ static int run_item(const pass *ps, work *w, int i)
         const pl_bvh *b = ps->edges ? &T->ebvh : &T->tbvh;
         const pl_aabb *prims = ps->edges ? T->ebox : T->tbox;
         const pl_aabb *q = ps->edges ? &P->ebox[i] : &P->vbox[i];
-        if (bvh_query(b, prims, q, &w->q)) return PL_EINTERNAL;
+        if (bvh_query_grown(b, prims, coll_mesh_half(T), q, coll_mesh_half(P), &w->q))
+            return PL_EINTERNAL;
     }
     int count = ps->brute ? nt : w->q.n;
     w->candidates += count;
@@ -192,6 +193,28 @@ static int max_threads(void)
 #endif
 }
 
+/* The items of a BVH pass whose boxes reach the other mesh's root box, in
+ * increasing order: the others have no candidate and make nothing
+ * (run_item), so the pass runs only these.  *n of them; NULL when out of
+ * memory. */
+static int *items_near(const pass *ps, int *n)
+{
+    const pl_coll_mesh *P = ps->P, *T = ps->T;
+    const pl_aabb *root = ps->edges ? &T->ebvh.box[0] : &T->tbvh.box[0];
+    const pl_aabb *q = ps->edges ? P->ebox : P->vbox;
+    double hp = coll_mesh_half(P), ht = coll_mesh_half(T);
+    int *v = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *v), m = 0;
+    if (!v) return NULL;
+    for (int i = 0; i < *n; ++i)
+        if (aabb_overlap_grown(root, ht, &q[i], hp)) v[m++] = i;
+    *n = m;
+    return v;
+}
+
+/* A BVH pass runs on one thread below this many items near the other mesh
+ * (a query costs about 0.1-1 us; waking a team costs tens). */
+#define PASS_PAR_MIN 512
+
 static int run_pass(const pass *ps, pl_proximities *out)
 {
     int n = ps->edges ? ps->P->nedges : ps->P->nverts;
@@ -201,11 +224,23 @@ static int run_pass(const pass *ps, pl_proximities *out)
      * the threads (device detection's passes are mostly empty) */
     int load = ps->given ? ps->given->start[n] : n;
     if (load == 0) return PL_OK;
+    int *todo = NULL; /* the items to run (NULL: all n) */
+    if (!ps->given && !ps->brute) {
+        if (!(todo = items_near(ps, &n))) return PL_EINTERNAL;
+        load = n;
+        if (n == 0) {
+            free(todo);
+            return PL_OK;
+        }
+    }
     int nw = max_threads();
     work *w = calloc((size_t)nw, sizeof *w);
-    if (!w) return PL_EINTERNAL;
+    if (!w) {
+        free(todo);
+        return PL_EINTERNAL;
+    }
     int used = 1;
-#pragma omp parallel if (load > (ps->given ? 64 : 256))
+#pragma omp parallel if (load > (ps->given ? 64 : PASS_PAR_MIN))
     {
         int tid = 0, nth = 1;
 #ifdef _OPENMP
@@ -215,7 +250,8 @@ static int run_pass(const pass *ps, pl_proximities *out)
 #pragma omp single
         used = nth;
         int chunk = (n + nth - 1) / nth, lo = tid * chunk, hi = lo + chunk < n ? lo + chunk : n;
-        for (int i = lo; i < hi && !w[tid].fail; ++i) {
+        for (int k = lo; k < hi && !w[tid].fail; ++k) {
+            int i = todo ? todo[k] : k;
             if (ps->given && ps->given->start[i] == ps->given->start[i + 1]) continue;
             if (run_item(ps, &w[tid], i)) w[tid].fail = 1;
         }
@@ -233,6 +269,7 @@ static int run_pass(const pass *ps, pl_proximities *out)
         free(w[t].c);
     }
     free(w);
+    free(todo);
     return rc;
 }
 
@@ -266,9 +303,16 @@ static int detect(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
     return rc;
 }
 
-int detect_pair(const pl_coll_mesh *A, int ia, const pl_coll_mesh *B, int ib,
-                   const pl_detect_params *prm, pl_proximities *out)
+int detect_pair(pl_coll_mesh *A, int ia, pl_coll_mesh *B, int ib, const pl_detect_params *prm,
+                pl_proximities *out)
 {
+    /* the passes walk B's triangles (A's vertices), A's (B's vertices) and
+     * B's edges (A's edges) */
+    if (prm->vertex_face) {
+        coll_mesh_fit(B, COLL_TREE_TRIS);
+        coll_mesh_fit(A, COLL_TREE_TRIS);
+    }
+    if (prm->edge_edge) coll_mesh_fit(B, COLL_TREE_EDGES);
     return detect(A, ia, B, ib, prm, out, 0, NULL);
 }
 

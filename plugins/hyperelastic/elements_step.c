@@ -47,6 +47,15 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
                               double *dual, double *warm, double *work, double *rhs,
                               hyper_prox_stats *stats, pl_error *err)
 {
+    return hyper_elements_project_relaxed(e, offset, h2, q, dual, warm, 1.0, NULL, work, rhs, stats,
+                                          err);
+}
+
+int hyper_elements_project_relaxed(const pl_hyper_elements *e, int offset, double h2,
+                                   const double *q, double *dual, double *warm, double alpha,
+                                   double *prev, double *work, double *rhs,
+                                   hyper_prox_stats *stats, pl_error *err)
+{
     const int d = e->d, nd = 3 * d, k = e->k;
     if (e->material != PL_HYPER_ARAP && !dual)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
@@ -59,8 +68,13 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
         double F[9], z[9], p[9];
         deformation_gradient(e, i, offset, q, F);
         pl_hyper_law law = hyper_elements_law(e, i);
-        double *u = dual ? dual + (size_t)i * nd : NULL;
-        for (int a = 0; a < nd; ++a) z[a] = u && e->material != PL_HYPER_ARAP ? F[a] + u[a] : F[a];
+        double *u = dual && e->material != PL_HYPER_ARAP ? dual + (size_t)i * nd : NULL;
+        double *pp = u && prev ? prev + (size_t)i * nd : NULL;
+        /* over-relaxed ADMM: alpha G q + (1 - alpha) p_prev stands for G q
+         * in the prox and in the dual update */
+        if (pp && alpha != 1.0)
+            for (int a = 0; a < nd; ++a) F[a] = alpha * F[a] + (1.0 - alpha) * pp[a];
+        for (int a = 0; a < nd; ++a) z[a] = u ? F[a] + u[a] : F[a];
         int nhalf = 0;
         int it = hyper_local_solve_warm(&law, e->weight_scale * hyper_law_weight(&law), z, p,
                                         warm ? warm + (size_t)i * d : NULL, &nhalf);
@@ -78,9 +92,10 @@ int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, co
             ++hist[it < HYPER_PROX_HIST - 1 ? it : HYPER_PROX_HIST - 1];
             if (it > max_it) max_it = it;
         }
-        if (e->material != PL_HYPER_ARAP) {
+        if (u) {
             /* scaled dual ascent, then the right-hand side uses p - u */
             for (int a = 0; a < nd; ++a) {
+                if (pp) pp[a] = p[a];
                 u[a] += F[a] - p[a];
                 p[a] -= u[a];
             }

@@ -71,6 +71,13 @@ int hyper_fem_init(pl_component *c, pl_ctx *ctx, pl_hyper_material material)
     if (!(f->admm_weight > 0.0 && isfinite(f->admm_weight)))
         return pl_component_error(c, ctx, PL_EINPUT, "admmWeight must be positive, got %g",
                                   f->admm_weight);
+    if (!(f->admm_relaxation > 0.0 && f->admm_relaxation < 2.0))
+        return pl_component_error(c, ctx, PL_EINPUT, "admmRelaxation must be in (0, 2), got %g",
+                                  f->admm_relaxation);
+    if (material == PL_HYPER_ARAP && f->admm_relaxation != 1.0)
+        return pl_component_error(c, ctx, PL_EINPUT,
+                                  "admmRelaxation relaxes the ADMM-PD of Corotational and "
+                                  "NeoHookean; ARAP's local step is a projection (no dual)");
     if (material == PL_HYPER_ARAP && f->admm_weight != 1.0)
         return pl_component_error(c, ctx, PL_EINPUT,
                                   "admmWeight is the ADMM-PD penalty of Corotational and "
@@ -139,6 +146,7 @@ int hyper_fem_begin_step(const pl_component *c, pl_ctx *ctx, pl_error *err)
      * so that it depends on the slots alone (restore, clone: bitwise) */
     hyper_term_ws *w = pl_data_workspace(ctx->data, c);
     if (w && w->warm) memset(w->warm, 0, w->nwarm * sizeof *w->warm);
+    if (w) w->relax_ready = 0; /* over-relaxation from the step's second iteration on */
 #ifdef PLIANT_HAVE_CUDA
     hyper_fem_device_begin_step(f, ctx->data);
 #endif
@@ -251,10 +259,18 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
     if (f->material == PL_HYPER_NEOHOOKEAN &&
         !(warm = hyper_term_warm(c, d, (size_t)f->el.n * f->el.d, err)))
         return err->code;
+    double *prev = NULL, alpha = 1.0;
+    if (dual && f->admm_relaxation != 1.0) {
+        if (!(prev = hyper_term_prev(c, d, (size_t)f->el.n * hyper_elements_dual_size(&f->el), err)))
+            return err->code;
+        alpha = w->relax_ready ? f->admm_relaxation : 1.0;
+        w->relax_ready = 1;
+    }
     pl_error e;
     long long capped = w->prox.capped;
     double t0 = pl_now();
-    if (hyper_elements_project(&f->el, offset, h2, x, dual, warm, work, b, &w->prox, &e) != PL_OK)
+    if (hyper_elements_project_relaxed(&f->el, offset, h2, x, dual, warm, alpha, prev, work, b,
+                                       &w->prox, &e) != PL_OK)
         return pl_component_fail(c, err, e.code, "%s", e.msg);
     w->prox_seconds += pl_now() - t0;
     if (w->prox.capped > capped)

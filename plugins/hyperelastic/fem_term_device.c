@@ -27,6 +27,7 @@ typedef struct hyper_fem_gpu {
     size_t dual_bytes;
     int fresh;                 /* the device copy holds this step's duals */
     int used;                  /* a device project ran this step */
+    int relax_ready;           /* a project of this step ran: over-relaxation may start */
 } hyper_fem_gpu;
 
 static int fail_cuda(const hyper_fem *f, pl_error *err, cudaError_t e, const char *what)
@@ -111,9 +112,13 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
     }
     gpu->fresh = 1;
     gpu->used = 1;
+    /* as the host: alpha from the step's second project on (the first is
+     * never captured in a graph: local_global_device.c runs it eagerly) */
+    double alpha = gpu->dual && gpu->relax_ready ? f->admm_relaxation : 1.0;
+    gpu->relax_ready = 1;
     pl_error e;
-    if (hyper_cuda_project(gpu->g, offset, h2, q->data, gpu->dual, rhs->data,
-                              PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
+    if (hyper_cuda_project_relaxed(gpu->g, offset, h2, q->data, gpu->dual, alpha, rhs->data,
+                                   PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
 }
@@ -168,7 +173,7 @@ void hyper_fem_device_begin_step(const hyper_fem *f, pl_data *d)
 {
     hyper_fem_gpu **slot = gpu_of(f, d);
     if (!slot || !*slot) return;
-    (*slot)->fresh = 0, (*slot)->used = 0;
+    (*slot)->fresh = 0, (*slot)->used = 0, (*slot)->relax_ready = 0;
     /* each step's prox starts cold, as on the host; queued before the
      * step's kernels (or its graph) on the same stream.  An error here
      * (a broken context) shows again at the next CUDA call, which reports. */

@@ -192,6 +192,15 @@ size_t hyper_elements_work_size(const pl_hyper_elements *e);
 int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
                               double *dual, double *warm, double *work, double *rhs,
                               hyper_prox_stats *stats, pl_error *err);
+/* The same with over-relaxed ADMM (Boyd et al. 2011, 3.4.3; ADMM materials
+ * only): prev (n x dual_size, or NULL) receives each element's prox
+ * solution p; when alpha != 1, the step uses alpha G q + (1 - alpha) prev
+ * in place of G q (prev must then hold the previous call's p: alpha = 1 on
+ * a step's first iteration). */
+int hyper_elements_project_relaxed(const pl_hyper_elements *e, int offset, double h2,
+                                   const double *q, double *dual, double *warm, double alpha,
+                                   double *prev, double *work, double *rhs,
+                                   hyper_prox_stats *stats, pl_error *err);
 /* Elastic energy sum psi(F_e) V_e [J] (+INFINITY if a Neo-Hookean element is
  * inverted).  Summed in element order. */
 double hyper_elements_energy(const pl_hyper_elements *e, int offset, const double *q);

@@ -19,19 +19,37 @@ double *hyper_term_work(const pl_component *c, pl_data *d, size_t n, pl_error *e
     return w->work;
 }
 
+/* *rows, n doubles (zeros when new; remade when the model's size changed). */
+static double *rows_of(const pl_component *c, double **rows, size_t *count, size_t n,
+                       pl_error *err)
+{
+    if (*rows && *count != n) { /* the model was rebuilt with other sizes */
+        free(*rows);
+        *rows = NULL;
+    }
+    if (!*rows && (*rows = calloc(n ? n : 1, sizeof **rows))) *count = n;
+    if (!*rows) pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+    return *rows;
+}
+
 double *hyper_term_warm(const pl_component *c, pl_data *d, size_t n, pl_error *err)
 {
     hyper_term_ws *w = pl_data_workspace(d, c);
-    if (w && w->warm && w->nwarm != n) { /* the model was rebuilt with other sizes */
-        free(w->warm);
-        w->warm = NULL;
-    }
-    if (w && !w->warm && (w->warm = calloc(n ? n : 1, sizeof *w->warm))) w->nwarm = n;
-    if (!w || !w->warm) {
+    if (!w) {
         pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
         return NULL;
     }
-    return w->warm;
+    return rows_of(c, &w->warm, &w->nwarm, n, err);
+}
+
+double *hyper_term_prev(const pl_component *c, pl_data *d, size_t n, pl_error *err)
+{
+    hyper_term_ws *w = pl_data_workspace(d, c);
+    if (!w) {
+        pl_component_fail(c, err, PL_EINTERNAL, "out of memory (workspace)");
+        return NULL;
+    }
+    return rows_of(c, &w->prev, &w->nprev, n, err);
 }
 
 void hyper_term_workspace_free(const pl_component *c, void *ws)
@@ -40,6 +58,7 @@ void hyper_term_workspace_free(const pl_component *c, void *ws)
     (void)c;
     free(w->work);
     free(w->warm);
+    free(w->prev);
 #ifdef PLIANT_HAVE_CUDA
     hyper_fem_device_free(&w->fem);
     hyper_stencil_device_free(&w->stencil);

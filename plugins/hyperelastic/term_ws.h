@@ -20,6 +20,10 @@ typedef struct hyper_term_ws {
                                         * zeroed (cold) by begin_step, so that a step
                                         * depends on the pl_data's slots only */
     size_t nwarm;
+    double *prev;                      /* FEM terms with admmRelaxation != 1: n x dual_size,
+                                        * each element's last prox solution of this step */
+    size_t nprev;
+    int relax_ready;                   /* prev holds this step's last p (begin_step: 0) */
     struct hyper_fem_gpu *fem;         /* ARAP, Corotational, NeoHookean: fem_term_device.c */
     struct hyper_stencil_gpu *stencil; /* bending, PositionTarget: stencil_device.c */
 } hyper_term_ws;
@@ -30,6 +34,9 @@ double *hyper_term_work(const pl_component *c, pl_data *d, size_t n, pl_error *e
 /* c's warm-start rows (n doubles, zeros when new) in d; NULL with err set
  * when memory runs out. */
 double *hyper_term_warm(const pl_component *c, pl_data *d, size_t n, pl_error *err);
+/* c's over-relaxation rows (n doubles) in d; NULL with err set when memory
+ * runs out. */
+double *hyper_term_prev(const pl_component *c, pl_data *d, size_t n, pl_error *err);
 /* The types' workspace_free. */
 void hyper_term_workspace_free(const pl_component *c, void *ws);
 

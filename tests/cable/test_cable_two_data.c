@@ -6,7 +6,8 @@
  *    data) and stepped interleaved end bitwise where each ends stepped alone
  *    in a simulation of its own; the two runs differ, and both touch;
  *  - a data saved half-way and restored into a new data continues bitwise,
- *    its cable value included;
+ *    its cable value included (the over-relaxed ADMM's rows, per data and
+ *    per step, included: admmRelaxation);
  *  - a step writes no component: every component struct (its fields and
  *    what init/bind/reinit built) is byte for byte the same before and after
  *    stepping both data, and the model's slots and generation too. */
@@ -38,7 +39,7 @@ static const char *SCENE =
     "<RegularGridTetrahedra min=\"0 0 0\" max=\"0.1 0.02 0.02\" n=\"6 3 3\"/>\n"
     "<MechanicalObject name=\"dofs\"/>\n"
     "<DiagonalMass massDensity=\"1000\"/>\n"
-    "<NeoHookean youngModulus=\"2e5\" poissonRatio=\"0.3\"/>\n"
+    "<NeoHookean youngModulus=\"2e5\" poissonRatio=\"0.3\" admmRelaxation=\"1.5\"/>\n"
     "<FixedConstraint box=\"-0.001 -1 -1  0.001 1 1\"/>\n"
     "<SurfaceCollisionModel/>\n"
     "<CableConstraint name=\"cable\" pullPoint=\"-0.01 0.02 0.01\" value=\"0\" "

@@ -212,7 +212,7 @@ START_TEST(test_static_detection_is_complete)
             double l2 = (ea[0] * ea[0] + ea[1] * ea[1] + ea[2] * ea[2]) *
                         (eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2]);
             int expect = d < alarm && s > 1e-3 && s < 1 - 1e-3 && t > 1e-3 && t < 1 - 1e-3 &&
-                         c2 > 0.04 * l2 && (ma.sharp[e] || mb.sharp[f]) && d > 0 &&
+                         c2 > 0.04 * l2 && (coll_edge_sharp(&ma, e) || coll_edge_sharp(&mb, f)) && d > 0 &&
                          !(flat_on_face(&ma, e, p0, p1, q0, q1, s, t, d, q0, q1) &&
                            ends_near(q0, q1, p0, p1, alarm)) &&
                          !(flat_on_face(&mb, f, p0, p1, q0, q1, s, t, d, p0, p1) &&

@@ -21,6 +21,7 @@ struct pl_hyper_cuda {
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
     int *stats;             /* max iterations, missed, first non-finite element */
     double *warm;           /* n x d: each element's last prox solution (zeros: cold) */
+    double *prev;           /* n x 3d: each element's last p (over-relaxation; ADMM only) */
     unsigned long long *acc;/* since begin_step: solves, Newton, halvings, capped, histogram */
 };
 
@@ -65,8 +66,8 @@ template <int K, int Dd>
 __global__ void __launch_bounds__(kThreads)
     k_project(int n, int material, const int *__restrict__ verts, const double *__restrict__ D,
               const double *__restrict__ mu, const double *__restrict__ lambda,
-              const double *__restrict__ w, double wscale, int offset, double h2,
-              const double *__restrict__ q,
+              const double *__restrict__ w, double wscale, double alpha,
+              double *__restrict__ prev, int offset, double h2, const double *__restrict__ q,
               double *__restrict__ dual, double *__restrict__ warm, double *__restrict__ slots,
               double *__restrict__ rhs, int atomic, int *__restrict__ stats,
               unsigned long long *__restrict__ acc)
@@ -98,6 +99,12 @@ __global__ void __launch_bounds__(kThreads)
         const double m = mu[i], la = lambda[i];
         const double what = wscale * (material == 0 ? 2.0 * m : 2.0 * m + la);
         double *u = material != 0 ? dual + ND * (size_t)i : NULL;
+        /* over-relaxed ADMM (the host's hyper_elements_project_relaxed) */
+        double *pv = u && prev ? prev + ND * (size_t)i : NULL;
+        if (pv && alpha != 1.0) {
+#pragma unroll
+            for (int k = 0; k < ND; ++k) F[k] = alpha * F[k] + (1.0 - alpha) * pv[k];
+        }
         double ul[ND];
 #pragma unroll
         for (int k = 0; k < ND; ++k) {
@@ -123,6 +130,7 @@ __global__ void __launch_bounds__(kThreads)
         if (u && finite) {
 #pragma unroll
             for (int k = 0; k < ND; ++k) {
+                if (pv) pv[k] = p[k];
                 ul[k] += F[k] - p[k];
                 p[k] -= ul[k];
                 u[k] = ul[k];
@@ -220,6 +228,8 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         upload(g, &g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
         upload(g, &g->stats, static_cast<const int *>(NULL), 3, err) ||
         upload(g, &g->warm, static_cast<const double *>(NULL), (size_t)e->d * n, err) ||
+        (e->material != PL_HYPER_ARAP &&
+         upload(g, &g->prev, static_cast<const double *>(NULL), 3 * (size_t)e->d * n, err)) ||
         upload(g, &g->acc, static_cast<const unsigned long long *>(NULL), kAcc, err)) {
         hyper_cuda_destroy(g);
         return NULL;
@@ -240,7 +250,7 @@ extern "C" void hyper_cuda_destroy(pl_hyper_cuda *g)
 {
     if (!g) return;
     void *ptrs[] = {g->verts, g->D,     g->mu,    g->lambda, g->w,  g->vptr,
-                    g->vinc,  g->slots, g->stats, g->warm,   g->acc};
+                    g->vinc,  g->slots, g->stats, g->warm,   g->acc, g->prev};
     for (void *p : ptrs)
         if (p) cudaFree(p);
     free(g);
@@ -249,6 +259,14 @@ extern "C" void hyper_cuda_destroy(pl_hyper_cuda *g)
 extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q,
                                      double *dual, double *rhs, pl_hyper_cuda_assembly mode,
                                      struct CUstream_st *stream, pl_error *err)
+{
+    return hyper_cuda_project_relaxed(g, offset, h2, q, dual, 1.0, rhs, mode, stream, err);
+}
+
+extern "C" int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h2,
+                                          const double *q, double *dual, double alpha,
+                                          double *rhs, pl_hyper_cuda_assembly mode,
+                                          struct CUstream_st *stream, pl_error *err)
 {
     if (!g || !q || !rhs || offset < 0)
         return pl_error_set(err, PL_EINPUT, NULL, 0, NULL, "hyperelastic (cuda): bad arguments");
@@ -263,11 +281,13 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
         if (g->k == 4)
             pl_cuda_launch(k_project<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->mu, g->lambda, g->w, g->wscale, alpha, g->prev, offset, h2, q,
+                           dual, g->warm,
                            g->slots, rhs, atomic, g->stats, g->acc);
         else
             pl_cuda_launch(k_project<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, g->wscale, offset, h2, q, dual, g->warm,
+                           g->mu, g->lambda, g->w, g->wscale, alpha, g->prev, offset, h2, q,
+                           dual, g->warm,
                            g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)
             pl_cuda_launch(k_gather, (unsigned)((g->nverts + 255) / 256), 256, 0, st, g->nverts,
