@@ -54,6 +54,7 @@ struct pl_ncpc_device {
     int explicit_w, jacobian;
     int fused_env;          /* PLIANT_NCP_FUSED_CR=1: the constraint update in one kernel */
     int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
+    int fused_warp;         /* PLIANT_NCP_FUSED_WARP: few rows by one warp (ncp_cuda.h) */
     int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */
     graph_key key;
     unsigned long epoch;
@@ -93,6 +94,10 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * four scenes, 100 steps) and is faster (raptor small 4.85 against 5.35 ms a step);
      * PLIANT_NCP_FUSED_CR=0 keeps the phase kernels */
     g->fused_env = !(fz && !strcmp(fz, "0"));
+    /* 2 by default: at most 32 rows by one warp on shared copies (the cable
+     * finger's one row: docs/benchmarks.md); 1: in place, 0: the block */
+    const char *fw = getenv("PLIANT_NCP_FUSED_WARP");
+    g->fused_warp = fw && (!strcmp(fw, "0") || !strcmp(fw, "1")) ? atoi(fw) : 2;
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
@@ -415,7 +420,8 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     int rc = PL_OK, maxit = g->P.cr_max_iter;
     pl_ncp_cuda_vecs *V = &g->V;
     if (g->fused) { /* all of the below in one kernel */
-        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian);
+        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian,
+                                      g->fused_warp);
         return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
     }
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */

@@ -135,11 +135,17 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
  * arithmetic as those phases and ncp_cuda_dense queued one by one (bitwise
  * the same results), without their launches; reductions take one barrier
  * each.  jacobian: the correction's kind (no linearisation).  For few
- * rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS. */
+ * rows, one block doing each product: NCP_CUDA_FUSED_MAX_ROWS.  With warp
+ * = 2, at most NCP_CUDA_WARP_MAX_ROWS rows (the kernel reads the step's m)
+ * are done by the block's first warp alone, one row a lane, with warp
+ * barriers and shuffles only, on copies of the step's rows, W and work
+ * vectors in shared memory; warp = 1: that warp on the arrays in place;
+ * 0: the whole block for few rows too.  The same sums in all three. */
 #define NCP_CUDA_FUSED_MAX_ROWS 256
+#define NCP_CUDA_WARP_MAX_ROWS 32
 int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                           const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
-                          int jacobian);
+                          int jacobian, int warp);
 
 #ifdef __cplusplus
 }

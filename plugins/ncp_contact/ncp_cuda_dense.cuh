@@ -4,11 +4,13 @@
  * both give the same sums, bitwise.  Row i is summed by K threads of one
  * warp (K = dense_width(m), a power of two): thread c of them adds the
  * columns c, c + K, ... in order, and the K partial sums meet by a
- * shuffle tree.  Few rows (the fused update's, m <= NCP_CUDA_FUSED_MAX_ROWS)
- * take the K that lets a 512-thread block do all rows at once, about 2 m K
- * <= 512 (K = 4 for 108 rows: 27 products a thread, two shuffle levels);
- * more rows take a warp per row (K = 32: coalesced reads of W in global
- * memory). */
+ * shuffle tree.  At most NCP_CUDA_WARP_MAX_ROWS rows (the fused update's
+ * one-warp path) take K = 1: thread i sums row i in column order, no
+ * shuffle, so that one warp does the whole product at once; up to
+ * NCP_CUDA_FUSED_MAX_ROWS (the fused update's block) the K that lets a
+ * 512-thread block do all rows at once, about 2 m K <= 512 (K = 4 for 108
+ * rows: 27 products a thread, two shuffle levels); more rows take a warp
+ * per row (K = 32: coalesced reads of W in global memory). */
 #ifndef PLIANT_NCP_CUDA_DENSE_CUH
 #define PLIANT_NCP_CUDA_DENSE_CUH
 
@@ -17,6 +19,7 @@
 __device__ __forceinline__ int ncp_dense_width(int m)
 {
     if (m > NCP_CUDA_FUSED_MAX_ROWS) return 32;
+    if (m <= NCP_CUDA_WARP_MAX_ROWS) return 1;
     int K = 1;
     while (K < 32 && 2 * K * m <= 512) K *= 2;
     return K;

@@ -1,9 +1,12 @@
 /* ncp_cuda_phases.cuh - the device code of the constraint update's phases
  * (see ncp_cuda.h for the sequence), shared by the phase kernels
  * (ncp_cuda_step.cu) and the fused update (ncp_cuda_fused.cu).  Each
- * phase is run by one block: rows and contacts are strided over its
- * threads, and sums and maxima go through a fixed reduction order
- * (block_reduce: deterministic, no atomics).  The NCP functions, residual
+ * phase is run by one block (NT = kThreads) or, for at most
+ * NCP_CUDA_WARP_MAX_ROWS rows, by one warp (NT = 32: the fused update's
+ * few-rows path): rows and contacts are strided over its NT threads, and
+ * sums and maxima go through a fixed reduction order (block_reduce:
+ * deterministic, no atomics; a warp's gives the block's value bitwise when
+ * all rows are in the first warp).  The NCP functions, residual
  * parts and projections are the CPU's own (ncp_functions.h, ncp_residual.h,
  * ncp_project.h); the rest follows ncp_step.c (evaluate_rows, the clamped
  * rows, the full_force operator), cr.c and ncp_linesearch.c. */
@@ -33,6 +36,7 @@ constexpr int kThreads = 512, kWarps = kThreads / 32;
 struct red {
     double *sh; /* 2 buffers x 2 x kWarps (kRedShared doubles) */
     int k;      /* reductions done: picks the buffer */
+    int live;   /* a warp's (NT = 32): lanes at and past it hold no row */
 };
 constexpr int kRedShared = 4 * kWarps;
 
@@ -49,49 +53,83 @@ __device__ __forceinline__ double warps_combine(const double *b, int max)
     return r[0];
 }
 
-/* Sum (max = 0) or maximum (max = 1) over the block; every thread gets it. */
-__device__ double block_reduce(double v, int max, red &rd)
+/* The barrier of NT threads: a block's, or a warp's (__syncwarp also
+ * orders the warp's memory accesses). */
+template <int NT> __device__ __forceinline__ void sync_nt()
+{
+    if constexpr (NT == 32)
+        __syncwarp();
+    else
+        __syncthreads();
+}
+
+/* Sum (max = 0) or maximum (max = 1) over the NT threads; every thread
+ * gets it.  NT = 32 (one warp, m = rd.live <= 32 rows): the levels of the
+ * warp's shuffle tree whose offset o < m (a level with o >= m adds to each
+ * lane below o a partial sum of lanes at or past m, all +0.0 or, for the
+ * maxima of |.|, 0.0: it changes at most a zero's sign), then what the
+ * block's pairwise tree does with the other warps' values, which hold no
+ * row either: one v + 0.0 (-0.0 becomes +0.0) or fmax(v, 0.0).  So the
+ * warp gives the block's bits for the same rows. */
+template <int NT> __device__ double block_reduce(double v, int max, red &rd)
 {
     const int lane = threadIdx.x & 31, w = threadIdx.x >> 5;
-    for (int o = 16; o > 0; o >>= 1) {
-        const double u = __shfl_down_sync(0xffffffffu, v, o);
-        v = max ? fmax(v, u) : v + u;
+    if constexpr (NT == 32) {
+        for (int o = 16; o > 0; o >>= 1)
+            if (o < rd.live) { /* warp-uniform */
+                const double u = __shfl_down_sync(0xffffffffu, v, o);
+                v = max ? fmax(v, u) : v + u;
+            }
+        v = __shfl_sync(0xffffffffu, v, 0);
+        return max ? fmax(v, 0.0) : v + 0.0;
+    } else {
+        for (int o = 16; o > 0; o >>= 1) {
+            const double u = __shfl_down_sync(0xffffffffu, v, o);
+            v = max ? fmax(v, u) : v + u;
+        }
+        double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
+        rd.k += 1;
+        if (lane == 0) b[w] = v;
+        __syncthreads();
+        return warps_combine(b, max);
     }
-    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
-    rd.k += 1;
-    if (lane == 0) b[w] = v;
-    __syncthreads();
-    return warps_combine(b, max);
 }
 
 /* Two sums at once (each as block_reduce sums it, bitwise). */
-__device__ void block_reduce2(double &a, double &c, red &rd)
+template <int NT> __device__ void block_reduce2(double &a, double &c, red &rd)
 {
     const int lane = threadIdx.x & 31, w = threadIdx.x >> 5;
-    for (int o = 16; o > 0; o >>= 1) {
-        a += __shfl_down_sync(0xffffffffu, a, o);
-        c += __shfl_down_sync(0xffffffffu, c, o);
+    for (int o = 16; o > 0; o >>= 1)
+        if (NT != 32 || o < rd.live) {
+            a += __shfl_down_sync(0xffffffffu, a, o);
+            c += __shfl_down_sync(0xffffffffu, c, o);
+        }
+    if constexpr (NT == 32) {
+        a = __shfl_sync(0xffffffffu, a, 0) + 0.0;
+        c = __shfl_sync(0xffffffffu, c, 0) + 0.0;
+    } else {
+        double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
+        rd.k += 1;
+        if (lane == 0) b[w] = a, b[kWarps + w] = c;
+        __syncthreads();
+        a = warps_combine(b, 0);
+        c = warps_combine(b + kWarps, 0);
     }
-    double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
-    rd.k += 1;
-    if (lane == 0) b[w] = a, b[kWarps + w] = c;
-    __syncthreads();
-    a = warps_combine(b, 0);
-    c = warps_combine(b + kWarps, 0);
 }
 
-__device__ double dot(int m, const double *a, const double *b, red &rd)
+template <int NT> __device__ double dot(int m, const double *a, const double *b, red &rd)
 {
     double s = 0.0;
-    for (int j = threadIdx.x; j < m; j += kThreads) s += a[j] * b[j];
-    return block_reduce(s, 0, rd);
+    for (int j = threadIdx.x; j < m; j += NT) s += a[j] * b[j];
+    return block_reduce<NT>(s, 0, rd);
 }
 
 /* evaluate_rows (ncp_step.c): phi, omega, e of every row; friction per contact. */
+template <int NT>
 __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                          const pl_ncp_cuda_params &P)
 {
-    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+    for (int j = threadIdx.x; j < R.m; j += NT) {
         const int k = R.kind[j];
         const double d = V.delta[j], l = V.lambda[j];
         if (k == PL_ROW_BILATERAL) {
@@ -102,7 +140,7 @@ __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
             ncp_bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
         }
     }
-    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+    for (int c = threadIdx.x; c < R.nc; c += NT) {
         const int *ct = R.contact + 3 * c;
         int nt = 0, t[2];
         double y[2], lf[2], phi[2], om, e;
@@ -124,18 +162,19 @@ __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
 }
 
 /* The residual's 2-norm at (delta0 + a ddelta, lambda + a dlambda). */
+template <int NT>
 __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, const double *d0,
                         const double *dd, const double *l0, const double *dl, double a, red &rd)
 {
     double ss = 0.0;
-    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+    for (int j = threadIdx.x; j < R.m; j += NT) {
         const int k = R.kind[j];
         if (k == PL_ROW_FRICTION) continue;
         const double v = ncp_row_residual(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j],
                                           R.r[j], R.lo[j], R.hi[j]);
         ss += v * v;
     }
-    for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+    for (int c = threadIdx.x; c < R.nc; c += NT) {
         const int *ct = R.contact + 3 * c;
         int nt = 0;
         double y[2], lf[2];
@@ -151,54 +190,56 @@ __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, 
         ncp_friction_residual(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho, &cone, &fric);
         ss += ncp_friction_residual2(rho, cone, fric);
     }
-    return sqrt(block_reduce(ss, 0, rd));
+    return sqrt(block_reduce<NT>(ss, 0, rd));
 }
 
 /* lambda += damping alpha dlambda, then ncp_project. */
+template <int NT>
 __device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                        const pl_ncp_cuda_params &P, double alpha)
 {
     const double step = P.damping * alpha;
-    for (int j = threadIdx.x; j < R.m; j += kThreads) {
+    for (int j = threadIdx.x; j < R.m; j += NT) {
         double l = V.lambda[j] + step * V.dlambda[j];
         if (P.project) l = ncp_project_row(R.kind[j], l, R.lo[j], R.hi[j]);
         V.lambda[j] = l;
     }
-    __syncthreads();
+    sync_nt<NT>();
     if (P.project)
-        for (int c = threadIdx.x; c < R.nc; c += kThreads) {
+        for (int c = threadIdx.x; c < R.nc; c += NT) {
             const int *ct = R.contact + 3 * c;
             ncp_project_contact(ct, R.mu[ct[0]], V.lambda);
         }
-    __syncthreads();
-    for (int j = threadIdx.x; j < R.m; j += kThreads) V.lambda_all[R.full[j]] = V.lambda[j];
+    sync_nt<NT>();
+    for (int j = threadIdx.x; j < R.m; j += NT) V.lambda_all[R.full[j]] = V.lambda[j];
 }
 
 /* CR phase E: x, r update, stop test; tmp = ox (see ncp_cuda.h). */
+template <int NT>
 __device__ void cr_e(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                      const pl_ncp_cuda_params &P, int last, red &rd)
 {
     pl_ncp_cuda_scalars *sc = V.sc;
     const int m = R.m, t0 = threadIdx.x == 0;
     if (sc->done) return;
-    const double ApAp = dot(m, V.cr_Ap, V.cr_Ap, rd), rAr = sc->rAr;
+    const double ApAp = dot<NT>(m, V.cr_Ap, V.cr_Ap, rd), rAr = sc->rAr;
     if (!(ApAp > 0.0) || rAr == 0.0) {
         if (t0) sc->done = 1;
         return;
     }
     const double alpha = rAr / ApAp;
     double ss = 0.0;
-    for (int j = threadIdx.x; j < m; j += kThreads) {
+    for (int j = threadIdx.x; j < m; j += NT) {
         V.dlambda[j] += alpha * V.cr_p[j];
         const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
         V.cr_r[j] = r;
         ss += r * r;
     }
-    const double rnorm = sqrt(block_reduce(ss, 0, rd));
+    const double rnorm = sqrt(block_reduce<NT>(ss, 0, rd));
     const int stop = !isfinite(rnorm) || rnorm <= P.cr_rtol * sc->bnorm;
     if (!stop && !last)
-        for (int j = threadIdx.x; j < m; j += kThreads) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
-    __syncthreads();
+        for (int j = threadIdx.x; j < m; j += NT) V.tmp[j] = V.op_omega[j] * V.cr_r[j];
+    sync_nt<NT>();
     if (t0) {
         sc->rnorm = rnorm;
         if (!isfinite(rnorm)) sc->error = 2;
@@ -210,6 +251,7 @@ __device__ void cr_e(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
 }
 
 /* CR phase F: Ar from tmp2, beta, p, Ap. */
+template <int NT>
 __device__ void cr_f(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                      const pl_ncp_cuda_params &P, red &rd)
 {
@@ -218,22 +260,24 @@ __device__ void cr_f(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     const double h2 = P.h * P.h;
     if (sc->done) return;
     double s = 0.0;
-    for (int j = threadIdx.x; j < m; j += kThreads) {
+    for (int j = threadIdx.x; j < m; j += NT) {
         const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
         V.cr_Ar[j] = ar;
         s += V.cr_r[j] * ar;
     }
-    const double rAr_new = block_reduce(s, 0, rd);
+    const double rAr_new = block_reduce<NT>(s, 0, rd);
     const double beta = rAr_new / sc->rAr;
-    for (int j = threadIdx.x; j < m; j += kThreads) {
+    for (int j = threadIdx.x; j < m; j += NT) {
         V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
         V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
     }
-    __syncthreads();
+    sync_nt<NT>();
     if (threadIdx.x == 0) sc->rAr = rAr_new;
 }
 
-/* One phase by the block (k_phase; the fused update runs them in turn). */
+/* One phase by the NT threads (k_phase: a block; the fused update runs
+ * them in turn, by its block or its first warp). */
+template <int NT>
 __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                           const pl_ncp_cuda_params &P, int last, red &rd)
 {
@@ -242,14 +286,14 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
     const double h2 = P.h * P.h;
     switch (phase) {
     case PL_NCP_PHASE_LIN:
-        for (int j = threadIdx.x; j < m; j += kThreads)
+        for (int j = threadIdx.x; j < m; j += NT)
             V.delta[j] = V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
         break;
     case PL_NCP_PHASE_A: {
-        evaluate(R, V, P);
-        __syncthreads();
+        evaluate<NT>(R, V, P);
+        sync_nt<NT>();
         double phin = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
+        for (int j = threadIdx.x; j < m; j += NT) {
             int c;
             double s;
             if (P.full_force) {
@@ -264,12 +308,12 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
             V.tmp[j] = s * V.lambda[j];
             phin = fmax(phin, fabs(V.phi[j]));
         }
-        phin = block_reduce(phin, 1, rd);
+        phin = block_reduce<NT>(phin, 1, rd);
         if (t0) sc->phin = phin;
         break;
     }
     case PL_NCP_PHASE_B:
-        for (int j = threadIdx.x; j < m; j += kThreads) {
+        for (int j = threadIdx.x; j < m; j += NT) {
             double p = V.delta[j] - V.delta_free[j] - h2 * V.tmp2[j];
             double rhs = -V.phi[j] + V.omega[j] * p;
             const int c = V.is_clamped[j];
@@ -281,7 +325,7 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
         break;
     case PL_NCP_PHASE_C: {
         double ss = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
+        for (int j = threadIdx.x; j < m; j += NT) {
             const int c = V.is_clamped[j];
             double rhs = V.rhs[j];
             if (!c) rhs -= h2 * V.omega[j] * V.tmp2[j];
@@ -305,7 +349,7 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
             V.tmp[j] = V.op_omega[j] * rhs;
             ss += rhs * rhs;
         }
-        const double bnorm = sqrt(block_reduce(ss, 0, rd));
+        const double bnorm = sqrt(block_reduce<NT>(ss, 0, rd));
         if (t0) {
             sc->bnorm = sc->rnorm = bnorm;
             sc->its = 0;
@@ -317,47 +361,47 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
     case PL_NCP_PHASE_D: {
         if (sc->done) break;
         double s = 0.0;
-        for (int j = threadIdx.x; j < m; j += kThreads) {
+        for (int j = threadIdx.x; j < m; j += NT) {
             const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
             V.cr_Ar[j] = V.cr_Ap[j] = ar;
             V.cr_p[j] = V.cr_r[j];
             s += V.cr_r[j] * ar;
         }
-        s = block_reduce(s, 0, rd);
+        s = block_reduce<NT>(s, 0, rd);
         if (t0) sc->rAr = s, sc->its = 1;
         break;
     }
     case PL_NCP_PHASE_E:
-        cr_e(R, V, P, last, rd);
+        cr_e<NT>(R, V, P, last, rd);
         break;
     case PL_NCP_PHASE_F:
-        cr_f(R, V, P, rd);
+        cr_f<NT>(R, V, P, rd);
         break;
     case PL_NCP_PHASE_G:
-        for (int j = threadIdx.x; j < m; j += kThreads)
+        for (int j = threadIdx.x; j < m; j += NT)
             V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j];
         break;
     case PL_NCP_PHASE_LAMBDA:
-        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.lambda[j];
+        for (int j = threadIdx.x; j < m; j += NT) V.force[j] = V.scale[j] * V.lambda[j];
         break;
     case PL_NCP_PHASE_LS0:
-        for (int j = threadIdx.x; j < m; j += kThreads)
+        for (int j = threadIdx.x; j < m; j += NT)
             V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
         break;
     case PL_NCP_PHASE_DLAMBDA:
-        for (int j = threadIdx.x; j < m; j += kThreads) V.force[j] = V.scale[j] * V.dlambda[j];
+        for (int j = threadIdx.x; j < m; j += NT) V.force[j] = V.scale[j] * V.dlambda[j];
         break;
     case PL_NCP_PHASE_UPDATE: {
         double alpha = 1.0;
         if (P.line_search) {
             /* ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
-            for (int j = threadIdx.x; j < m; j += kThreads) V.ls1[j] = h2 * V.tmp2[j];
-            __syncthreads();
-            const double m0 = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, rd);
+            for (int j = threadIdx.x; j < m; j += NT) V.ls1[j] = h2 * V.tmp2[j];
+            sync_nt<NT>();
+            const double m0 = merit<NT>(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, rd);
             int bad = !isfinite(m0);
             double a = 1.0;
             for (int t = 0; t <= 3 && !bad; ++t, a *= 0.5) {
-                const double mt = merit(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, a, rd);
+                const double mt = merit<NT>(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, a, rd);
                 if (!isfinite(mt)) {
                     bad = 1;
                     break;
@@ -369,7 +413,7 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
             }
             if (bad && t0) sc->error = 3;
         }
-        update(R, V, P, alpha);
+        update<NT>(R, V, P, alpha);
         if (t0) {
             const int k = sc->iter;
             if (k < V.series_cap) {

@@ -11,8 +11,8 @@ __global__ void __launch_bounds__(kThreads)
 {
     const pl_ncp_cuda_rows R = *Rp; /* the step's rows (a graph keeps only the address) */
     __shared__ double sh[kRedShared];
-    red rd = {sh, 0};
-    run_phase(phase, R, V, P, last, rd);
+    red rd = {sh, 0, 32};
+    run_phase<kThreads>(phase, R, V, P, last, rd);
 }
 
 } // namespace

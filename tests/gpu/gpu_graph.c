@@ -14,8 +14,11 @@
  *     1e-12; a graph replaying a former step's rows would differ far
  *     more), so reuse changes nothing computed;
  *   - a third run with a graph and PLIANT_NCP_FUSED_CR=1 (CR's loop in one
- *     kernel where W is explicit and rows are few) gives those positions
- *     too (relative 1e-12).
+ *     kernel where W is explicit and rows are few; at most 32 rows by one
+ *     warp) gives those positions too (relative 1e-12; on the H100 they
+ *     are equal, 0.0: the fused kernel sums as the phase kernels do);
+ *   - a fourth, PLIANT_NCP_FUSED_WARP=0 (the fused kernel's whole block for
+ *     few rows too), as well.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -64,7 +67,9 @@ static int first_state(pl_component *c, void *user)
 static double *run(const char *path, int graph, int fused, int steps, size_t *n,
                    double *captures, double *ms)
 {
-    setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1); /* read by the contact solver's device path */
+    /* read by the contact solver's device path (fused 2: without the warp) */
+    setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1);
+    setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
     double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
@@ -106,10 +111,13 @@ static void check(const char *path, int steps)
     char what[256];
     size_t na = 0, nb = 0;
     size_t nc = 0;
-    double cap_a = 0, cap_b = 0, cap_c = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
+    size_t nd = 0;
+    double cap_a = 0, cap_b = 0, cap_c = 0, cap_d = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
+    double ms_d = NAN;
     double *a = run(path, 1, 0, steps, &na, &cap_a, &ms_a);
     double *b = run(path, 0, 0, steps, &nb, &cap_b, &ms_b);
     double *c = run(path, 1, 1, steps, &nc, &cap_c, &ms_c);
+    double *d = run(path, 1, 2, steps, &nd, &cap_d, &ms_d);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -132,8 +140,14 @@ static void check(const char *path, int steps)
     gpu_note_line(md, what, ms_c);
     snprintf(what, sizeof what, "%s: graph captures with PLIANT_NCP_FUSED_CR=1", path);
     gpu_note_line(md, what, cap_c);
-    free(a), free(b), free(c);
+    snprintf(what, sizeof what,
+             "%s: PLIANT_NCP_FUSED_CR=1 PLIANT_NCP_FUSED_WARP=0 with a graph vs no graph "
+             "(relative)",
+             path);
+    gpu_check_line(md, what, d && b && nd == nb ? rel(d, b, nb) : INFINITY, 1e-12);
+    free(a), free(b), free(c), free(d);
     unsetenv("PLIANT_NCP_FUSED_CR");
+    unsetenv("PLIANT_NCP_FUSED_WARP");
 }
 
 int main(int argc, char **argv)
