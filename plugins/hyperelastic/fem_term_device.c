@@ -114,10 +114,11 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
     gpu->used = 1;
     /* as the host: alpha from the step's second project on (the first is
      * never captured in a graph: local_global_device.c runs it eagerly) */
-    double alpha = gpu->dual && gpu->relax_ready ? f->admm_relaxation : 1.0;
+    int relax = gpu->dual && f->admm_relaxation != 1.0;
+    double alpha = relax && gpu->relax_ready ? f->admm_relaxation : 1.0;
     gpu->relax_ready = 1;
     pl_error e;
-    if (hyper_cuda_project_relaxed(gpu->g, offset, h2, q->data, gpu->dual, alpha, rhs->data,
+    if (hyper_cuda_project_relaxed(gpu->g, offset, h2, q->data, gpu->dual, relax, alpha, rhs->data,
                                    PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;

@@ -260,11 +260,11 @@ extern "C" int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const
                                      double *dual, double *rhs, pl_hyper_cuda_assembly mode,
                                      struct CUstream_st *stream, pl_error *err)
 {
-    return hyper_cuda_project_relaxed(g, offset, h2, q, dual, 1.0, rhs, mode, stream, err);
+    return hyper_cuda_project_relaxed(g, offset, h2, q, dual, 0, 1.0, rhs, mode, stream, err);
 }
 
 extern "C" int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h2,
-                                          const double *q, double *dual, double alpha,
+                                          const double *q, double *dual, int relax, double alpha,
                                           double *rhs, pl_hyper_cuda_assembly mode,
                                           struct CUstream_st *stream, pl_error *err)
 {
@@ -281,12 +281,14 @@ extern "C" int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h
         int atomic = mode == PL_HYPER_CUDA_ATOMIC;
         if (g->k == 4)
             pl_cuda_launch(k_project<4, 3>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, g->wscale, alpha, g->prev, offset, h2, q,
+                           g->mu, g->lambda, g->w, g->wscale, alpha, relax ? g->prev : NULL,
+                           offset, h2, q,
                            dual, g->warm,
                            g->slots, rhs, atomic, g->stats, g->acc);
         else
             pl_cuda_launch(k_project<3, 2>, nb, kThreads, 0, st, g->n, g->material, g->verts, g->D,
-                           g->mu, g->lambda, g->w, g->wscale, alpha, g->prev, offset, h2, q,
+                           g->mu, g->lambda, g->w, g->wscale, alpha, relax ? g->prev : NULL,
+                           offset, h2, q,
                            dual, g->warm,
                            g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)

@@ -48,11 +48,12 @@ void hyper_cuda_destroy(pl_hyper_cuda *g);
 int hyper_cuda_project(pl_hyper_cuda *g, int offset, double h2, const double *q, double *dual,
                           double *rhs, pl_hyper_cuda_assembly mode, struct CUstream_st *stream,
                           pl_error *err);
-/* The same with over-relaxed ADMM (hyper_elements_project_relaxed): the
- * device keeps each element's last p; alpha must be 1 on a step's first
- * project (the host's rule), alpha != 1 later uses that p. */
+/* The same with over-relaxed ADMM (hyper_elements_project_relaxed): with
+ * relax the device keeps each element's last p (without, nothing is kept
+ * and alpha must be 1); alpha must be 1 on a step's first project (the
+ * host's rule), alpha != 1 later uses that p. */
 int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h2, const double *q,
-                               double *dual, double alpha, double *rhs,
+                               double *dual, int relax, double alpha, double *rhs,
                                pl_hyper_cuda_assembly mode, struct CUstream_st *stream,
                                pl_error *err);
 
