@@ -16,7 +16,7 @@
 
 #include "ncp_cuda.h"
 
-__device__ __forceinline__ int ncp_dense_width(int m)
+__device__ __forceinline__ int dense_row_width(int m)
 {
     if (m > NCP_CUDA_FUSED_MAX_ROWS) return 32;
     if (m <= NCP_CUDA_WARP_MAX_ROWS) return 1;
@@ -29,7 +29,7 @@ __device__ __forceinline__ int ncp_dense_width(int m)
  * thread's place in it, groups aligned within the warp); every lane of the
  * warp must call it (m = 0 for a group without a row).  The sum is in the
  * group's c = 0. */
-__device__ __forceinline__ double ncp_dense_row(const double *__restrict__ row,
+__device__ __forceinline__ double dense_row_dot(const double *__restrict__ row,
                                                 const double *__restrict__ x, int m, int c, int K)
 {
     double s = 0.0;

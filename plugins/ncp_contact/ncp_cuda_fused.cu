@@ -23,14 +23,14 @@
 namespace {
 
 /* y = W x by the NT threads: row i by the K threads i K ... i K + K - 1 (K =
- * ncp_dense_width(m); 1 for the warp's few rows), NT / K rows at a time. */
+ * dense_row_width(m); 1 for the warp's few rows), NT / K rows at a time. */
 template <int NT>
 __device__ void product(int m, const double *__restrict__ W, const double *x, double *y)
 {
-    const int K = ncp_dense_width(m), c = threadIdx.x & (K - 1);
+    const int K = dense_row_width(m), c = threadIdx.x & (K - 1);
     for (int i0 = 0; i0 < m; i0 += NT / K) { /* uniform bound: shuffles inside */
         const int i = i0 + threadIdx.x / K, ok = i < m;
-        const double s = ncp_dense_row(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
+        const double s = dense_row_dot(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
         if (ok && c == 0) y[i] = s;
     }
 }

@@ -154,12 +154,12 @@ __global__ void k_dense(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int m = Rp->m, K = ncp_dense_width(m);
+    const int m = Rp->m, K = dense_row_width(m);
     const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
     if ((g & ~31LL) / K >= m) return;
     const long long i = g / K;
     const int c = (int)(g % K), ok = i < m;
-    const double s = ncp_dense_row(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
+    const double s = dense_row_dot(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
     if (ok && c == 0) y[i] = s;
 }
 

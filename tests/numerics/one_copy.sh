@@ -131,7 +131,10 @@ uses() { # FILE HEADER...
 }
 uses plugins/hyperelastic/cuda/hyper_cuda.cu local_solve.h
 uses plugins/hyperelastic/cuda/stencil_cuda.cu keep_norm.h
-uses plugins/ncp_contact/ncp_cuda_step.cu ncp_functions.h ncp_residual.h ncp_project.h
+# the NCP phases' device code: one header, compiled by the phase kernels and the fused update
+uses plugins/ncp_contact/ncp_cuda_phases.cuh ncp_functions.h ncp_residual.h ncp_project.h
+uses plugins/ncp_contact/ncp_cuda_step.cu ncp_cuda_phases.cuh
+uses plugins/ncp_contact/ncp_cuda_fused.cu ncp_cuda_phases.cuh
 
 # ---- 3. the shared headers ------------------------------------------------
 headers="plugins/hyperelastic/small_matrix.h plugins/hyperelastic/svd.h
