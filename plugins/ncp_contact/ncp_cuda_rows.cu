@@ -28,24 +28,51 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
 /* The kernels read the step's rows from their device copy Rp (grids sized
  * by a capacity: threads past R.m return), so that a captured graph stays
  * valid when the rows change. */
+/* A row of at most this many entries is summed by one lane in entry order
+ * (the host's order: contacts); a longer one (a cable's or a cavity's
+ * mapped points: the cable finger's row has 56) by the warp, lane-strided
+ * and shuffled, where one lane's chain of dependent loads took 8 us. */
+constexpr int kDeltaSerial = 8;
+
+/* delta = H q - offset (x: the free part, read at R.fvert with use_fvert):
+ * a warp a row (grid of 32 mcap threads). */
 __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                         const double *__restrict__ q, int use_fvert, double *__restrict__ delta)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
-    const int *free_vertex = use_fvert ? R.fvert : NULL;
-    const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (j >= R.m) return;
+    const int j = (int)((blockIdx.x * (size_t)blockDim.x + threadIdx.x) >> 5);
+    const int lane = threadIdx.x & 31;
+    if (j >= Rp->m) return; /* whole warps leave together */
+    const int *free_vertex = use_fvert ? Rp->fvert : NULL;
+    const int p0 = Rp->pstart[j], np = Rp->pstart[j + 1] - p0;
+    const int e0 = Rp->fstart[j], ne = Rp->fstart[j + 1] - e0;
+    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
+    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
     double s = 0.0;
-    for (int p = R.pstart[j]; p < R.pstart[j + 1]; ++p)
-        s += dot3(R.pcoef + 3 * (size_t)p, q + 3 * (size_t)R.pvert[p]);
-    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e) {
-        const int f = R.fcol[e];
-        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-        s += dot3(R.fcoef + 3 * (size_t)e, xe);
+    if (np + ne <= kDeltaSerial) {
+        if (lane == 0) {
+            for (int p = p0; p < p0 + np; ++p)
+                s += dot3(pcoef + 3 * (size_t)p, q + 3 * (size_t)pvert[p]);
+            for (int e = e0; e < e0 + ne; ++e) {
+                const int f = fcol[e];
+                const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+                s += dot3(fcoef + 3 * (size_t)e, xe);
+            }
+        }
+    } else {
+        for (int k = lane; k < np + ne; k += 32) {
+            if (k < np) {
+                s += dot3(pcoef + 3 * (size_t)(p0 + k), q + 3 * (size_t)pvert[p0 + k]);
+            } else {
+                const int e = e0 + k - np, f = fcol[e];
+                const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+                s += dot3(fcoef + 3 * (size_t)e, xe);
+            }
+        }
+        for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
     }
-    delta[j] = s - R.offset[j];
+    if (lane == 0) delta[j] = s - Rp->offset[j];
 }
 
 /* Both row values of a jacobian iteration in one launch: delta at q (free
@@ -186,7 +213,7 @@ extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                               const double *x, const double *q, int use_fvert, double *delta)
 {
     if (mcap <= 0) return 0;
-    pl_cuda_launch(k_delta, blocks(mcap), kThreads, 0, st, R, x, q, use_fvert, delta);
+    pl_cuda_launch(k_delta, blocks(32LL * mcap), kThreads, 0, st, R, x, q, use_fvert, delta);
     return (int)cudaGetLastError();
 }
 
