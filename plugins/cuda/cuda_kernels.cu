@@ -73,7 +73,42 @@ __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double 
     }
 }
 
-/* Entries in row order, each subtracted in turn (as the CPU loop does). */
+/* (y0, y1, y2) -= sum over entries q in [b, e) of a[q] x[j[q]], each
+ * entry subtracted in turn in row order (as the CPU loop does).  The
+ * entries are read kBatch at a time, their loads all in flight before the
+ * subtractions: a short row's time is its memory latencies, which the
+ * plain loop paid two of every few entries (docs/benchmarks.md, "Gathers
+ * with their loads in flight"). */
+constexpr int kBatch = 8;
+
+__device__ __forceinline__ void sub_row(int b, int e, const int *__restrict__ j,
+                                        const double *__restrict__ a,
+                                        const double *__restrict__ x, double &y0, double &y1,
+                                        double &y2)
+{
+    for (int q = b; q < e; q += kBatch) {
+        int at[kBatch];
+        double v[kBatch], xs[kBatch][3];
+#pragma unroll
+        for (int t = 0; t < kBatch; ++t) {
+            const bool in = q + t < e;
+            at[t] = in ? 3 * j[q + t] : -1;
+            v[t] = in ? a[q + t] : 0.0;
+        }
+#pragma unroll
+        for (int t = 0; t < kBatch; ++t)
+#pragma unroll
+            for (int c = 0; c < 3; ++c) xs[t][c] = at[t] >= 0 ? x[(size_t)at[t] + c] : 0.0;
+#pragma unroll
+        for (int t = 0; t < kBatch; ++t)
+            if (at[t] >= 0) {
+                y0 -= v[t] * xs[t][0];
+                y1 -= v[t] * xs[t][1];
+                y2 -= v[t] * xs[t][2];
+            }
+    }
+}
+
 __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__restrict__ j,
                           const double *__restrict__ a, const double *__restrict__ x,
                           double *__restrict__ y)
@@ -85,13 +120,7 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
     const int b = p[r], e = p[r + 1];
     if (b == e) return;
     double y0 = y[3 * (size_t)r], y1 = y[3 * (size_t)r + 1], y2 = y[3 * (size_t)r + 2];
-    for (int q = b; q < e; ++q) {
-        const double v = a[q];
-        const double *xs = x + 3 * (size_t)j[q];
-        y0 -= v * xs[0];
-        y1 -= v * xs[1];
-        y2 -= v * xs[2];
-    }
+    sub_row(b, e, j, a, x, y0, y1, y2);
     y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
 }
 
@@ -108,13 +137,7 @@ __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const doubl
     if (f >= m) return;
     const double *src = x + 3 * (size_t)map[f];
     double y0 = src[0], y1 = src[1], y2 = src[2];
-    for (int e = p ? p[f] : 0, end = p ? p[f + 1] : 0; e < end; ++e) {
-        const double v = a[e];
-        const double *xs = q + 3 * (size_t)j[e];
-        y0 -= v * xs[0];
-        y1 -= v * xs[1];
-        y2 -= v * xs[2];
-    }
+    if (p) sub_row(p[f], p[f + 1], j, a, q, y0, y1, y2);
     y[3 * (size_t)f] = y0, y[3 * (size_t)f + 1] = y1, y[3 * (size_t)f + 2] = y2;
 }
 

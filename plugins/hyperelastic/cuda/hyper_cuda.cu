@@ -173,7 +173,14 @@ __global__ void __launch_bounds__(kThreads)
 }
 
 /* rhs[offset + v] += the sum of v's slots, in increasing slot order (as
- * hyper_incidence_gather on the CPU). */
+ * hyper_incidence_gather on the CPU).  A vertex's slots are read kBatch at
+ * a time: the batch's indices first, then its slots, all loads in flight
+ * together, then added in order.  The loop one slot at a time (unrolled by
+ * 4 by the compiler, after a one-by-one remainder) waited for two memory
+ * latencies every few slots, and a tiny scene's gather is nothing but those
+ * latencies (docs/benchmarks.md, "Gathers with their loads in flight"). */
+constexpr int kBatch = 8;
+
 __global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
                          const double *__restrict__ slots, int offset, double *__restrict__ rhs)
 {
@@ -182,11 +189,22 @@ __global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__
     const int v = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (v >= nverts) return;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = vptr[v]; k < vptr[v + 1]; ++k) {
-        const double *x = slots + 3 * (size_t)vinc[k];
-        a0 += x[0];
-        a1 += x[1];
-        a2 += x[2];
+    for (int k = vptr[v], end = vptr[v + 1]; k < end; k += kBatch) {
+        int at[kBatch];
+        double x[kBatch][3];
+#pragma unroll
+        for (int b = 0; b < kBatch; ++b) at[b] = k + b < end ? 3 * vinc[k + b] : -1;
+#pragma unroll
+        for (int b = 0; b < kBatch; ++b)
+#pragma unroll
+            for (int c = 0; c < 3; ++c) x[b][c] = at[b] >= 0 ? slots[(size_t)at[b] + c] : 0.0;
+#pragma unroll
+        for (int b = 0; b < kBatch; ++b)
+            if (at[b] >= 0) { /* in order; a missing slot adds nothing, not even +0.0 */
+                a0 += x[b][0];
+                a1 += x[b][1];
+                a2 += x[b][2];
+            }
     }
     double *o = rhs + 3 * ((size_t)offset + v);
     o[0] += a0;

@@ -6,6 +6,7 @@
 #include <cuda_runtime.h>
 #include <stdlib.h>
 
+#include "hyper_cuda.h"    /* hyper_cuda_gather */
 #include "keep_norm.h" /* the CPU's KEEP_NORM projection (compiled as CUDA) */
 
 struct pl_stencil_cuda {
@@ -68,24 +69,6 @@ __global__ void k_rows(int n, int keep_norm, const int *__restrict__ ptr,
     }
 }
 
-__global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
-                         const double *__restrict__ work, int offset, double *__restrict__ rhs)
-{
-    const int v = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (v >= nverts) return;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = vptr[v]; k < vptr[v + 1]; ++k) {
-        const double *x = work + 3 * (size_t)vinc[k];
-        a0 += x[0];
-        a1 += x[1];
-        a2 += x[2];
-    }
-    double *o = rhs + 3 * ((size_t)offset + v);
-    o[0] += a0;
-    o[1] += a1;
-    o[2] += a2;
-}
-
 } // namespace
 
 extern "C" pl_stencil_cuda *stencil_cuda_create(const pl_hyper_stencils *s, pl_error *err)
@@ -140,10 +123,11 @@ extern "C" int stencil_cuda_project(pl_stencil_cuda *g, int offset, double h2, c
     k_rows<<<(unsigned)((g->n + 127) / 128), 128, 0, stream>>>(
         g->n, g->keep_norm, g->ptr, g->vert, g->coef, g->w, g->rest,
         with_targets && !g->keep_norm ? g->targets : NULL, offset, h2, q, g->work);
-    if (g->nverts > 0)
-        k_gather<<<(unsigned)((g->nverts + 255) / 256), 256, 0, stream>>>(g->nverts, g->vptr, g->vinc,
-                                                                         g->work, offset, rhs);
     cudaError_t e = cudaGetLastError();
-    return e == cudaSuccess ? PL_OK : cuda_fail(err, e, "stencil kernels");
+    if (e != cudaSuccess) return cuda_fail(err, e, "stencil kernels");
+    /* the FEM local step's gather: the same incidence layout (hyper_cuda.h) */
+    return g->nverts > 0 ? hyper_cuda_gather(g->nverts, g->vptr, g->vinc, g->work, offset, rhs,
+                                             stream, err)
+                         : PL_OK;
 }
 
