@@ -118,6 +118,10 @@ double hyper_psi(const pl_hyper_law *m, const double *F)
 void hyper_piola(const pl_hyper_law *m, const double *F, double *P)
 {
     const int d = m->d;
+    if (d == 3 && m->material == PL_HYPER_NEOHOOKEAN) { /* no SVD needed */
+        hm_neohookean_piola3(m->mu, m->lambda, F, P);
+        return;
+    }
     double U[9], s[3], V[9], g[3], psi;
     hyper_svd(d, F, U, s, V);
     if (hyper_sv_eval(m, s, &psi, g, NULL) != 0) {

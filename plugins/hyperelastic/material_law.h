@@ -70,4 +70,32 @@ PL_HD int hm_sv_eval(const int d, int material, double mu, double la, const doub
     return 0;
 }
 
+/* Neo-Hookean's first Piola-Kirchhoff stress of a tetrahedron (F 3 x 3,
+ * row-major) without an SVD:
+ *     P = mu F + (lambda ln J - mu) F^-T,   F^-T = cof(F) / J,  J = det F,
+ * the tensor U diag(g) V^T that hm_sv_eval's gradient g on the singular
+ * values gives (mu s_i + (lambda ln J - mu) / s_i), to round-off.  Outside
+ * the domain (J <= 0, where the signed singular values have one s <= 0) P
+ * is NaN, as there.  The force residual evaluates it at every iteration
+ * (forceTolerance): an SVD is most of its cost on the CPU and a long
+ * dependent chain on the GPU (docs/benchmarks.md, "Neo-Hookean stress
+ * without an SVD"). */
+PL_HD void hm_neohookean_piola3(double mu, double la, const double *F, double *P)
+{
+    double C[9]; /* cof(F): C[a][b] = (-1)^(a+b) minor(a, b) */
+    C[0] = F[4] * F[8] - F[5] * F[7];
+    C[1] = F[5] * F[6] - F[3] * F[8];
+    C[2] = F[3] * F[7] - F[4] * F[6];
+    C[3] = F[2] * F[7] - F[1] * F[8];
+    C[4] = F[0] * F[8] - F[2] * F[6];
+    C[5] = F[1] * F[6] - F[0] * F[7];
+    C[6] = F[1] * F[5] - F[2] * F[4];
+    C[7] = F[2] * F[3] - F[0] * F[5];
+    C[8] = F[0] * F[4] - F[1] * F[3];
+    const double J = F[0] * C[0] + F[1] * C[1] + F[2] * C[2];
+    const double c = J > 0.0 ? (la * log(J) - mu) / J : NAN;
+    PL_UNROLL
+    for (int i = 0; i < 9; ++i) P[i] = mu * F[i] + c * C[i];
+}
+
 #endif

@@ -30,8 +30,9 @@ int cuda_fail(pl_error *err, cudaError_t e, const char *what)
                         what, cudaGetErrorString(e));
 }
 
-/* Element i: F = X D, P = U diag(dpsi/ds) V^T, slots = V P D^T (K corners,
- * F 3 x Dd).  Outside the law's domain (Neo-Hookean, some s <= 0) P is NaN,
+/* Element i: F = X D, P = U diag(dpsi/ds) V^T (Neo-Hookean tetrahedra:
+ * hm_neohookean_piola3, as hyper_piola on the CPU), slots = V P D^T (K
+ * corners, F 3 x Dd).  Outside the law's domain (Neo-Hookean, some s <= 0) P is NaN,
  * as hyper_piola makes it. */
 template <int K, int Dd>
 __global__ void __launch_bounds__(kThreads)
@@ -58,28 +59,32 @@ __global__ void __launch_bounds__(kThreads)
 #pragma unroll
             for (int b = 0; b < Dd; ++b) F[a * Dd + b] += x[a] * Dl[c * Dd + b];
     }
-    double U[9], s[3], V[9], g[3], psi;
-    if (Dd == 3) {
-        hm_svd3(F, U, s, V);
+    if (Dd == 3 && material == PL_HYPER_NEOHOOKEAN) { /* hyper_piola's closed form, no SVD */
+        hm_neohookean_piola3(mu[i], lambda[i], F, P);
     } else {
-        double U2[6]; /* 3 x 2: the first two columns of U */
-        hm_svd32(F, U2, s, V);
+        double U[9], s[3], V[9], g[3], psi;
+        if (Dd == 3) {
+            hm_svd3(F, U, s, V);
+        } else {
+            double U2[6]; /* 3 x 2: the first two columns of U */
+            hm_svd32(F, U2, s, V);
 #pragma unroll
-        for (int r = 0; r < 3; ++r) U[r * 3 + 0] = U2[r * 2], U[r * 3 + 1] = U2[r * 2 + 1];
-    }
-    if (hm_sv_eval(Dd, material, mu[i], lambda[i], s, &psi, g, NULL) != 0) {
+            for (int r = 0; r < 3; ++r) U[r * 3 + 0] = U2[r * 2], U[r * 3 + 1] = U2[r * 2 + 1];
+        }
+        if (hm_sv_eval(Dd, material, mu[i], lambda[i], s, &psi, g, NULL) != 0) {
 #pragma unroll
-        for (int a = 0; a < ND; ++a) P[a] = nan("");
-    } else {
+            for (int a = 0; a < ND; ++a) P[a] = nan("");
+        } else {
 #pragma unroll
-        for (int a = 0; a < 3; ++a)
+            for (int a = 0; a < 3; ++a)
 #pragma unroll
-            for (int b = 0; b < Dd; ++b) {
-                double v = 0.0;
+                for (int b = 0; b < Dd; ++b) {
+                    double v = 0.0;
 #pragma unroll
-                for (int j = 0; j < Dd; ++j) v += U[a * 3 + j] * g[j] * V[b * Dd + j];
-                P[a * Dd + b] = v;
-            }
+                    for (int j = 0; j < Dd; ++j) v += U[a * 3 + j] * g[j] * V[b * Dd + j];
+                    P[a * Dd + b] = v;
+                }
+        }
     }
     const double vol = volume[i];
     double *out = slots + 3 * K * (size_t)i;
