@@ -103,6 +103,34 @@ __global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
     delta_free[j] = row_value(Rp, j, x, q, NULL) - offset;
 }
 
+/* X_f = alpha H_free^T v for unknown f, v_r = x_r or, SCALED, scale_r x_r
+ * (rounded, then times alpha): f's entries in increasing order, as the
+ * CPU's scatter adds its rows. */
+template <bool SCALED>
+__device__ __forceinline__ void scatter_unknown(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
+                                                const double *scale, const double *x,
+                                                double alpha, double *X)
+{
+    const int k0 = Rp->tptr[f], k1 = Rp->tptr[f + 1];
+    const int *tent = Rp->tent, *erow = Rp->erow;
+    const double *fcoef = Rp->fcoef;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = k0; k < k1; ++k) {
+        const int e = tent[k];
+        const int r = erow[e];
+        const double v = SCALED ? scale[r] * x[r] : x[r];
+        const double l = alpha * v;
+        if (l == 0.0) continue; /* as the CPU, which skips such rows */
+        const double *c = fcoef + 3 * (size_t)e;
+        a0 += l * c[0];
+        a1 += l * c[1];
+        a2 += l * c[2];
+    }
+    X[3 * (size_t)f] = a0;
+    X[3 * (size_t)f + 1] = a1;
+    X[3 * (size_t)f + 2] = a2;
+}
+
 /* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
  * multipliers phase (force = S lambda, ncp_cuda_step.cu) and k_scatter in
  * one launch; l = alpha (scale lambda) rounds as force then alpha force. */
@@ -113,25 +141,10 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f < R.m) force[f] = scale[f] * lambda[f];
-    if (f >= R.nfree) return;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
-        const int e = R.tent[k];
-        const int r = R.erow[e];
-        const double fr = scale[r] * lambda[r];
-        const double l = alpha * fr;
-        if (l == 0.0) continue; /* as the CPU, which skips such rows */
-        const double *c = R.fcoef + 3 * (size_t)e;
-        a0 += l * c[0];
-        a1 += l * c[1];
-        a2 += l * c[2];
-    }
-    X[3 * (size_t)f] = a0;
-    X[3 * (size_t)f + 1] = a1;
-    X[3 * (size_t)f + 2] = a2;
+    if (f < Rp->m) force[f] = scale[f] * lambda[f];
+    if (f >= Rp->nfree) return;
+    scatter_unknown<true>(Rp, f, scale, lambda, alpha, X);
 }
 
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
@@ -139,22 +152,9 @@ __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double 
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f >= R.nfree) return;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
-        const int e = R.tent[k];
-        const double l = alpha * x[R.erow[e]];
-        if (l == 0.0) continue; /* as the CPU, which skips such rows */
-        const double *c = R.fcoef + 3 * (size_t)e;
-        a0 += l * c[0];
-        a1 += l * c[1];
-        a2 += l * c[2];
-    }
-    X[3 * (size_t)f] = a0;
-    X[3 * (size_t)f + 1] = a1;
-    X[3 * (size_t)f + 2] = a2;
+    if (f >= Rp->nfree) return;
+    scatter_unknown<false>(Rp, f, NULL, x, alpha, X);
 }
 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
