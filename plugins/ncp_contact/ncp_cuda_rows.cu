@@ -162,12 +162,13 @@ __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (j >= R.m) return;
+    if (j >= Rp->m) return;
+    const int e0 = Rp->fstart[j], e1 = Rp->fstart[j + 1];
+    const double *fcoef = Rp->fcoef;
+    const int *fcol = Rp->fcol;
     double s = 0.0;
-    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e)
-        s += dot3(R.fcoef + 3 * (size_t)e, X + 3 * (size_t)R.fcol[e]);
+    for (int e = e0; e < e1; ++e) s += dot3(fcoef + 3 * (size_t)e, X + 3 * (size_t)fcol[e]);
     y[j] = s;
 }
 
