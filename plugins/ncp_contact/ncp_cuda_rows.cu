@@ -34,6 +34,27 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
  * and shuffled, where one lane's chain of dependent loads took 8 us. */
 constexpr int kDeltaSerial = 8;
 
+/* H_j [x; q_p], the row's sum without its offset, on one thread in entry
+ * order (the host's): the prescribed entries, then the free ones (x, or q
+ * at free_vertex when that is not NULL). */
+__device__ __forceinline__ double row_value(const pl_ncp_cuda_rows *__restrict__ Rp, int j,
+                                            const double *x, const double *q,
+                                            const int *free_vertex)
+{
+    const int p0 = Rp->pstart[j], p1 = Rp->pstart[j + 1];
+    const int e0 = Rp->fstart[j], e1 = Rp->fstart[j + 1];
+    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
+    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
+    double s = 0.0;
+    for (int p = p0; p < p1; ++p) s += dot3(pcoef + 3 * (size_t)p, q + 3 * (size_t)pvert[p]);
+    for (int e = e0; e < e1; ++e) {
+        const int f = fcol[e];
+        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+        s += dot3(fcoef + 3 * (size_t)e, xe);
+    }
+    return s;
+}
+
 /* delta = H q - offset (x: the free part, read at R.fvert with use_fvert):
  * a warp a row (grid of 32 mcap threads). */
 __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
@@ -51,15 +72,7 @@ __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
     const int *pvert = Rp->pvert, *fcol = Rp->fcol;
     double s = 0.0;
     if (np + ne <= kDeltaSerial) {
-        if (lane == 0) {
-            for (int p = p0; p < p0 + np; ++p)
-                s += dot3(pcoef + 3 * (size_t)p, q + 3 * (size_t)pvert[p]);
-            for (int e = e0; e < e0 + ne; ++e) {
-                const int f = fcol[e];
-                const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-                s += dot3(fcoef + 3 * (size_t)e, xe);
-            }
-        }
+        if (lane == 0) s = row_value(Rp, j, x, q, free_vertex);
     } else {
         for (int k = lane; k < np + ne; k += 32) {
             if (k < np) {
@@ -77,31 +90,45 @@ __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
 
 /* Both row values of a jacobian iteration in one launch: delta at q (free
  * part read at R.fvert) and delta_free at x; each sum as k_delta's. */
-__device__ __forceinline__ double row_value(const pl_ncp_cuda_rows &R, int j, const double *x,
-                                            const double *q, const int *free_vertex)
-{
-    double s = 0.0;
-    for (int p = R.pstart[j]; p < R.pstart[j + 1]; ++p)
-        s += dot3(R.pcoef + 3 * (size_t)p, q + 3 * (size_t)R.pvert[p]);
-    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e) {
-        const int f = R.fcol[e];
-        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-        s += dot3(R.fcoef + 3 * (size_t)e, xe);
-    }
-    return s - R.offset[j];
-}
-
 __global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                          const double *__restrict__ q, double *__restrict__ delta,
                          double *__restrict__ delta_free)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (j >= R.m) return;
-    delta[j] = row_value(R, j, NULL, q, R.fvert);
-    delta_free[j] = row_value(R, j, x, q, NULL);
+    if (j >= Rp->m) return;
+    const double offset = Rp->offset[j];
+    delta[j] = row_value(Rp, j, NULL, q, Rp->fvert) - offset;
+    delta_free[j] = row_value(Rp, j, x, q, NULL) - offset;
+}
+
+/* X_f = alpha H_free^T v for unknown f, v_r = x_r or, SCALED, scale_r x_r
+ * (rounded, then times alpha): f's entries in increasing order, as the
+ * CPU's scatter adds its rows. */
+template <bool SCALED>
+__device__ __forceinline__ void scatter_unknown(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
+                                                const double *scale, const double *x,
+                                                double alpha, double *X)
+{
+    const int k0 = Rp->tptr[f], k1 = Rp->tptr[f + 1];
+    const int *tent = Rp->tent, *erow = Rp->erow;
+    const double *fcoef = Rp->fcoef;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = k0; k < k1; ++k) {
+        const int e = tent[k];
+        const int r = erow[e];
+        const double v = SCALED ? scale[r] * x[r] : x[r];
+        const double l = alpha * v;
+        if (l == 0.0) continue; /* as the CPU, which skips such rows */
+        const double *c = fcoef + 3 * (size_t)e;
+        a0 += l * c[0];
+        a1 += l * c[1];
+        a2 += l * c[2];
+    }
+    X[3 * (size_t)f] = a0;
+    X[3 * (size_t)f + 1] = a1;
+    X[3 * (size_t)f + 2] = a2;
 }
 
 /* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
@@ -114,25 +141,10 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f < R.m) force[f] = scale[f] * lambda[f];
-    if (f >= R.nfree) return;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
-        const int e = R.tent[k];
-        const int r = R.erow[e];
-        const double fr = scale[r] * lambda[r];
-        const double l = alpha * fr;
-        if (l == 0.0) continue; /* as the CPU, which skips such rows */
-        const double *c = R.fcoef + 3 * (size_t)e;
-        a0 += l * c[0];
-        a1 += l * c[1];
-        a2 += l * c[2];
-    }
-    X[3 * (size_t)f] = a0;
-    X[3 * (size_t)f + 1] = a1;
-    X[3 * (size_t)f + 2] = a2;
+    if (f < Rp->m) force[f] = scale[f] * lambda[f];
+    if (f >= Rp->nfree) return;
+    scatter_unknown<true>(Rp, f, scale, lambda, alpha, X);
 }
 
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
@@ -140,22 +152,9 @@ __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double 
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f >= R.nfree) return;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = R.tptr[f]; k < R.tptr[f + 1]; ++k) {
-        const int e = R.tent[k];
-        const double l = alpha * x[R.erow[e]];
-        if (l == 0.0) continue; /* as the CPU, which skips such rows */
-        const double *c = R.fcoef + 3 * (size_t)e;
-        a0 += l * c[0];
-        a1 += l * c[1];
-        a2 += l * c[2];
-    }
-    X[3 * (size_t)f] = a0;
-    X[3 * (size_t)f + 1] = a1;
-    X[3 * (size_t)f + 2] = a2;
+    if (f >= Rp->nfree) return;
+    scatter_unknown<false>(Rp, f, NULL, x, alpha, X);
 }
 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
@@ -163,12 +162,13 @@ __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const pl_ncp_cuda_rows R = *Rp;
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (j >= R.m) return;
+    if (j >= Rp->m) return;
+    const int e0 = Rp->fstart[j], e1 = Rp->fstart[j + 1];
+    const double *fcoef = Rp->fcoef;
+    const int *fcol = Rp->fcol;
     double s = 0.0;
-    for (int e = R.fstart[j]; e < R.fstart[j + 1]; ++e)
-        s += dot3(R.fcoef + 3 * (size_t)e, X + 3 * (size_t)R.fcol[e]);
+    for (int e = e0; e < e1; ++e) s += dot3(fcoef + 3 * (size_t)e, X + 3 * (size_t)fcol[e]);
     y[j] = s;
 }
 

@@ -63,22 +63,37 @@ START_TEST(the_residual_goes_to_zero_with_the_iterations)
 }
 END_TEST
 
+/* Runs `scene` for `steps` steps at forceTolerance 1e-4 N with a cap of 5000
+ * iterations (and the override `set`, when not NULL) and checks that every
+ * step was stopped by the residual, not by the cap: below 1e-4 N, in more
+ * than `min_iters` (-1: any) and fewer than 5000 iterations.  Returns the
+ * simulation (the caller frees it); *it: the iterations per step. */
+static pl_sim *run_to_tolerance(const char *scene, const char *set, int steps, int min_iters,
+                                const double **it)
+{
+    const char *sets[] = {"solver.forceTolerance=1e-4", "solver.iterations=5000",
+                          "vtk.every=1000000", set};
+    pl_sim *s = load_file(scene, sets, set ? 4 : 3);
+    ct_step(s, steps);
+    const double *r;
+    int ni = pl_series_get(pl_sim_timers(s), "iterations", it);
+    int nr = pl_series_get(pl_sim_timers(s), "force residual", &r);
+    ck_assert_int_eq(ni, steps);
+    ck_assert_int_eq(nr, steps);
+    for (int k = 0; k < steps; ++k)
+        ck_assert_msg(r[k] < 1e-4 && (*it)[k] > min_iters && (*it)[k] < 5000,
+                      "%s step %d: %.0f iterations, residual %.3g N", scene, k + 1, (*it)[k], r[k]);
+    return s;
+}
+
 START_TEST(force_tolerance_stops_the_iterations_below_it)
 {
-    const char *sets[] = {"solver.iterations=5000", "solver.forceTolerance=1e-4",
-                          "vtk.every=1000000"};
-    pl_sim *s = load_file("scenes/hanging_bar_small.xml", sets, 3);
-    ct_step(s, 3);
-    const double *r, *it;
-    int nr = pl_series_get(pl_sim_timers(s), "force residual", &r);
-    int ni = pl_series_get(pl_sim_timers(s), "iterations", &it);
-    ck_assert_int_eq(nr, 3);
-    ck_assert_int_eq(ni, 3);
-    for (int k = 0; k < 3; ++k) {
+    const double *it;
+    pl_sim *s = run_to_tolerance("scenes/hanging_bar_small.xml", NULL, 3, 10, &it);
+    const double *r;
+    pl_series_get(pl_sim_timers(s), "force residual", &r);
+    for (int k = 0; k < 3; ++k)
         fprintf(stderr, "step %d: %.0f iterations, residual %.3g N\n", k + 1, it[k], r[k]);
-        ck_assert(r[k] < 1e-4);
-        ck_assert(it[k] > 10 && it[k] < 5000); /* stopped by the residual, not by the cap */
-    }
     pl_sim_free(s);
 }
 END_TEST
@@ -255,20 +270,10 @@ END_TEST
  * the fixed point (or not converge). */
 static double finger_run(const char *set, double **q_out, int *n_out)
 {
-    const char *sets[] = {set, "solver.forceTolerance=1e-4", "solver.iterations=5000",
-                          "vtk.every=1000000"};
-    pl_sim *s = load_file("scenes/cable_finger_small.xml", sets, 4);
-    ct_step(s, 30);
-    const double *it, *r;
-    int ni = pl_series_get(pl_sim_timers(s), "iterations", &it);
-    int nr = pl_series_get(pl_sim_timers(s), "force residual", &r);
-    ck_assert_int_eq(ni, 30);
-    ck_assert_int_eq(nr, 30);
+    const double *it;
+    pl_sim *s = run_to_tolerance("scenes/cable_finger_small.xml", set, 30, -1, &it);
     double sum = 0.0;
-    for (int k = 0; k < ni; ++k) {
-        ck_assert(it[k] < 5000 && r[k] < 1e-4); /* converged, not capped */
-        sum += it[k];
-    }
+    for (int k = 0; k < 30; ++k) sum += it[k];
     const double *q = ct_positions(s, "dofs", 0, n_out);
     *q_out = malloc(sizeof(double) * 3 * (size_t)*n_out);
     memcpy(*q_out, q, sizeof(double) * 3 * (size_t)*n_out);

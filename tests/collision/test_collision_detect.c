@@ -18,20 +18,7 @@
 
 #include "collision.h"
 #include "detect.h"
-#include "sheet_fixture.h"
-
-/* A sheet of n x n vertices over [0,1]^2 at height z0 with random bumps, moved
- * by `motion` at random in each coordinate (sheet_fixture.h). */
-static void make_sheet_ck(sheet *s, int n, double z0, double bump, double motion, unsigned *seed)
-{
-    ck_assert_int_eq(sheet_make(s, n, z0, bump, 0.0, motion, seed), PL_OK);
-}
-
-static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double alarm)
-{
-    pl_error err;
-    ck_assert_int_eq(sheet_mesh(s, m, sides, alarm, &err), PL_OK);
-}
+#include "sheet_pair.h"
 
 static int cmp_prox(const void *a, const void *b)
 {
@@ -60,22 +47,20 @@ START_TEST(test_bvh_detection_equals_brute_force)
     unsigned seed = 2024u;
     for (int trial = 0; trial < 12; ++trial) {
         double alarm = 0.02 + 0.03 * sheet_urand(&seed);
-        sheet a, b;
-        make_sheet_ck(&a, 14 + trial % 5, 0.0, 0.15, trial % 3 ? 0.05 : 0.0, &seed);
-        make_sheet_ck(&b, 11 + trial % 4, 0.02, 0.15, 0.05, &seed);
-        pl_coll_mesh ma, mb;
-        to_mesh(&a, &ma, trial % 2 ? PL_SIDES_TWO : PL_SIDES_AUTO, alarm);
-        to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
+        sheet_pair sp; /* sheets moved by 0.05 at random in each coordinate */
+        sheet_make_ck(&sp.a, 14 + trial % 5, 0.0, 0.15, 0.0, trial % 3 ? 0.05 : 0.0, &seed);
+        sheet_make_ck(&sp.b, 11 + trial % 4, 0.02, 0.15, 0.0, 0.05, &seed);
+        sheet_pair_mesh(&sp, trial % 2 ? PL_SIDES_TWO : PL_SIDES_AUTO, alarm);
         pl_detect_params prm = detect_defaults(alarm);
         pl_proximities p = {0}, q = {0};
-        ck_assert_int_eq(detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
-        ck_assert_int_eq(detect_pair_brute(&ma, 0, &mb, 1, &prm, &q), PL_OK);
+        ck_assert_int_eq(detect_pair(&sp.ma, 0, &sp.mb, 1, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair_brute(&sp.ma, 0, &sp.mb, 1, &prm, &q), PL_OK);
         ck_assert_int_gt(p.n, 10);
         expect_same(&p, &q);
         /* self-collision of one sheet */
         p.n = q.n = 0;
-        ck_assert_int_eq(detect_pair(&ma, 0, &ma, 0, &prm, &p), PL_OK);
-        ck_assert_int_eq(detect_pair_brute(&ma, 0, &ma, 0, &prm, &q), PL_OK);
+        ck_assert_int_eq(detect_pair(&sp.ma, 0, &sp.ma, 0, &prm, &p), PL_OK);
+        ck_assert_int_eq(detect_pair_brute(&sp.ma, 0, &sp.ma, 0, &prm, &q), PL_OK);
         expect_same(&p, &q);
         for (int k = 0; k < p.n; ++k) /* nothing adjacent */
             for (int i = 0; i < p.items[k].na; ++i)
@@ -83,10 +68,7 @@ START_TEST(test_bvh_detection_equals_brute_force)
                     ck_assert_int_ne(p.items[k].a[i], p.items[k].b[j]);
         proximities_free(&p);
         proximities_free(&q);
-        coll_mesh_free(&ma);
-        coll_mesh_free(&mb);
-        sheet_free(&a);
-        sheet_free(&b);
+        sheet_pair_free(&sp);
     }
 }
 END_TEST
@@ -157,17 +139,17 @@ START_TEST(test_static_detection_is_complete)
 {
     unsigned seed = 31u;
     const double alarm = 0.04;
-    sheet a, b;
-    make_sheet_ck(&a, 12, 0.0, 0.1, 0.0, &seed);
-    make_sheet_ck(&b, 9, 0.05, 0.1, 0.0, &seed);
-    pl_coll_mesh ma, mb;
-    to_mesh(&a, &ma, PL_SIDES_TWO, alarm);
-    to_mesh(&b, &mb, PL_SIDES_TWO, alarm);
+    sheet_pair sp;
+    sheet_make_ck(&sp.a, 12, 0.0, 0.1, 0.0, 0.0, &seed);
+    sheet_make_ck(&sp.b, 9, 0.05, 0.1, 0.0, 0.0, &seed);
+    sheet_pair_mesh(&sp, PL_SIDES_TWO, alarm);
+    const sheet *a = &sp.a, *b = &sp.b;
+    pl_coll_mesh *ma = &sp.ma, *mb = &sp.mb;
     pl_detect_params prm = detect_defaults(alarm);
     pl_proximities p = {0};
-    ck_assert_int_eq(detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(detect_pair(ma, 0, mb, 1, &prm, &p), PL_OK);
     /* vertex-face, both directions */
-    const sheet *S[2] = {&a, &b};
+    const sheet *S[2] = {a, b};
     int nvf = 0, nee = 0;
     for (int side = 0; side < 2; ++side) {
         const sheet *P = S[side], *T = S[1 - side];
@@ -197,11 +179,11 @@ START_TEST(test_static_detection_is_complete)
         }
     }
     /* edge-edge with interior closest points */
-    for (int e = 0; e < a.ne; ++e)
-        for (int f = 0; f < b.ne; ++f) {
+    for (int e = 0; e < a->ne; ++e)
+        for (int f = 0; f < b->ne; ++f) {
             double s, t;
-            const double *p0 = &a.x0[3 * a.edges[2 * e]], *p1 = &a.x0[3 * a.edges[2 * e + 1]];
-            const double *q0 = &b.x0[3 * b.edges[2 * f]], *q1 = &b.x0[3 * b.edges[2 * f + 1]];
+            const double *p0 = &a->x0[3 * a->edges[2 * e]], *p1 = &a->x0[3 * a->edges[2 * e + 1]];
+            const double *q0 = &b->x0[3 * b->edges[2 * f]], *q1 = &b->x0[3 * b->edges[2 * f + 1]];
             double d = sqrt(closest_segments(p0, p1, q0, q1, &s, &t));
             double ea[3], eb[3], c[3];
             for (int k = 0; k < 3; ++k) ea[k] = p1[k] - p0[k], eb[k] = q1[k] - q0[k];
@@ -212,16 +194,16 @@ START_TEST(test_static_detection_is_complete)
             double l2 = (ea[0] * ea[0] + ea[1] * ea[1] + ea[2] * ea[2]) *
                         (eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2]);
             int expect = d < alarm && s > 1e-3 && s < 1 - 1e-3 && t > 1e-3 && t < 1 - 1e-3 &&
-                         c2 > 0.04 * l2 && (coll_edge_sharp(&ma, e) || coll_edge_sharp(&mb, f)) && d > 0 &&
-                         !(flat_on_face(&ma, e, p0, p1, q0, q1, s, t, d, q0, q1) &&
+                         c2 > 0.04 * l2 && (coll_edge_sharp(ma, e) || coll_edge_sharp(mb, f)) && d > 0 &&
+                         !(flat_on_face(ma, e, p0, p1, q0, q1, s, t, d, q0, q1) &&
                            ends_near(q0, q1, p0, p1, alarm)) &&
-                         !(flat_on_face(&mb, f, p0, p1, q0, q1, s, t, d, p0, p1) &&
+                         !(flat_on_face(mb, f, p0, p1, q0, q1, s, t, d, p0, p1) &&
                            ends_near(p0, p1, q0, q1, alarm));
             int got = 0;
             for (int k = 0; k < p.n; ++k)
-                if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].a[0] == a.edges[2 * e] &&
-                    p.items[k].a[1] == a.edges[2 * e + 1] && p.items[k].b[0] == b.edges[2 * f] &&
-                    p.items[k].b[1] == b.edges[2 * f + 1]) {
+                if (p.items[k].kind == PL_PROX_EDGE_EDGE && p.items[k].a[0] == a->edges[2 * e] &&
+                    p.items[k].a[1] == a->edges[2 * e + 1] && p.items[k].b[0] == b->edges[2 * f] &&
+                    p.items[k].b[1] == b->edges[2 * f + 1]) {
                     got++;
                     ck_assert_double_eq_tol(p.items[k].gap, d, 1e-12);
                 }
@@ -231,10 +213,7 @@ START_TEST(test_static_detection_is_complete)
     ck_assert_int_gt(nvf, 20);
     ck_assert_int_gt(nee, 5);
     proximities_free(&p);
-    coll_mesh_free(&ma);
-    coll_mesh_free(&mb);
-    sheet_free(&a);
-    sheet_free(&b);
+    sheet_pair_free(&sp);
 }
 END_TEST
 

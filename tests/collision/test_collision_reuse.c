@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "detect.h"
-#include "sheet_fixture.h"
+#include "sheet_pair.h"
 
 static void random_boxes(unsigned *s, pl_aabb *b, int n)
 {
@@ -114,37 +114,37 @@ START_TEST(test_kept_meshes_equal_fresh_ones)
     int found = 0, inflated = 0;
     for (int trial = 0; trial < 8; ++trial) {
         double alarm = 0.01 + 0.02 * sheet_urand(&seed);
-        sheet a, b;
-        ck_assert_int_eq(sheet_make(&a, 12 + trial % 4, 0.0, 0.1, 0.0, 0.01, &seed), PL_OK);
-        ck_assert_int_eq(sheet_make(&b, 10 + trial % 3, 0.05, 0.1, -0.04, 0.01, &seed), PL_OK);
-        pl_coll_mesh ka, kb;
-        pl_error err;
+        sheet_pair sp;
+        sheet_make_ck(&sp.a, 12 + trial % 4, 0.0, 0.1, 0.0, 0.01, &seed);
+        sheet_make_ck(&sp.b, 10 + trial % 3, 0.05, 0.1, -0.04, 0.01, &seed);
         pl_mesh_sides sa = trial % 2 ? PL_SIDES_TWO : PL_SIDES_ONE;
-        ck_assert_int_eq(sheet_mesh(&a, &ka, sa, alarm, &err), PL_OK);
-        ck_assert_int_eq(sheet_mesh(&b, &kb, PL_SIDES_TWO, alarm, &err), PL_OK);
+        sheet_pair_mesh(&sp, sa, alarm);
+        sheet *a = &sp.a, *b = &sp.b;
+        pl_coll_mesh *ka = &sp.ma, *kb = &sp.mb; /* the kept meshes */
+        pl_error err;
         for (int step = 0; step < 4; ++step) {
-            move(&a, &seed);
-            move(&b, &seed);
+            move(a, &seed);
+            move(b, &seed);
             /* the kept meshes: prepared again (trees stale), maybe inflated */
-            ck_assert_int_eq(coll_mesh_prepare(&ka, alarm, &err), PL_OK);
-            ck_assert_int_eq(coll_mesh_prepare(&kb, alarm, &err), PL_OK);
-            ck_assert_int_eq(ka.stale, COLL_TREE_TRIS | COLL_TREE_EDGES);
+            ck_assert_int_eq(coll_mesh_prepare(ka, alarm, &err), PL_OK);
+            ck_assert_int_eq(coll_mesh_prepare(kb, alarm, &err), PL_OK);
+            ck_assert_int_eq(ka->stale, COLL_TREE_TRIS | COLL_TREE_EDGES);
             pl_detect_params prm = detect_defaults(alarm);
             prm.contact = 0.5 * alarm;
             prm.margin = step % 2 ? 0.01 * (1.0 + sheet_urand(&seed)) : 0.0;
             if (prm.margin > 0.0) {
-                coll_mesh_inflate(&ka, alarm + prm.margin);
-                coll_mesh_inflate(&kb, alarm + prm.margin);
+                coll_mesh_inflate(ka, alarm + prm.margin);
+                coll_mesh_inflate(kb, alarm + prm.margin);
                 inflated++;
             }
             /* fresh meshes at the new positions with that margin */
             pl_coll_mesh fa, fb;
-            ck_assert_int_eq(sheet_mesh(&a, &fa, sa, alarm + prm.margin, &err), PL_OK);
-            ck_assert_int_eq(sheet_mesh(&b, &fb, PL_SIDES_TWO, alarm + prm.margin, &err), PL_OK);
+            sheet_mesh_ck(a, &fa, sa, alarm + prm.margin);
+            sheet_mesh_ck(b, &fb, PL_SIDES_TWO, alarm + prm.margin);
             pl_proximities p = {0}, q = {0};
             pl_detect_counts cp = {0}, cq = {0};
             prm.counts = &cp;
-            ck_assert_int_eq(detect_pair(&ka, 0, &kb, 1, &prm, &p), PL_OK);
+            ck_assert_int_eq(detect_pair(ka, 0, kb, 1, &prm, &p), PL_OK);
             prm.counts = &cq;
             ck_assert_int_eq(detect_pair(&fa, 0, &fb, 1, &prm, &q), PL_OK);
             ck_assert_msg(same_proximities(&p, &q), "trial %d step %d: %d against %d", trial,
@@ -154,20 +154,17 @@ START_TEST(test_kept_meshes_equal_fresh_ones)
              * build's (the same topology: built from the first positions
              * the kept tree was not, so compare the root, which is the
              * union of all boxes whatever the tree) */
-            ck_assert_int_eq(ka.stale, COLL_TREE_EDGES); /* A's edges walk B's tree */
-            ck_assert_int_eq(kb.stale, 0);
-            ck_assert(!memcmp(&ka.tbvh.box[0], &fa.tbvh.box[0], sizeof(pl_aabb)));
-            ck_assert(!memcmp(&kb.ebvh.box[0], &fb.ebvh.box[0], sizeof(pl_aabb)));
+            ck_assert_int_eq(ka->stale, COLL_TREE_EDGES); /* A's edges walk B's tree */
+            ck_assert_int_eq(kb->stale, 0);
+            ck_assert(!memcmp(&ka->tbvh.box[0], &fa.tbvh.box[0], sizeof(pl_aabb)));
+            ck_assert(!memcmp(&kb->ebvh.box[0], &fb.ebvh.box[0], sizeof(pl_aabb)));
             found += p.n;
             proximities_free(&p);
             proximities_free(&q);
             coll_mesh_free(&fa);
             coll_mesh_free(&fb);
         }
-        coll_mesh_free(&ka);
-        coll_mesh_free(&kb);
-        sheet_free(&a);
-        sheet_free(&b);
+        sheet_pair_free(&sp);
     }
     ck_assert_int_gt(found, 200);
     ck_assert_int_gt(inflated, 8);
@@ -177,31 +174,27 @@ END_TEST
 START_TEST(test_trees_not_walked_stay_stale)
 {
     unsigned seed = 7u;
-    sheet a, b;
-    ck_assert_int_eq(sheet_make(&a, 8, 0.0, 0.1, 0.0, 0.01, &seed), PL_OK);
-    ck_assert_int_eq(sheet_make(&b, 8, 0.02, 0.1, 0.0, 0.01, &seed), PL_OK);
-    pl_coll_mesh ma, mb;
+    sheet_pair sp;
+    sheet_make_ck(&sp.a, 8, 0.0, 0.1, 0.0, 0.01, &seed);
+    sheet_make_ck(&sp.b, 8, 0.02, 0.1, 0.0, 0.01, &seed);
+    sheet_pair_mesh(&sp, PL_SIDES_TWO, 0.01);
+    pl_coll_mesh *ma = &sp.ma, *mb = &sp.mb;
     pl_error err;
-    ck_assert_int_eq(sheet_mesh(&a, &ma, PL_SIDES_TWO, 0.01, &err), PL_OK);
-    ck_assert_int_eq(sheet_mesh(&b, &mb, PL_SIDES_TWO, 0.01, &err), PL_OK);
-    ck_assert_int_eq(ma.stale, 0); /* built: fitted */
-    move(&a, &seed);
-    move(&b, &seed);
-    ck_assert_int_eq(coll_mesh_prepare(&ma, 0.01, &err), PL_OK);
-    ck_assert_int_eq(coll_mesh_prepare(&mb, 0.01, &err), PL_OK);
+    ck_assert_int_eq(ma->stale, 0); /* built: fitted */
+    move(&sp.a, &seed);
+    move(&sp.b, &seed);
+    ck_assert_int_eq(coll_mesh_prepare(ma, 0.01, &err), PL_OK);
+    ck_assert_int_eq(coll_mesh_prepare(mb, 0.01, &err), PL_OK);
     pl_detect_params prm = detect_defaults(0.01);
     prm.vertex_face = 0; /* edges only: A's edges walk B's edge tree */
     pl_proximities p = {0};
-    ck_assert_int_eq(detect_pair(&ma, 0, &mb, 1, &prm, &p), PL_OK);
-    ck_assert_int_eq(ma.stale, COLL_TREE_TRIS | COLL_TREE_EDGES);
-    ck_assert_int_eq(mb.stale, COLL_TREE_TRIS);
-    coll_mesh_fit(&ma, COLL_TREE_EDGES);
-    ck_assert_int_eq(ma.stale, COLL_TREE_TRIS);
+    ck_assert_int_eq(detect_pair(ma, 0, mb, 1, &prm, &p), PL_OK);
+    ck_assert_int_eq(ma->stale, COLL_TREE_TRIS | COLL_TREE_EDGES);
+    ck_assert_int_eq(mb->stale, COLL_TREE_TRIS);
+    coll_mesh_fit(ma, COLL_TREE_EDGES);
+    ck_assert_int_eq(ma->stale, COLL_TREE_TRIS);
     proximities_free(&p);
-    coll_mesh_free(&ma);
-    coll_mesh_free(&mb);
-    sheet_free(&a);
-    sheet_free(&b);
+    sheet_pair_free(&sp);
 }
 END_TEST
 

@@ -16,56 +16,58 @@ namespace spinv_items {
 constexpr int kThreads = 256; /* 8 warps a block (a TILE item's group) */
 constexpr int kWarps = kThreads / 32;
 
-/* 16-byte vector loads through the read-only path. */
-__device__ __forceinline__ void ld16(const float *p, float v[4])
+/* 16 bytes of T as one vector (float4: 4 values, double2: 2), split into
+ * and packed from an array. */
+template <typename T> struct vec16;
+template <> struct vec16<float> {
+    typedef float4 type;
+    static __device__ __forceinline__ void split(float4 q, float v[4])
+    {
+        v[0] = q.x, v[1] = q.y, v[2] = q.z, v[3] = q.w;
+    }
+    static __device__ __forceinline__ float4 pack(const float v[4])
+    {
+        return make_float4(v[0], v[1], v[2], v[3]);
+    }
+};
+template <> struct vec16<double> {
+    typedef double2 type;
+    static __device__ __forceinline__ void split(double2 q, double v[2]) { v[0] = q.x, v[1] = q.y; }
+    static __device__ __forceinline__ double2 pack(const double v[2])
+    {
+        return make_double2(v[0], v[1]);
+    }
+};
+
+/* How a 16-byte load goes: through the read-only path (__ldg: data no
+ * thread of the launch writes), plain (shared memory, or data written by
+ * this launch), or through L2 only (__ldcg: partial sums written by other
+ * warps of this launch; L1 is not coherent). */
+enum Load { kReadOnly, kPlain, kL2 };
+
+/* One 16-byte vector load of 16 / sizeof(T) values, as L says. */
+template <Load L, typename T>
+__device__ __forceinline__ void ld16(const T *p, T *v)
 {
-    float4 q = __ldg(reinterpret_cast<const float4 *>(p));
-    v[0] = q.x, v[1] = q.y, v[2] = q.z, v[3] = q.w;
-}
-__device__ __forceinline__ void ld16(const double *p, double v[2])
-{
-    double2 q = __ldg(reinterpret_cast<const double2 *>(p));
-    v[0] = q.x, v[1] = q.y;
-}
-/* Plain 16-byte loads (shared memory, or data written by this launch). */
-__device__ __forceinline__ void ld16p(const float *p, float v[4])
-{
-    float4 q = *reinterpret_cast<const float4 *>(p);
-    v[0] = q.x, v[1] = q.y, v[2] = q.z, v[3] = q.w;
-}
-__device__ __forceinline__ void ld16p(const double *p, double v[2])
-{
-    double2 q = *reinterpret_cast<const double2 *>(p);
-    v[0] = q.x, v[1] = q.y;
+    typedef typename vec16<T>::type V;
+    const V *q = reinterpret_cast<const V *>(p);
+    if constexpr (L == kReadOnly)
+        vec16<T>::split(__ldg(q), v);
+    else if constexpr (L == kL2)
+        vec16<T>::split(__ldcg(q), v);
+    else
+        vec16<T>::split(*q, v);
 }
 /* a and y4: read-only path in the multi-kernel solve, plain when shared. */
 template <bool SH, typename T>
 __device__ __forceinline__ void ld16v(const T *p, T *v)
 {
-    if (SH)
-        ld16p(p, v);
-    else
-        ld16(p, v);
+    ld16<SH ? kPlain : kReadOnly>(p, v);
 }
-/* The same through L2 only: partial sums written by other warps of this
- * launch (L1 is not coherent). */
-__device__ __forceinline__ void ld16_cg(const float *p, float v[4])
+template <typename T>
+__device__ __forceinline__ void st16(T *p, const T *v)
 {
-    float4 q = __ldcg(reinterpret_cast<const float4 *>(p));
-    v[0] = q.x, v[1] = q.y, v[2] = q.z, v[3] = q.w;
-}
-__device__ __forceinline__ void ld16_cg(const double *p, double v[2])
-{
-    double2 q = __ldcg(reinterpret_cast<const double2 *>(p));
-    v[0] = q.x, v[1] = q.y;
-}
-__device__ __forceinline__ void st16(float *p, const float v[4])
-{
-    *reinterpret_cast<float4 *>(p) = make_float4(v[0], v[1], v[2], v[3]);
-}
-__device__ __forceinline__ void st16(double *p, const double v[2])
-{
-    *reinterpret_cast<double2 *>(p) = make_double2(v[0], v[1]);
+    *reinterpret_cast<typename vec16<T>::type *>(p) = vec16<T>::pack(v);
 }
 
 /* One row of y4 (n x 4): three values and a zero, as 16-byte stores. */
@@ -84,7 +86,7 @@ __device__ __forceinline__ void dot_group(const T *v, const T *x, T &s0, T &s1, 
 {
     constexpr int VC = 16 / sizeof(T);
     T w[VC], p[3 * VC];
-    ld16(v, w);
+    ld16<kReadOnly>(v, w);
     for (int q = 0; q < 3; ++q) ld16v<SH>(x + q * VC, p + q * VC);
 #pragma unroll
     for (int k = 0; k < VC; ++k) {
@@ -152,7 +154,7 @@ __device__ __forceinline__ void rows_item(const pl_spinv_cuda_item &it, int lane
         for (int r = 0; r < G; ++r) {
             if (col0 <= e[r]) {
                 T v[VC];
-                ld16(val + vb[r] + col0, v);
+                ld16<kReadOnly>(val + vb[r] + col0, v);
 #pragma unroll
                 for (int k = 0; k < VC; ++k) {
                     acc[r][0] += v[k] * p[3 * k];
@@ -193,7 +195,7 @@ __device__ __forceinline__ void rows_item(const pl_spinv_cuda_item &it, int lane
             if (r < nr) {
                 T p[4];
                 for (int c = 0; c < 4; c += VC)
-                    ld16_cg(part + 4 * ((size_t)(it.part0 + q) * G + r) + c, p + c);
+                    ld16<kL2>(part + 4 * ((size_t)(it.part0 + q) * G + r) + c, p + c);
                 acc[r][0] += p[0], acc[r][1] += p[1], acc[r][2] += p[2];
             }
 #pragma unroll
@@ -234,7 +236,7 @@ __device__ __forceinline__ void tile_rows(const pl_spinv_cuda_item &it, int wib,
         for (int c = 0; c < 4; c += VC) ld16v<SH>(y4 + 4 * (size_t)m.row + c, z + c);
         if (col0 >= m.f0 && col0 <= (m.row | (PL_SPINV_CUDA_BLOCK - 1))) {
             T v[VC];
-            ld16(val + m.vbase + col0, v);
+            ld16<kReadOnly>(val + m.vbase + col0, v);
 #pragma unroll
             for (int k = 0; k < VC; ++k) {
                 acc[3 * k] += v[k] * z[0];
@@ -272,12 +274,7 @@ __device__ __forceinline__ void tile_parts(const pl_spinv_cuda_item &it, int lan
     for (int q = 0; q < it.nparts; ++q) {
         const T *src = part + ((size_t)(it.part0 + q) * 32 + lane) * NV;
         T p[NV];
-        for (int c = 0; c < NV; c += VC) {
-            if (CG)
-                ld16_cg(src + c, p + c);
-            else
-                ld16p(src + c, p + c);
-        }
+        for (int c = 0; c < NV; c += VC) ld16<CG ? kL2 : kPlain>(src + c, p + c);
 #pragma unroll
         for (int k = 0; k < NV; ++k) acc[k] += p[k];
     }
