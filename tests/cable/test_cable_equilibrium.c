@@ -328,54 +328,36 @@ START_TEST(the_admm_relaxation_changes_the_iterations_not_the_equilibrium)
 }
 END_TEST
 
+/* A bar whose material is <element attr="value"/> fails to load with an
+ * error that contains `why`. */
+static void expect_material_refused(const char *element, const char *attr, const char *value,
+                                    const char *why)
+{
+    char xml[1024];
+    snprintf(xml, sizeof xml,
+             "<Node name=\"root\"><RequiredPlugin name=\"hyperelastic\"/>"
+             "<RequiredPlugin name=\"sparse_inverse\"/><LocalGlobalSolver/><SparseInverseSolver/>"
+             "<Node name=\"a\"><RegularGridTetrahedra n=\"2 2 2\"/>"
+             "<MechanicalObject/><UniformMass totalMass=\"1\"/>"
+             "<%s %s=\"%s\"/></Node></Node>",
+             element, attr, value);
+    pl_diag d = ct_load_fail(xml);
+    ck_assert_ptr_nonnull(ct_find_error(&d, why));
+    pl_diag_free(&d);
+}
+
 START_TEST(a_bad_admm_weight_is_refused)
 {
     const char *bad[] = {"0", "-1", "nan"};
     const char *why[] = {"admmWeight must be positive", "admmWeight must be positive",
                          "admmWeight: expected one finite number"};
-    for (int k = 0; k < 3; ++k) {
-        char xml[1024];
-        snprintf(xml, sizeof xml,
-                 "<Node name=\"root\"><RequiredPlugin name=\"hyperelastic\"/>"
-                 "<RequiredPlugin name=\"sparse_inverse\"/><LocalGlobalSolver/><SparseInverseSolver/>"
-                 "<Node name=\"a\"><RegularGridTetrahedra n=\"2 2 2\"/>"
-                 "<MechanicalObject/><UniformMass totalMass=\"1\"/>"
-                 "<NeoHookean admmWeight=\"%s\"/></Node></Node>",
-                 bad[k]);
-        pl_diag d = ct_load_fail(xml);
-        ck_assert_ptr_nonnull(ct_find_error(&d, why[k]));
-        pl_diag_free(&d);
-    }
-    pl_diag d = ct_load_fail("<Node name=\"root\"><RequiredPlugin name=\"hyperelastic\"/>"
-                             "<RequiredPlugin name=\"sparse_inverse\"/><LocalGlobalSolver/>"
-                             "<SparseInverseSolver/><Node name=\"a\">"
-                             "<RegularGridTetrahedra n=\"2 2 2\"/>"
-                             "<MechanicalObject/><UniformMass totalMass=\"1\"/>"
-                             "<ARAP admmWeight=\"0.5\"/></Node></Node>");
-    ck_assert_ptr_nonnull(ct_find_error(&d, "ARAP's weight is its stiffness"));
-    pl_diag_free(&d);
+    for (int k = 0; k < 3; ++k) expect_material_refused("NeoHookean", "admmWeight", bad[k], why[k]);
+    expect_material_refused("ARAP", "admmWeight", "0.5", "ARAP's weight is its stiffness");
     const char *relax[] = {"0", "2", "-1"};
-    for (int k = 0; k < 3; ++k) {
-        char xml[1024];
-        snprintf(xml, sizeof xml,
-                 "<Node name=\"root\"><RequiredPlugin name=\"hyperelastic\"/>"
-                 "<RequiredPlugin name=\"sparse_inverse\"/><LocalGlobalSolver/><SparseInverseSolver/>"
-                 "<Node name=\"a\"><RegularGridTetrahedra n=\"2 2 2\"/>"
-                 "<MechanicalObject/><UniformMass totalMass=\"1\"/>"
-                 "<NeoHookean admmRelaxation=\"%s\"/></Node></Node>",
-                 relax[k]);
-        pl_diag dr = ct_load_fail(xml);
-        ck_assert_ptr_nonnull(ct_find_error(&dr, "admmRelaxation must be in (0, 2)"));
-        pl_diag_free(&dr);
-    }
-    d = ct_load_fail("<Node name=\"root\"><RequiredPlugin name=\"hyperelastic\"/>"
-                     "<RequiredPlugin name=\"sparse_inverse\"/><LocalGlobalSolver/>"
-                     "<SparseInverseSolver/><Node name=\"a\">"
-                     "<RegularGridTetrahedra n=\"2 2 2\"/>"
-                     "<MechanicalObject/><UniformMass totalMass=\"1\"/>"
-                     "<ARAP admmRelaxation=\"1.5\"/></Node></Node>");
-    ck_assert_ptr_nonnull(ct_find_error(&d, "ARAP's local step is a projection"));
-    pl_diag_free(&d);
+    for (int k = 0; k < 3; ++k)
+        expect_material_refused("NeoHookean", "admmRelaxation", relax[k],
+                                "admmRelaxation must be in (0, 2)");
+    expect_material_refused("ARAP", "admmRelaxation", "1.5", "ARAP's local step is a projection");
 }
 END_TEST
 
