@@ -1,7 +1,7 @@
 /* sheet_pair.h - the setup the mesh-versus-mesh detection tests share
- * (test_collision_detect.c, test_collision_reuse.c): two random sheets
- * (sheet_fixture.h) and their collision meshes, built under Check's
- * assertions so that a test stops where the fixture fails. */
+ * (test_collision_detect.c, test_collision_reuse.c, test_collision_cand.c):
+ * two random sheets (sheet_fixture.h) and their collision meshes, built
+ * under Check's assertions so that a test stops where the fixture fails. */
 #ifndef PLIANT_SHEET_PAIR_H
 #define PLIANT_SHEET_PAIR_H
 

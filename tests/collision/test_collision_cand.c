@@ -11,19 +11,7 @@
 #include <string.h>
 
 #include "detect.h"
-#include "sheet_fixture.h"
-
-static void make_sheet_ck(sheet *s, int n, double z0, double bump, double dz, double noise,
-                          unsigned *seed)
-{
-    ck_assert_int_eq(sheet_make(s, n, z0, bump, dz, noise, seed), PL_OK);
-}
-
-static void to_mesh(const sheet *s, pl_coll_mesh *m, pl_mesh_sides sides, double margin)
-{
-    pl_error err;
-    ck_assert_int_eq(sheet_mesh(s, m, sides, margin, &err), PL_OK);
-}
+#include "sheet_pair.h"
 
 /* Every list sorted and within the BVH's hits; returns the candidates kept
  * and adds the BVH's hits to *hits. */
@@ -99,25 +87,20 @@ START_TEST(test_given_candidates_equal_detection)
         double alarm = 0.01 + 0.03 * sheet_urand(&seed);
         /* every other trial: B crosses A's plane within the step (look-ahead) */
         double dz = trial % 2 ? -0.12 : 0.0;
-        sheet a, b;
-        make_sheet_ck(&a, 13 + trial % 5, 0.0, 0.1, 0.0, 0.02, &seed);
+        sheet_pair sp;
+        sheet_make_ck(&sp.a, 13 + trial % 5, 0.0, 0.1, 0.0, 0.02, &seed);
         /* 20: B has more edges than A (the swapped edge pass) */
-        make_sheet_ck(&b, trial % 3 == 2 ? 20 : 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
+        sheet_make_ck(&sp.b, trial % 3 == 2 ? 20 : 10 + trial % 4, 0.06, 0.1, dz, 0.02, &seed);
         double margin = alarm + (trial % 4 == 3 ? 0.04 : 0.0);
-        pl_coll_mesh ma, mb;
-        to_mesh(&a, &ma, trial % 3 ? PL_SIDES_TWO : PL_SIDES_ONE, margin);
-        to_mesh(&b, &mb, PL_SIDES_TWO, margin);
+        sheet_pair_mesh(&sp, trial % 3 ? PL_SIDES_TWO : PL_SIDES_ONE, margin);
         pl_detect_params prm = detect_defaults(alarm);
         prm.contact = 0.5 * alarm;
         prm.margin = trial % 4 == 3 ? 0.02 : 0.0;
         int before = found;
-        expect_given_equal(&ma, &mb, &prm, &kept, &hits, &found);
+        expect_given_equal(&sp.ma, &sp.mb, &prm, &kept, &hits, &found);
         if (dz != 0.0 && found > before) lookahead++;
-        expect_given_equal(&ma, &ma, &prm, &kept, &hits, &found); /* self */
-        coll_mesh_free(&ma);
-        coll_mesh_free(&mb);
-        sheet_free(&a);
-        sheet_free(&b);
+        expect_given_equal(&sp.ma, &sp.ma, &prm, &kept, &hits, &found); /* self */
+        sheet_pair_free(&sp);
     }
     ck_assert_int_gt(found, 1000);
     ck_assert_int_gt(lookahead, 4);
@@ -132,9 +115,9 @@ START_TEST(test_empty_meshes)
 {
     unsigned seed = 5u;
     sheet a;
-    make_sheet_ck(&a, 6, 0.0, 0.1, 0.0, 0.0, &seed);
+    sheet_make_ck(&a, 6, 0.0, 0.1, 0.0, 0.0, &seed);
     pl_coll_mesh ma, none;
-    to_mesh(&a, &ma, PL_SIDES_TWO, 0.01);
+    sheet_mesh_ck(&a, &ma, PL_SIDES_TWO, 0.01);
     coll_mesh_init(&none);
     pl_error err;
     ck_assert_int_eq(coll_mesh_prepare(&none, 0.01, &err), PL_OK);
