@@ -110,7 +110,7 @@ static int solve_sparse(pl_sparse_inverse *s, const double *b, double *x, int k,
 {
     int status = spinv_reserve_work(s, k, err);
     if (status != PL_OK) return status;
-    int n = s->n, nt = s->nthreads;
+    int n = s->n, nt = spinv_threads_for(s, 2.0 * (double)s->S.start[s->n] * k);
     const int *perm = s->perm;
     double *a = s->work_a, *y = s->work_b;
     /* one parallel region: permute in, S, S^T, permute out (b has been

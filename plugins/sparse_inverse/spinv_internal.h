@@ -27,6 +27,18 @@ struct pl_sparse_inverse {
     pl_spinv_stats stats;
 };
 
+/* Below this many multiply-adds a loop runs on the calling thread: waking
+ * a team costs more than it saves there (the cable finger's S^T S b, 20k:
+ * its global phase took 0.74 ms a frame on 2 threads against 0.28 ms on
+ * one; docs/benchmarks.md, "Small solves on one thread"). */
+#define SPINV_SERIAL_WORK 32768.0
+
+/* The threads for a loop of `work` multiply-adds. */
+static inline int spinv_threads_for(const struct pl_sparse_inverse *s, double work)
+{
+    return work < SPINV_SERIAL_WORK ? 1 : s->nthreads;
+}
+
 /* Releases everything factor built (keeps options and CHOLMOD's common). */
 void spinv_clear(pl_sparse_inverse *s);
 

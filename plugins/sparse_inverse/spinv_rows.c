@@ -86,12 +86,12 @@ static int check_rows(const pl_sparse_inverse *s, const pl_csr *H, pl_error *err
 
 /* Pass 1: Y->p from the pattern sizes; allocates Y->i and Y->x. */
 static int count_columns(const pl_sparse_inverse *s, const pl_csr *H, pl_csc *Y, char *mark,
-                         int *list, pl_error *err)
+                         int *list, int nt, pl_error *err)
 {
     int m = H->nrows, n = s->n;
     int64_t *cnt = malloc(((size_t)m + 1) * sizeof *cnt);
     if (!cnt) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
-#pragma omp parallel num_threads(s->nthreads)
+#pragma omp parallel num_threads(nt)
     {
         size_t tid = (size_t)omp_get_thread_num();
         char *mk = mark + tid * (size_t)n;
@@ -125,7 +125,8 @@ int sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, 
     memset(Y, 0, sizeof *Y);
     int status = check_rows(s, H, err);
     if (status != PL_OK) return status;
-    int n = s->n, m = H->nrows, nt = s->nthreads;
+    /* work: about a path of S per row (at most n) */
+    int n = s->n, m = H->nrows, nt = spinv_threads_for(s, (double)m * n);
     Y->nrows = n;
     Y->ncols = m;
     Y->p = malloc(((size_t)m + 1) * sizeof *Y->p);
@@ -134,7 +135,7 @@ int sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, 
     double *w = calloc((size_t)n * (size_t)nt, sizeof *w);
     if (!Y->p || !mark || !list || !w)
         status = pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "sparse inverse: out of memory");
-    if (status == PL_OK) status = count_columns(s, H, Y, mark, list, err);
+    if (status == PL_OK) status = count_columns(s, H, Y, mark, list, nt, err);
     if (status == PL_OK) {
         int direct = s->opt.mode == PL_SPINV_DIRECT;
 #pragma omp parallel num_threads(nt)

@@ -136,7 +136,7 @@ def fit_s(scenes):
     return c[0], c[1]
 
 
-def fit(scenes):
+def fit(scenes, partial_before=1.0):
     s_tet, s_tri = fit_s(scenes)
     ft = [s["iters_measured"] for s in scenes if s["z"]["force tolerance"] and s["iters_measured"]]
     ft_iterations = int(round(statistics.median(ft))) if ft else 100
@@ -151,7 +151,9 @@ def fit(scenes):
                        [s["gpu"] for s in full])
     part = [s["gpu"] / s["cpu"] for s in scenes
             if not s["z"]["device path"] and s["z"]["sparse inverse"]]
-    partial = statistics.median(part) if part else 1.0
+    # no scene without a device path (every scene of scenes/ has one now): keep
+    # the ratio fitted before rather than invent one
+    partial = statistics.median(part) if part else partial_before
     return {"CPU_MS": cpu, "GPU_MS": gpu, "S_TET": s_tet, "S_TRI": s_tri, "PARTIAL": partial,
             "FT_ITERATIONS": ft_iterations}
 
@@ -265,7 +267,11 @@ def main():
     scenes = read_scenes(a.folder, a.sizes)
     if len(scenes) < len(TERMS):
         sys.exit(f"device_cost_fit: {len(scenes)} scenes with timings and sizes: too few")
-    k = fit(scenes)
+    partial_before = 1.0
+    if a.write:  # the PARTIAL of the file's current block
+        m = re.search(r"PARTIAL = ([0-9.eE+-]+);", open(a.write).read())
+        partial_before = float(m.group(1)) if m else 1.0
+    k = fit(scenes, partial_before)
     print("| scene | CPU ms | GPU ms | predicted CPU | predicted GPU | choice | right? | LOO |")
     print("|---|--:|--:|--:|--:|---|---|---|")
     wrong = loo_wrong = 0
@@ -274,7 +280,7 @@ def main():
         choice = gpu < cpu
         v = verdict(s, choice)
         # leave-one-out: the choice with constants fitted on the other scenes
-        kl = fit(scenes[:i] + scenes[i + 1:])
+        kl = fit(scenes[:i] + scenes[i + 1:], partial_before)
         lc, lg = predict(kl, s["z"])
         lv = verdict(s, lg < lc)
         wrong += v == "NO"
