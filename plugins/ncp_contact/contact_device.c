@@ -10,8 +10,16 @@
 
 #include "contact_device_pack.h"
 #include "ncp_cuda.h"
+#include "ncp_cuda_correct.h"
 
 enum { SERIES_CAP = 1024 };
+
+/* The dense correction (ncp_cuda_correct.h) up to this many rows: U costs
+ * a device solve a row once a step (about 6.6 us on the H100) and saves
+ * the scatter, solve and sum of each iteration (about 10 us) less one
+ * kernel (2 us): a gain while the step iterates more than about m / 1.3
+ * times.  PLIANT_NCP_DENSE_CORR=0: off (the comparison, tests), =N: N rows. */
+enum { DENSE_CORR_MAX_ROWS = 8, DENSE_CORR_CAP = 64 };
 
 /* What a CUDA graph captured around iterate() keeps of this path: device
  * addresses, the capacities that size its grids and copies, and the
@@ -19,8 +27,8 @@ enum { SERIES_CAP = 1024 };
  * an earlier step replays this step's rows (their sizes and arrays are read
  * from the device descriptor at in_dev); a change bumps epoch. */
 typedef struct graph_key {
-    const void *in_dev, *work, *W, *X, *q_free, *corr;
-    int mcap, nallcap, nfree, active, jacobian, explicit_w, fused;
+    const void *in_dev, *work, *W, *X, *q_free, *corr, *U;
+    int mcap, nallcap, nfree, active, jacobian, explicit_w, fused, dense;
     pl_ncp_cuda_params P;
 } graph_key;
 
@@ -42,6 +50,12 @@ struct pl_ncpc_device {
     size_t W_cap;
     double *X, *q_free, *corr;
     size_t f_cap;
+    /* the dense correction: U_j = A^-1 H_j^T, dense_max blocks of nfree x 3
+     * (its address changes with nfree only: a captured graph reads it) */
+    double *U;
+    size_t U_cap;
+    int dense_max;          /* PLIANT_NCP_DENSE_CORR: the most rows, 0 off */
+    int dense;              /* this step's: 0 < m <= dense_max, unknowns */
     pl_ncp_cuda_scalars *sc;
     double *series;
     /* page-locked host copies of lambda (m), lambda_all (nall), scalars */
@@ -98,6 +112,10 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * finger's one row: docs/benchmarks.md); 1: in place, 0: the block */
     const char *fw = getenv("PLIANT_NCP_FUSED_WARP");
     g->fused_warp = fw && (!strcmp(fw, "0") || !strcmp(fw, "1")) ? atoi(fw) : 2;
+    const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
+    g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
+    if (g->dense_max < 0) g->dense_max = 0;
+    if (g->dense_max > DENSE_CORR_CAP) g->dense_max = DENSE_CORR_CAP;
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
@@ -124,7 +142,7 @@ void ncpc_device_destroy(pl_ncpc_device *g)
     if (!g) return;
     pl_error err;
     g->ops->sync(g->dev, &err); /* nothing may still use the buffers */
-    void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->sc, g->series};
+    void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->U, g->sc, g->series};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; ++k) g->ops->free(g->dev, d[k]);
     free_host(g, &g->in_host);
     free_host(g, (void **)&g->h_lambda);
@@ -271,9 +289,9 @@ static void check_key(pl_ncpc_device *g, int nfree)
     graph_key k;
     memset(&k, 0, sizeof k); /* padding too: the keys are compared bytewise */
     k.in_dev = g->in_dev, k.work = g->work, k.W = g->W, k.X = g->X, k.q_free = g->q_free;
-    k.corr = g->corr;
+    k.corr = g->corr, k.U = g->dense ? g->U : NULL;
     k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
-    k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused;
+    k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused, k.dense = g->dense;
     memcpy(&k.P, &g->P, sizeof k.P);
     /* unique over the process: a device path made again (a rebuilt
      * workspace) never repeats an epoch a loop's graph was captured at */
@@ -282,6 +300,25 @@ static void check_key(pl_ncpc_device *g, int nfree)
         g->key = k;
         g->epoch = ++epochs;
     }
+}
+
+/* U_j = A^-1 H_j^T for the step's m rows (queued after the upload: the
+ * kernel reads the rows' device copy): the rows' blocks, then the global
+ * solver's device solve on each, in place. */
+static int dense_columns(pl_ncpc_device *g, const pl_system *sys, int m, pl_error *err)
+{
+    size_t f3 = 3 * sizeof(double) * (size_t)sys->nfree;
+    int rc = reserve(g, (void **)&g->U, &g->U_cap, (size_t)g->dense_max * f3, err);
+    if (rc) return rc;
+    int e = ncp_cuda_rows_blocks(g->stream, g->in_dev, sys->nfree, g->U);
+    if (e) return cuda_fail(g, err, e, "the rows' columns");
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    for (int j = 0; !rc && j < m; ++j) {
+        pl_buffer Ub = {g->U + 3 * (size_t)sys->nfree * (size_t)j, (size_t)sys->nfree, 3, PL_DEVICE,
+                        PL_F64};
+        rc = gs->solve(sys->global_solver, &Ub, &Ub, err);
+    }
+    return rc;
 }
 
 static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_system *sys,
@@ -353,6 +390,8 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     P->damping = st->damping, P->cr_max_iter = st->cr_iterations, P->full_force = st->full_force;
     P->project = st->project, P->line_search = st->line_search, P->cr_jacobi = st->cr_jacobi;
     g->fused = g->fused_env && g->explicit_w && g->mcap <= NCP_CUDA_FUSED_MAX_ROWS;
+    g->dense = m > 0 && m <= g->dense_max && nf > 0;
+    if (g->dense && (rc = dense_columns(g, sys, m, err))) return rc;
     int e = ncp_cuda_reset(g->stream, g->sc);
     if (e) return cuda_fail(g, err, e, "reset");
     check_key(g, nf);
@@ -455,6 +494,29 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     return rc;
 }
 
+/* q_next = q_free + h2 A^-1 H^T (S lambda), force = S lambda: with few
+ * rows one dense product with the step's U, else H^T (force and it, one
+ * launch), the device solve and the sum. */
+static int correction(pl_ncpc_device *g, const pl_system *sys, double h2, pl_buffer *q_next,
+                      pl_error *err)
+{
+    int e, nf = sys->nfree;
+    if (g->dense) {
+        e = ncp_cuda_correct_dense(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda, h2,
+                                   g->U, g->q_free, g->V.force, q_next->data);
+        return e ? cuda_fail(g, err, e, "correction") : PL_OK;
+    }
+    if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda,
+                                     h2, g->V.force, g->corr)))
+        return cuda_fail(g, err, e, "H^T lambda");
+    pl_buffer cb = {g->corr, (size_t)nf, 3, PL_DEVICE, PL_F64};
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    int rc = gs->solve(sys->global_solver, &cb, &cb, err);
+    if (!rc && (e = ncp_cuda_add(g->stream, 3L * nf, g->q_free, g->corr, q_next->data)))
+        rc = cuda_fail(g, err, e, "correction");
+    return rc;
+}
+
 int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
                            const pl_system *sys, const pl_buffer *q_k, const pl_buffer *b,
                            pl_buffer *q_next, pl_error *err)
@@ -476,7 +538,6 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     int profile = g->ops->flags && (g->ops->flags(g->dev) & PL_DEVICE_PROFILE);
     size_t f3 = 3 * sizeof(double) * (size_t)sys->nfree;
     pl_buffer fb = {g->q_free, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    pl_buffer cb = {g->corr, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
     lap(g, ctx, profile, st->t_cglobal, 1, err);
     lap(g, ctx, profile, st->t_global, 1, err);
     rc = gs->solve(sys->global_solver, b, &fb, err);
@@ -502,13 +563,7 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     if (rc) return rc;
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
     lap(g, ctx, profile, st->t_corr, 1, err);
-    /* force = S lambda and its h^2 H^T force, one launch */
-    if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, sys->nfree, g->V.scale,
-                                     g->V.lambda, st->h * st->h, g->V.force, g->corr)))
-        rc = cuda_fail(g, err, e, "H^T lambda");
-    if (!rc) rc = gs->solve(sys->global_solver, &cb, &cb, err);
-    if (!rc && (e = ncp_cuda_add(g->stream, 3L * sys->nfree, g->q_free, g->corr, q_next->data)))
-        rc = cuda_fail(g, err, e, "correction");
+    rc = correction(g, sys, st->h * st->h, q_next, err);
     if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
     if (rc) return rc;
     /* the multipliers come to the host once, after the step's last
