@@ -1,7 +1,7 @@
 /* contact_device.c - NonSmoothNewtonContactSolver on device buffers (see
  * contact_device.h): the step's data up once, then each iteration queued
  * on the device's stream. */
-#include "contact_device.h"
+#include "contact_device_impl.h"
 #include "pliant/util.h"
 
 #include <cuda_runtime_api.h>
@@ -21,65 +21,12 @@ enum { SERIES_CAP = 1024 };
  * times.  PLIANT_NCP_DENSE_CORR=0: off (the comparison, tests), =N: N rows. */
 enum { DENSE_CORR_MAX_ROWS = 8, DENSE_CORR_CAP = 64 };
 
-/* What a CUDA graph captured around iterate() keeps of this path: device
- * addresses, the capacities that size its grids and copies, and the
- * parameters passed by value.  While it stays the same, a graph captured in
- * an earlier step replays this step's rows (their sizes and arrays are read
- * from the device descriptor at in_dev); a change bumps epoch. */
-typedef struct graph_key {
-    const void *in_dev, *work, *W, *X, *q_free, *corr, *U;
-    int mcap, nallcap, nfree, active, jacobian, explicit_w, fused, dense;
-    pl_ncp_cuda_params P;
-} graph_key;
-
-struct pl_ncpc_device {
-    const pl_component *owner;
-    pl_component *dev;
-    const pl_device_ops *ops;
-    struct CUstream_st *stream;
-    int stale, ran;
-    int fetched;            /* the host copies below hold this step's last iteration */
-    /* the step's inputs: one device arena, filled from one page-locked
-     * staging buffer */
-    void *in_dev, *in_host;
-    size_t in_cap, in_host_cap;
-    /* work vectors (20 x m doubles + m ints), W, nfree x 3 blocks */
-    void *work;
-    size_t work_cap;
-    double *W;
-    size_t W_cap;
-    double *X, *q_free, *corr;
-    size_t f_cap;
-    /* the dense correction: U_j = A^-1 H_j^T, dense_max blocks of nfree x 3
-     * (its address changes with nfree only: a captured graph reads it) */
-    double *U;
-    size_t U_cap;
-    int dense_max;          /* PLIANT_NCP_DENSE_CORR: the most rows, 0 off */
-    int dense;              /* this step's: 0 < m <= dense_max, unknowns */
-    pl_ncp_cuda_scalars *sc;
-    double *series;
-    /* page-locked host copies of lambda (m), lambda_all (nall), scalars */
-    double *h_lambda, *h_lambda_all;
-    size_t h_cap, h_all_cap;
-    pl_ncp_cuda_scalars *h_sc;
-    pl_ncp_cuda_rows R;     /* host copy; the device copy is at in_dev */
-    pl_ncp_cuda_vecs V;
-    pl_ncp_cuda_params P;
-    int explicit_w, jacobian;
-    int fused_env;          /* PLIANT_NCP_FUSED_CR=1: the constraint update in one kernel */
-    int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
-    int fused_warp;         /* PLIANT_NCP_FUSED_WARP: few rows by one warp (ncp_cuda.h) */
-    int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */
-    graph_key key;
-    unsigned long epoch;
-};
-
-static int fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
+int ncpc_device_fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
 {
     return pl_component_fail(g->owner, err, code ? code : PL_EINTERNAL, "device: %s", what);
 }
 
-static int cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *what)
+int ncpc_device_cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const char *what)
 {
     return pl_component_fail(g->owner, err, PL_EINTERNAL, "device: %s: %s", what,
                              cudaGetErrorString((cudaError_t)e));
@@ -116,6 +63,13 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;
     if (g->dense_max > DENSE_CORR_CAP) g->dense_max = DENSE_CORR_CAP;
+    /* on by default: few rows' row values, fused update (by the warp) and
+     * dense correction in one launch, the same values bitwise as the three
+     * (ncp_cuda_iterate_few); PLIANT_NCP_ONE_KERNEL=0 keeps the three.
+     * Only while the dense correction's rows fit the warp, so that a graph
+     * replaying it with another step's m stays on the warp's path. */
+    const char *ok = getenv("PLIANT_NCP_ONE_KERNEL");
+    g->one_env = !(ok && !strcmp(ok, "0")) && g->dense_max <= NCP_CUDA_WARP_MAX_ROWS;
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
@@ -176,7 +130,7 @@ static int fetch(pl_ncpc_device *g, pl_error *err)
     if (ce == cudaSuccess)
         ce = cudaMemcpyAsync(g->h_sc, g->sc, sizeof *g->h_sc, cudaMemcpyDeviceToHost, s);
     if (ce == cudaSuccess) ce = cudaStreamSynchronize(s);
-    if (ce != cudaSuccess) return cuda_fail(g, err, (int)ce, "multipliers to the host");
+    if (ce != cudaSuccess) return ncpc_device_cuda_fail(g, err, (int)ce, "multipliers to the host");
     g->fetched = 1;
     return PL_OK;
 }
@@ -242,7 +196,7 @@ static int reserve_host(pl_ncpc_device *g, void **p, size_t *cap, size_t bytes, 
     *p = malloc(*cap);
     if (!*p) {
         *cap = 0;
-        return fail(g, err, PL_EINTERNAL, "out of memory");
+        return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
     }
     if (g->ops->pin && (rc = g->ops->pin(g->dev, *p, *cap, err)) != PL_OK) {
         free(*p);
@@ -292,6 +246,7 @@ static void check_key(pl_ncpc_device *g, int nfree)
     k.corr = g->corr, k.U = g->dense ? g->U : NULL;
     k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
     k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused, k.dense = g->dense;
+    k.one = g->one;
     memcpy(&k.P, &g->P, sizeof k.P);
     /* unique over the process: a device path made again (a rebuilt
      * workspace) never repeats an epoch a loop's graph was captured at */
@@ -311,7 +266,7 @@ static int dense_columns(pl_ncpc_device *g, const pl_system *sys, int m, pl_erro
     int rc = reserve(g, (void **)&g->U, &g->U_cap, (size_t)g->dense_max * f3, err);
     if (rc) return rc;
     int e = ncp_cuda_rows_blocks(g->stream, g->in_dev, sys->nfree, g->U);
-    if (e) return cuda_fail(g, err, e, "the rows' columns");
+    if (e) return ncpc_device_cuda_fail(g, err, e, "the rows' columns");
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     for (int j = 0; !rc && j < m; ++j) {
         pl_buffer Ub = {g->U + 3 * (size_t)sys->nfree * (size_t)j, (size_t)sys->nfree, 3, PL_DEVICE,
@@ -336,7 +291,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     int *kind = malloc(sizeof(int) * (size_t)(m > 0 ? m : 1)), *tr = ncpc_pack_transpose(r, nf);
     if (!kind || !tr) {
         free(kind), free(tr);
-        return fail(g, err, PL_EINTERNAL, "out of memory");
+        return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
     }
     for (int j = 0; j < m; ++j) kind[j] = (int)r->kind[j];
     ncpc_pack k = {0, NULL, NULL, NULL, NULL};
@@ -371,7 +326,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
             g->f_cap = f3;
     }
     if (!rc && g->explicit_w && st->D->W_dev && st->D->W_dev != g->W)
-        rc = fail(g, err, PL_EINTERNAL, "W was built into another device array");
+        rc = ncpc_device_fail(g, err, PL_EINTERNAL, "W was built into another device array");
     if (!rc && g->explicit_w && !st->D->W_dev) {
         rc = reserve(g, (void **)&g->W, &g->W_cap, w_bytes(g, m), err);
         if (!rc && m)
@@ -391,41 +346,17 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     P->project = st->project, P->line_search = st->line_search, P->cr_jacobi = st->cr_jacobi;
     g->fused = g->fused_env && g->explicit_w && g->mcap <= NCP_CUDA_FUSED_MAX_ROWS;
     g->dense = m > 0 && m <= g->dense_max && nf > 0;
+    g->one = g->one_env && g->fused && g->fused_warp == 2 && g->dense;
     if (g->dense && (rc = dense_columns(g, sys, m, err))) return rc;
     int e = ncp_cuda_reset(g->stream, g->sc);
-    if (e) return cuda_fail(g, err, e, "reset");
+    if (e) return ncpc_device_cuda_fail(g, err, e, "reset");
     check_key(g, nf);
     g->stale = 0;
     return PL_OK;
 }
 
-/* y = W x: the dense product, or H A^-1 H^T x through the device solve. */
-static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, double *y,
-                   pl_error *err)
-{
-    int e;
-    if (g->explicit_w) {
-        e = ncp_cuda_dense(g->stream, g->in_dev, g->mcap, g->W, x, y);
-        return e ? cuda_fail(g, err, e, "W product") : PL_OK;
-    }
-    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
-    pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    if ((e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, x, 1.0, g->X)))
-        return cuda_fail(g, err, e, "H^T x");
-    int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
-    if (rc) return rc;
-    e = ncp_cuda_gather(g->stream, g->in_dev, g->mcap, g->X, y);
-    return e ? cuda_fail(g, err, e, "H X") : PL_OK;
-}
-
-static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err)
-{
-    int e = ncp_cuda_phase_run(g->stream, p, g->in_dev, &g->V, &g->P, last);
-    return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
-}
-
 /* With the device's profile flag: wait, so that timer `id` sees device time. */
-static int lap(pl_ncpc_device *g, pl_ctx *ctx, int profile, int id, int start, pl_error *err)
+int ncpc_device_lap(pl_ncpc_device *g, pl_ctx *ctx, int profile, int id, int start, pl_error *err)
 {
     if (!profile) return PL_OK;
     if (start) {
@@ -434,86 +365,6 @@ static int lap(pl_ncpc_device *g, pl_ctx *ctx, int profile, int id, int start, p
     }
     int rc = g->ops->sync(g->dev, err);
     pl_timer_stop(ctx->timers, id);
-    return rc;
-}
-
-/* stickStart: delta_free down, the host's stick start (st->stick), lambda
- * up.  A step's first iterate only, which the loop runs eagerly (never in
- * a graph): the copy down waits for the device. */
-static int stick_start(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_error *err)
-{
-    size_t bytes = sizeof(double) * (size_t)g->R.m;
-    double *df = malloc(bytes ? bytes : 1);
-    if (!df) return fail(g, err, PL_EINTERNAL, "out of memory");
-    int rc = g->ops->copy(g->dev, df, PL_HOST, g->V.delta_free, PL_DEVICE, bytes, err);
-    int n = rc ? 0 : st->stick(st->stick_user, df, err);
-    free(df);
-    if (!rc && n < 0) rc = -n;
-    if (!rc && n > 0) rc = g->ops->copy(g->dev, g->V.lambda, PL_DEVICE, st->lambda, PL_HOST, bytes, err);
-    return rc;
-}
-
-/* The constraint update: dlambda (CR), step length, lambda, projection. */
-static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
-{
-    int rc = PL_OK, maxit = g->P.cr_max_iter;
-    pl_ncp_cuda_vecs *V = &g->V;
-    if (g->fused) { /* all of the below in one kernel */
-        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian,
-                                      g->fused_warp);
-        return e ? cuda_fail(g, err, e, "constraint update") : PL_OK;
-    }
-    if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
-        rc = product(g, sys, V->lambda, V->tmp2, err);
-        if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
-    }
-    if (!rc) rc = phase(g, PL_NCP_PHASE_A, 0, err);
-    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_B, 0, err);
-    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
-    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_D, 0, err);
-    for (int t = 1; !rc && t < maxit; ++t) {
-        int last = t == maxit - 1;
-        rc = phase(g, PL_NCP_PHASE_E, last, err);
-        if (!rc && !last) rc = product(g, sys, V->tmp, V->tmp2, err);
-        if (!rc && !last) rc = phase(g, PL_NCP_PHASE_F, 0, err);
-    }
-    if (!rc) rc = phase(g, PL_NCP_PHASE_G, 0, err);
-    if (!rc && g->P.line_search) {
-        if (g->jacobian) {
-            rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
-            if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
-            if (!rc) rc = phase(g, PL_NCP_PHASE_LS0, 0, err);
-        }
-        if (!rc) rc = phase(g, PL_NCP_PHASE_DLAMBDA, 0, err);
-        if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
-    }
-    if (!rc) rc = phase(g, PL_NCP_PHASE_UPDATE, 0, err);
-    return rc;
-}
-
-/* q_next = q_free + h2 A^-1 H^T (S lambda), force = S lambda: with few
- * rows one dense product with the step's U, else H^T (force and it, one
- * launch), the device solve and the sum. */
-static int correction(pl_ncpc_device *g, const pl_system *sys, double h2, pl_buffer *q_next,
-                      pl_error *err)
-{
-    int e, nf = sys->nfree;
-    if (g->dense) {
-        e = ncp_cuda_correct_dense(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda, h2,
-                                   g->U, g->q_free, g->V.force, q_next->data);
-        return e ? cuda_fail(g, err, e, "correction") : PL_OK;
-    }
-    if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda,
-                                     h2, g->V.force, g->corr)))
-        return cuda_fail(g, err, e, "H^T lambda");
-    pl_buffer cb = {g->corr, (size_t)nf, 3, PL_DEVICE, PL_F64};
-    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
-    int rc = gs->solve(sys->global_solver, &cb, &cb, err);
-    if (!rc && (e = ncp_cuda_add(g->stream, 3L * nf, g->q_free, g->corr, q_next->data)))
-        rc = cuda_fail(g, err, e, "correction");
     return rc;
 }
 
@@ -531,45 +382,28 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
                                      sys->nverts, sys->nfree);
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     if (!(gs->version >= 2 && gs->accepts && gs->accepts(sys->global_solver, PL_DEVICE, PL_F64)))
-        return fail(g, err, PL_EINPUT, "the global solver does not take device buffers");
+        return ncpc_device_fail(g, err, PL_EINPUT, "the global solver does not take device buffers");
     int rc = g->stale ? upload(g, st, sys, err) : PL_OK;
     if (rc) return rc;
     g->ran = g->R.m > 0; /* no active row: the solver's own (zero) multipliers stand */
     int profile = g->ops->flags && (g->ops->flags(g->dev) & PL_DEVICE_PROFILE);
     size_t f3 = 3 * sizeof(double) * (size_t)sys->nfree;
     pl_buffer fb = {g->q_free, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    lap(g, ctx, profile, st->t_cglobal, 1, err);
-    lap(g, ctx, profile, st->t_global, 1, err);
+    ncpc_device_lap(g, ctx, profile, st->t_cglobal, 1, err);
+    ncpc_device_lap(g, ctx, profile, st->t_global, 1, err);
     rc = gs->solve(sys->global_solver, b, &fb, err);
-    if (!rc) rc = lap(g, ctx, profile, st->t_global, 0, err);
+    if (!rc) rc = ncpc_device_lap(g, ctx, profile, st->t_global, 0, err);
     if (rc || g->R.m == 0) {
         if (!rc) rc = g->ops->copy(g->dev, q_next->data, PL_DEVICE, g->q_free, PL_DEVICE, f3, err);
-        lap(g, ctx, profile, st->t_cglobal, 0, err);
+        ncpc_device_lap(g, ctx, profile, st->t_cglobal, 0, err);
         return rc;
     }
-    int e = 0;
-    lap(g, ctx, profile, st->t_assembly, 1, err);
-    if (g->jacobian) /* delta at q_k and delta_free at q_free, one launch */
-        e = ncp_cuda_delta2(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, g->V.delta,
-                            g->V.delta_free);
-    else
-        e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, 0, g->V.delta_free);
-    if (e) return cuda_fail(g, err, e, "row values");
-    if ((rc = lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
-    lap(g, ctx, profile, st->t_solve, 1, err);
-    if (st->stick && (rc = stick_start(g, st, err))) return rc;
-    rc = constraint_update(g, sys, err);
-    if (!rc) rc = lap(g, ctx, profile, st->t_solve, 0, err);
-    if (rc) return rc;
-    /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
-    lap(g, ctx, profile, st->t_corr, 1, err);
-    rc = correction(g, sys, st->h * st->h, q_next, err);
-    if (!rc) rc = lap(g, ctx, profile, st->t_corr, 0, err);
-    if (rc) return rc;
+    /* the row values, the constraint update and the correction */
+    if ((rc = ncpc_device_constrained(g, st, ctx, sys, q_k, q_next, profile, err))) return rc;
     /* the multipliers come to the host once, after the step's last
      * iteration (fetch) */
     g->fetched = 0;
-    return lap(g, ctx, profile, st->t_cglobal, 0, err);
+    return ncpc_device_lap(g, ctx, profile, st->t_cglobal, 0, err);
 }
 
 int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
@@ -587,7 +421,7 @@ int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_er
     if (record && timers) {
         int n = g->h_sc->iter < SERIES_CAP ? g->h_sc->iter : SERIES_CAP;
         double *s = malloc(sizeof(double) * 4 * (size_t)(n > 0 ? n : 1));
-        if (!s) return fail(g, err, PL_EINTERNAL, "out of memory");
+        if (!s) return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
         rc = g->ops->copy(g->dev, s, PL_HOST, g->series, PL_DEVICE, sizeof(double) * 4 * (size_t)n,
                           err);
         for (int k = 0; !rc && k < n; ++k) {

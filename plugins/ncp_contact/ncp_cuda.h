@@ -146,6 +146,19 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
 int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                           const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
                           int jacobian, int warp);
+/* A few rows' whole constrained iteration in one launch (W explicit, the
+ * dense correction's U made, R->m <= NCP_CUDA_WARP_MAX_ROWS rows): the
+ * row values as ncp_cuda_delta2 (jacobian: delta at q, delta_free at
+ * q_free) or ncp_cuda_delta (delta_free at q_free), the update as
+ * ncp_cuda_update_fused with warp = 2, then the correction as
+ * ncp_cuda_correct_dense (ncp_cuda_correct.h) into q_next: the same values
+ * as those three queued in turn, bitwise, less two launches (each part's
+ * device code is theirs).  More rows are correct too (the block's update),
+ * though the host does not choose it then. */
+int ncp_cuda_iterate_few(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                         const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
+                         int jacobian, const double *q_free, const double *q, int nfree,
+                         double h2, const double *U, double *q_next);
 
 #ifdef __cplusplus
 }

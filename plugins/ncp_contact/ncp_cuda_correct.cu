@@ -4,6 +4,8 @@
 #include <cuda_runtime.h>
 #include "pliant/cuda_launch.h"
 
+#include "ncp_cuda_correct.cuh"
+
 namespace {
 
 constexpr int kThreads = 256;
@@ -40,8 +42,8 @@ __global__ void k_rows_blocks(const pl_ncp_cuda_rows *__restrict__ Rp, int nfree
     }
 }
 
-/* One thread a value of q (3 nfree), and the first m threads write force.
- * l = h2 (scale lambda) rounds as k_scatter_scaled's. */
+/* One thread a value of q (3 nfree), and the first m threads write force
+ * (correct_dense_at). */
 __global__ void k_correct_dense(const pl_ncp_cuda_rows *__restrict__ Rp, int nfree,
                                 const double *__restrict__ scale,
                                 const double *__restrict__ lambda, double h2,
@@ -50,18 +52,8 @@ __global__ void k_correct_dense(const pl_ncp_cuda_rows *__restrict__ Rp, int nfr
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int m = Rp->m;
     const long long i = blockIdx.x * (long long)blockDim.x + threadIdx.x;
-    if (i < m) force[i] = scale[i] * lambda[i];
-    const long long n = 3LL * nfree;
-    if (i >= n) return;
-    double s = 0.0;
-    for (int j = 0; j < m; ++j) {
-        const double l = h2 * (scale[j] * lambda[j]);
-        if (l == 0.0) continue; /* as the scatter, which skips such rows */
-        s += l * U[j * n + i];
-    }
-    q_next[i] = q_free[i] + s;
+    correct_dense_at(i, Rp->m, 3LL * nfree, scale, lambda, h2, U, q_free, force, q_next);
 }
 
 } // namespace

@@ -16,6 +16,8 @@
  * rows in one warp"). */
 #include "ncp_cuda_phases.cuh"
 #include "ncp_cuda_dense.cuh"
+#include "ncp_cuda_correct.cuh"
+#include "ncp_cuda_rowval.cuh"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -308,6 +310,50 @@ __global__ void __launch_bounds__(kThreads)
     prof_print(pf, profile - 1, R.m, V.sc->its);
 }
 
+/* A few rows' whole constrained iteration in one launch of one block
+ * (ncp_cuda_iterate_few): the row values (ncp_cuda_rowval.cuh, the code
+ * of k_delta2 or k_delta, rows over the block's threads or warps), the
+ * update as k_update runs it (warp = 2), then the dense correction
+ * (ncp_cuda_correct.cuh, k_correct_dense's values over the block's
+ * threads), a block barrier between them where the separate kernels end.
+ * The values each part writes are the separate kernels', bitwise; x is
+ * q_free.  Nothing here is __restrict__ that the kernel writes and reads
+ * again (no non-coherent loads of it). */
+__global__ void __launch_bounds__(kThreads)
+    k_iterate(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P,
+              const double *__restrict__ W, int jacobian, int profile, const double *x,
+              const double *q, int nfree, double h2, const double *__restrict__ U,
+              double *q_next)
+{
+    __shared__ double sh[kRedShared];
+    __shared__ warp_stage st;
+    red rd = {sh, 0, 32};
+    prof pf = {profile > 0, 0, {0}};
+    pf.mark(); /* the profile's first section (linearise) has the row values too */
+    const int tid = threadIdx.x, m = Rp->m;
+    if (jacobian) /* delta at q, delta_free at x: 2 m values, one a thread */
+        for (int t = tid; t < 2 * m; t += kThreads)
+            row_delta2(Rp, t % m, x, q, t / m, t < m ? V.delta : V.delta_free);
+    else /* delta_free at x, a warp a row (warp-uniform loop) */
+        for (int j = tid >> 5; j < m; j += kWarps)
+            row_delta_warp(Rp, j, x, q, 0, tid & 31, V.delta_free);
+    __syncthreads();
+    const pl_ncp_cuda_rows R = *Rp;
+    if (R.m <= kWarpRows) {
+        if (tid < 32) {
+            rd.live = R.m;
+            update_warp_staged(R, V, P, W, jacobian, rd, pf, st);
+        }
+    } else { /* not chosen by the host (dense_max <= kWarpRows); correct all the same */
+        update_all<kThreads>(R, V, P, W, jacobian, rd, pf);
+    }
+    __syncthreads();
+    prof_print(pf, profile - 1, R.m, V.sc->its);
+    const long long n = 3LL * nfree, end = n > m ? n : m;
+    for (long long i = tid; i < end; i += kThreads)
+        correct_dense_at(i, m, n, V.scale, V.lambda, h2, U, x, V.force, q_next);
+}
+
 /* PLIANT_NCP_FUSED_PROFILE=N (a diagnostic): the cycles of each section of
  * launches N to N + 19, printed by the kernel (shown when the host next
  * waits).  Read once; -1: not yet. */
@@ -324,5 +370,20 @@ extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_r
         fused_profile = pe && atoi(pe) >= 0 ? 1 + atoi(pe) : 0;
     }
     k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, fused_profile, warp);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int ncp_cuda_iterate_few(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
+                                    const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
+                                    const double *W, int jacobian, const double *q_free,
+                                    const double *q, int nfree, double h2, const double *U,
+                                    double *q_next)
+{
+    if (fused_profile < 0) {
+        const char *pe = getenv("PLIANT_NCP_FUSED_PROFILE");
+        fused_profile = pe && atoi(pe) >= 0 ? 1 + atoi(pe) : 0;
+    }
+    k_iterate<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, fused_profile, q_free, q,
+                                      nfree > 0 ? nfree : 0, h2, U, q_next);
     return (int)cudaGetLastError();
 }

@@ -10,6 +10,7 @@
 #include "pliant/cuda_launch.h"
 
 #include "ncp_cuda_dense.cuh"
+#include "ncp_cuda_rowval.cuh"
 
 namespace {
 
@@ -20,41 +21,9 @@ unsigned blocks(long long n, int per = kThreads)
     return (unsigned)((n + per - 1) / per);
 }
 
-__device__ __forceinline__ double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* The kernels read the step's rows from their device copy Rp (grids sized
  * by a capacity: threads past R.m return), so that a captured graph stays
- * valid when the rows change. */
-/* A row of at most this many entries is summed by one lane in entry order
- * (the host's order: contacts); a longer one (a cable's or a cavity's
- * mapped points: the cable finger's row has 56) by the warp, lane-strided
- * and shuffled, where one lane's chain of dependent loads took 8 us. */
-constexpr int kDeltaSerial = 8;
-
-/* H_j [x; q_p], the row's sum without its offset, on one thread in entry
- * order (the host's): the prescribed entries, then the free ones (x, or q
- * at free_vertex when that is not NULL). */
-__device__ __forceinline__ double row_value(const pl_ncp_cuda_rows *__restrict__ Rp, int j,
-                                            const double *x, const double *q,
-                                            const int *free_vertex)
-{
-    const int p0 = Rp->pstart[j], p1 = Rp->pstart[j + 1];
-    const int e0 = Rp->fstart[j], e1 = Rp->fstart[j + 1];
-    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
-    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
-    double s = 0.0;
-    for (int p = p0; p < p1; ++p) s += dot3(pcoef + 3 * (size_t)p, q + 3 * (size_t)pvert[p]);
-    for (int e = e0; e < e1; ++e) {
-        const int f = fcol[e];
-        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-        s += dot3(fcoef + 3 * (size_t)e, xe);
-    }
-    return s;
-}
-
+ * valid when the rows change; the row values' sums are ncp_cuda_rowval.cuh's. */
 /* delta = H q - offset (x: the free part, read at R.fvert with use_fvert):
  * a warp a row (grid of 32 mcap threads). */
 __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
@@ -65,27 +34,7 @@ __global__ void k_delta(const pl_ncp_cuda_rows *__restrict__ Rp, const double *_
     const int j = (int)((blockIdx.x * (size_t)blockDim.x + threadIdx.x) >> 5);
     const int lane = threadIdx.x & 31;
     if (j >= Rp->m) return; /* whole warps leave together */
-    const int *free_vertex = use_fvert ? Rp->fvert : NULL;
-    const int p0 = Rp->pstart[j], np = Rp->pstart[j + 1] - p0;
-    const int e0 = Rp->fstart[j], ne = Rp->fstart[j + 1] - e0;
-    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
-    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
-    double s = 0.0;
-    if (np + ne <= kDeltaSerial) {
-        if (lane == 0) s = row_value(Rp, j, x, q, free_vertex);
-    } else {
-        for (int k = lane; k < np + ne; k += 32) {
-            if (k < np) {
-                s += dot3(pcoef + 3 * (size_t)(p0 + k), q + 3 * (size_t)pvert[p0 + k]);
-            } else {
-                const int e = e0 + k - np, f = fcol[e];
-                const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-                s += dot3(fcoef + 3 * (size_t)e, xe);
-            }
-        }
-        for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
-    }
-    if (lane == 0) delta[j] = s - Rp->offset[j];
+    row_delta_warp(Rp, j, x, q, use_fvert, lane, delta);
 }
 
 /* Both row values of a jacobian iteration in one launch: delta at q (free
@@ -98,9 +47,8 @@ __global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
     PL_CUDA_LAUNCH_DEPENDENTS();
     const int j = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (j >= Rp->m) return;
-    const double offset = Rp->offset[j];
-    delta[j] = row_value(Rp, j, NULL, q, Rp->fvert) - offset;
-    delta_free[j] = row_value(Rp, j, x, q, NULL) - offset;
+    row_delta2(Rp, j, x, q, 0, delta);
+    row_delta2(Rp, j, x, q, 1, delta_free);
 }
 
 /* X_f = alpha H_free^T v for unknown f, v_r = x_r or, SCALED, scale_r x_r

@@ -19,6 +19,10 @@
  *     are equal, 0.0: the fused kernel sums as the phase kernels do);
  *   - a fourth, PLIANT_NCP_FUSED_WARP=0 (the fused kernel's whole block for
  *     few rows too), as well.
+ *   - a fifth, PLIANT_NCP_FUSED_CR=1 and PLIANT_NCP_ONE_KERNEL=0 (the few
+ *     rows' row values, fused update and dense correction as three kernels,
+ *     not one), gives the third run's positions bitwise (the one kernel
+ *     runs the three's device code, in their order).
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -64,12 +68,14 @@ static int first_state(pl_component *c, void *user)
 
 /* Runs `steps` steps; the first body's positions (malloc'ed, *n values),
  * the graph captures and the median step [ms]; NULL on failure. */
-static double *run(const char *path, int graph, int fused, int steps, size_t *n,
+static double *run(const char *path, int graph, int fused, int one, int steps, size_t *n,
                    double *captures, double *ms)
 {
-    /* read by the contact solver's device path (fused 2: without the warp) */
+    /* read by the contact solver's device path (fused 2: without the warp;
+     * one 0: the few rows' iteration as three kernels) */
     setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
+    setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
     double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
@@ -114,10 +120,13 @@ static void check(const char *path, int steps)
     size_t nd = 0;
     double cap_a = 0, cap_b = 0, cap_c = 0, cap_d = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
     double ms_d = NAN;
-    double *a = run(path, 1, 0, steps, &na, &cap_a, &ms_a);
-    double *b = run(path, 0, 0, steps, &nb, &cap_b, &ms_b);
-    double *c = run(path, 1, 1, steps, &nc, &cap_c, &ms_c);
-    double *d = run(path, 1, 2, steps, &nd, &cap_d, &ms_d);
+    size_t ne = 0;
+    double cap_e = 0, ms_e = NAN;
+    double *a = run(path, 1, 0, 1, steps, &na, &cap_a, &ms_a);
+    double *b = run(path, 0, 0, 1, steps, &nb, &cap_b, &ms_b);
+    double *c = run(path, 1, 1, 1, steps, &nc, &cap_c, &ms_c);
+    double *d = run(path, 1, 2, 1, steps, &nd, &cap_d, &ms_d);
+    double *e = run(path, 1, 1, 0, steps, &ne, &cap_e, &ms_e);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -145,9 +154,16 @@ static void check(const char *path, int steps)
              "(relative)",
              path);
     gpu_check_line(md, what, d && b && nd == nb ? rel(d, b, nb) : INFINITY, 1e-12);
-    free(a), free(b), free(c), free(d);
+    snprintf(what, sizeof what,
+             "%s: PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_ONE_KERNEL=1 vs =0, graph (relative; bitwise)",
+             path);
+    gpu_check_line(md, what, c && e && nc == ne ? rel(c, e, ne) : INFINITY, 0.0);
+    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and ONE_KERNEL=0", path);
+    gpu_note_line(md, what, ms_e);
+    free(a), free(b), free(c), free(d), free(e);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
+    unsetenv("PLIANT_NCP_ONE_KERNEL");
 }
 
 int main(int argc, char **argv)

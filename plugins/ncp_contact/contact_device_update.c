@@ -1,0 +1,150 @@
+/* contact_device_update.c - a constrained iteration of the contact
+ * solver's device path (contact_device_impl.h): the row values, the
+ * constraint update (phase kernels and W products, or one fused kernel)
+ * and the correction, queued on the device's stream; for few rows, all
+ * three in one launch (ncp_cuda_iterate_few). */
+#include "contact_device_impl.h"
+
+#include <stdlib.h>
+
+#include "ncp_cuda_correct.h"
+
+/* y = W x: the dense product, or H A^-1 H^T x through the device solve. */
+static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, double *y,
+                   pl_error *err)
+{
+    int e;
+    if (g->explicit_w) {
+        e = ncp_cuda_dense(g->stream, g->in_dev, g->mcap, g->W, x, y);
+        return e ? ncpc_device_cuda_fail(g, err, e, "W product") : PL_OK;
+    }
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
+    if ((e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, x, 1.0, g->X)))
+        return ncpc_device_cuda_fail(g, err, e, "H^T x");
+    int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
+    if (rc) return rc;
+    e = ncp_cuda_gather(g->stream, g->in_dev, g->mcap, g->X, y);
+    return e ? ncpc_device_cuda_fail(g, err, e, "H X") : PL_OK;
+}
+
+static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err)
+{
+    int e = ncp_cuda_phase_run(g->stream, p, g->in_dev, &g->V, &g->P, last);
+    return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
+}
+
+/* The constraint update: dlambda (CR), step length, lambda, projection. */
+static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
+{
+    int rc = PL_OK, maxit = g->P.cr_max_iter;
+    pl_ncp_cuda_vecs *V = &g->V;
+    if (g->fused) { /* all of the below in one kernel */
+        int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian,
+                                      g->fused_warp);
+        return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
+    }
+    if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
+        rc = product(g, sys, V->lambda, V->tmp2, err);
+        if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_A, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_B, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
+    if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
+    if (!rc) rc = phase(g, PL_NCP_PHASE_D, 0, err);
+    for (int t = 1; !rc && t < maxit; ++t) {
+        int last = t == maxit - 1;
+        rc = phase(g, PL_NCP_PHASE_E, last, err);
+        if (!rc && !last) rc = product(g, sys, V->tmp, V->tmp2, err);
+        if (!rc && !last) rc = phase(g, PL_NCP_PHASE_F, 0, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_G, 0, err);
+    if (!rc && g->P.line_search) {
+        if (g->jacobian) {
+            rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
+            if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
+            if (!rc) rc = phase(g, PL_NCP_PHASE_LS0, 0, err);
+        }
+        if (!rc) rc = phase(g, PL_NCP_PHASE_DLAMBDA, 0, err);
+        if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
+    }
+    if (!rc) rc = phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+    return rc;
+}
+
+/* q_next = q_free + h2 A^-1 H^T (S lambda), force = S lambda: with few
+ * rows one dense product with the step's U, else H^T (force and it, one
+ * launch), the device solve and the sum. */
+static int correction(pl_ncpc_device *g, const pl_system *sys, double h2, pl_buffer *q_next,
+                      pl_error *err)
+{
+    int e, nf = sys->nfree;
+    if (g->dense) {
+        e = ncp_cuda_correct_dense(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda, h2,
+                                   g->U, g->q_free, g->V.force, q_next->data);
+        return e ? ncpc_device_cuda_fail(g, err, e, "correction") : PL_OK;
+    }
+    if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda,
+                                     h2, g->V.force, g->corr)))
+        return ncpc_device_cuda_fail(g, err, e, "H^T lambda");
+    pl_buffer cb = {g->corr, (size_t)nf, 3, PL_DEVICE, PL_F64};
+    const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
+    int rc = gs->solve(sys->global_solver, &cb, &cb, err);
+    if (!rc && (e = ncp_cuda_add(g->stream, 3L * nf, g->q_free, g->corr, q_next->data)))
+        rc = ncpc_device_cuda_fail(g, err, e, "correction");
+    return rc;
+}
+
+/* stickStart: delta_free down, the host's stick start (st->stick), lambda
+ * up.  A step's first iterate only, which the loop runs eagerly (never in
+ * a graph): the copy down waits for the device. */
+static int stick_start(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_error *err)
+{
+    size_t bytes = sizeof(double) * (size_t)g->R.m;
+    double *df = malloc(bytes ? bytes : 1);
+    if (!df) return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
+    int rc = g->ops->copy(g->dev, df, PL_HOST, g->V.delta_free, PL_DEVICE, bytes, err);
+    int n = rc ? 0 : st->stick(st->stick_user, df, err);
+    free(df);
+    if (!rc && n < 0) rc = -n;
+    if (!rc && n > 0) rc = g->ops->copy(g->dev, g->V.lambda, PL_DEVICE, st->lambda, PL_HOST, bytes, err);
+    return rc;
+}
+
+int ncpc_device_constrained(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx *ctx,
+                            const pl_system *sys, const pl_buffer *q_k, pl_buffer *q_next,
+                            int profile, pl_error *err)
+{
+    int rc;
+    /* few rows: one launch, without the stick start's host round trip
+     * (after the row values) and the profile's timers (between the parts) */
+    if (g->one && !st->stick && !profile) {
+        int e = ncp_cuda_iterate_few(g->stream, g->in_dev, &g->V, &g->P, g->W, g->jacobian,
+                                     g->q_free, q_k->data, sys->nfree, st->h * st->h, g->U,
+                                     q_next->data);
+        return e ? ncpc_device_cuda_fail(g, err, e, "iteration") : PL_OK;
+    }
+    int e = 0;
+    ncpc_device_lap(g, ctx, profile, st->t_assembly, 1, err);
+    if (g->jacobian) /* delta at q_k and delta_free at q_free, one launch */
+        e = ncp_cuda_delta2(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, g->V.delta,
+                            g->V.delta_free);
+    else
+        e = ncp_cuda_delta(g->stream, g->in_dev, g->mcap, g->q_free, q_k->data, 0, g->V.delta_free);
+    if (e) return ncpc_device_cuda_fail(g, err, e, "row values");
+    if ((rc = ncpc_device_lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
+    ncpc_device_lap(g, ctx, profile, st->t_solve, 1, err);
+    if (st->stick && (rc = stick_start(g, st, err))) return rc;
+    rc = constraint_update(g, sys, err);
+    if (!rc) rc = ncpc_device_lap(g, ctx, profile, st->t_solve, 0, err);
+    if (rc) return rc;
+    /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */
+    ncpc_device_lap(g, ctx, profile, st->t_corr, 1, err);
+    rc = correction(g, sys, st->h * st->h, q_next, err);
+    if (!rc) rc = ncpc_device_lap(g, ctx, profile, st->t_corr, 0, err);
+    if (rc) return rc;
+    return PL_OK;
+}
