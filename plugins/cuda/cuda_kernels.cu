@@ -74,57 +74,56 @@ __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double 
 }
 
 /* (y0, y1, y2) -= sum over entries q in [b, e) of a[q] x[j[q]], each
- * entry subtracted in turn in row order (as the CPU loop does).  The
- * entries are read kBatch at a time, their loads all in flight before the
- * subtractions: a short row's time is its memory latencies, which the
- * plain loop paid two of every few entries (docs/benchmarks.md, "Gathers
- * with their loads in flight"). */
-constexpr int kBatch = 8;
+ * entry subtracted in turn in row order (as the CPU loop does), by one
+ * warp: its lanes load up to 32 entries (value, column, x's 3-vector) into
+ * the warp's buffer w at once, then lane 0 subtracts them in order; only
+ * lane 0's y is the result.  One thread walking the row waited for two
+ * memory latencies every few entries, and a small system's row is nothing
+ * but such latencies (docs/benchmarks.md, "Gathers a warp a vertex"). */
+constexpr int kRowWarps = kThreads / 32;
 
-__device__ __forceinline__ void sub_row(int b, int e, const int *__restrict__ j,
-                                        const double *__restrict__ a,
-                                        const double *__restrict__ x, double &y0, double &y1,
-                                        double &y2)
+__device__ __forceinline__ void sub_row_warp(int b, int e, const int *__restrict__ j,
+                                             const double *__restrict__ a,
+                                             const double *__restrict__ x, double (*w)[4],
+                                             int lane, double &y0, double &y1, double &y2)
 {
-    for (int q = b; q < e; q += kBatch) {
-        int at[kBatch];
-        double v[kBatch], xs[kBatch][3];
-#pragma unroll
-        for (int t = 0; t < kBatch; ++t) {
-            const bool in = q + t < e;
-            at[t] = in ? 3 * j[q + t] : -1;
-            v[t] = in ? a[q + t] : 0.0;
+    for (int q = b; q < e; q += 32) {
+        const int n = e - q < 32 ? e - q : 32;
+        if (lane < n) {
+            const double *xs = x + 3 * (size_t)j[q + lane];
+            w[lane][0] = a[q + lane], w[lane][1] = xs[0], w[lane][2] = xs[1], w[lane][3] = xs[2];
         }
-#pragma unroll
-        for (int t = 0; t < kBatch; ++t)
-#pragma unroll
-            for (int c = 0; c < 3; ++c) xs[t][c] = at[t] >= 0 ? x[(size_t)at[t] + c] : 0.0;
-#pragma unroll
-        for (int t = 0; t < kBatch; ++t)
-            if (at[t] >= 0) {
-                y0 -= v[t] * xs[t][0];
-                y1 -= v[t] * xs[t][1];
-                y2 -= v[t] * xs[t][2];
+        __syncwarp();
+        if (lane == 0)
+            for (int t = 0; t < n; ++t) {
+                const double v = w[t][0];
+                y0 -= v * w[t][1];
+                y1 -= v * w[t][2];
+                y2 -= v * w[t][3];
             }
+        __syncwarp(); /* w is the next round's */
     }
 }
 
+/* One warp a row (launch with row_blocks). */
 __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__restrict__ j,
                           const double *__restrict__ a, const double *__restrict__ x,
                           double *__restrict__ y)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int r = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (r >= nrows) return;
+    __shared__ double buf[kRowWarps][32][4];
+    const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+    const int r = (int)(blockIdx.x * (size_t)kRowWarps + warp);
+    if (r >= nrows) return; /* the whole warp */
     const int b = p[r], e = p[r + 1];
     if (b == e) return;
     double y0 = y[3 * (size_t)r], y1 = y[3 * (size_t)r + 1], y2 = y[3 * (size_t)r + 2];
-    sub_row(b, e, j, a, x, y0, y1, y2);
-    y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
+    sub_row_warp(b, e, j, a, x, buf[warp], lane, y0, y1, y2);
+    if (lane == 0) y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
 }
 
-/* k_gather_rows then k_sub_csr for row f in one thread: the same values
+/* k_gather_rows then k_sub_csr for row f, one warp a row: the same values
  * subtracted in the same order (A NULL: the gather alone). */
 __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const double *__restrict__ x,
                                  const int *__restrict__ p, const int *__restrict__ j,
@@ -133,12 +132,19 @@ __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const doubl
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f >= m) return;
+    __shared__ double buf[kRowWarps][32][4];
+    const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+    const int f = (int)(blockIdx.x * (size_t)kRowWarps + warp);
+    if (f >= m) return; /* the whole warp */
     const double *src = x + 3 * (size_t)map[f];
     double y0 = src[0], y1 = src[1], y2 = src[2];
-    if (p) sub_row(p[f], p[f + 1], j, a, q, y0, y1, y2);
-    y[3 * (size_t)f] = y0, y[3 * (size_t)f + 1] = y1, y[3 * (size_t)f + 2] = y2;
+    if (p) sub_row_warp(p[f], p[f + 1], j, a, q, buf[warp], lane, y0, y1, y2);
+    if (lane == 0) y[3 * (size_t)f] = y0, y[3 * (size_t)f + 1] = y1, y[3 * (size_t)f + 2] = y2;
+}
+
+unsigned row_blocks(long long rows)
+{
+    return (unsigned)((rows + kRowWarps - 1) / kRowWarps);
 }
 
 /* The force residual's 3-vector of unknown f (vertex v = map[f]):
@@ -195,7 +201,7 @@ extern "C" int cuda_gather_sub_csr(struct CUstream_st *st, int m, const int *map
                                    const double *q, double *y)
 {
     if (m <= 0) return 0;
-    pl_cuda_launch(k_gather_sub_csr, blocks(m), kThreads, 0, st, m, map, x, p, j, a, q, y);
+    pl_cuda_launch(k_gather_sub_csr, row_blocks(m), kThreads, 0, st, m, map, x, p, j, a, q, y);
     return (int)cudaGetLastError();
 }
 
@@ -227,6 +233,6 @@ extern "C" int cuda_sub_csr(struct CUstream_st *st, int nrows, const int *p, con
                                const double *a, const double *x, double *y)
 {
     if (nrows <= 0) return 0;
-    pl_cuda_launch(k_sub_csr, blocks(nrows), kThreads, 0, st, nrows, p, j, a, x, y);
+    pl_cuda_launch(k_sub_csr, row_blocks(nrows), kThreads, 0, st, nrows, p, j, a, x, y);
     return (int)cudaGetLastError();
 }

@@ -173,43 +173,52 @@ __global__ void __launch_bounds__(kThreads)
 }
 
 /* rhs[offset + v] += the sum of v's slots, in increasing slot order (as
- * hyper_incidence_gather on the CPU).  A vertex's slots are read kBatch at
- * a time: the batch's indices first, then its slots, all loads in flight
- * together, then added in order.  The loop one slot at a time (unrolled by
- * 4 by the compiler, after a one-by-one remainder) waited for two memory
- * latencies every few slots, and a tiny scene's gather is nothing but those
- * latencies (docs/benchmarks.md, "Gathers with their loads in flight"). */
-constexpr int kBatch = 8;
+ * hyper_incidence_gather on the CPU), one warp a vertex: the lanes load up
+ * to 32 slots at once into shared memory (a slot index, then the slot: two
+ * memory latencies for the lot) and lane 0 adds them in order.  One thread
+ * a vertex walking its slots waited for those two latencies every few
+ * slots, and a tiny scene's gather is nothing but such latencies
+ * (docs/benchmarks.md, "Gathers a warp a vertex"). */
+constexpr int kGatherWarps = 4; /* vertices a block */
 
-__global__ void k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
-                         const double *__restrict__ slots, int offset, double *__restrict__ rhs)
+__global__ void __launch_bounds__(32 * kGatherWarps)
+    k_gather(int nverts, const int *__restrict__ vptr, const int *__restrict__ vinc,
+             const double *__restrict__ slots, int offset, double *__restrict__ rhs)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int v = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (v >= nverts) return;
+    __shared__ double buf[kGatherWarps][32][3];
+    const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+    const int v = (int)(blockIdx.x * (size_t)kGatherWarps + warp);
+    if (v >= nverts) return; /* the whole warp */
+    double(*b)[3] = buf[warp];
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = vptr[v], end = vptr[v + 1]; k < end; k += kBatch) {
-        int at[kBatch];
-        double x[kBatch][3];
-#pragma unroll
-        for (int b = 0; b < kBatch; ++b) at[b] = k + b < end ? 3 * vinc[k + b] : -1;
-#pragma unroll
-        for (int b = 0; b < kBatch; ++b)
-#pragma unroll
-            for (int c = 0; c < 3; ++c) x[b][c] = at[b] >= 0 ? slots[(size_t)at[b] + c] : 0.0;
-#pragma unroll
-        for (int b = 0; b < kBatch; ++b)
-            if (at[b] >= 0) { /* in order; a missing slot adds nothing, not even +0.0 */
-                a0 += x[b][0];
-                a1 += x[b][1];
-                a2 += x[b][2];
+    for (int k = vptr[v], end = vptr[v + 1]; k < end; k += 32) {
+        const int n = end - k < 32 ? end - k : 32;
+        if (lane < n) {
+            const double *x = slots + 3 * (size_t)vinc[k + lane];
+            b[lane][0] = x[0], b[lane][1] = x[1], b[lane][2] = x[2];
+        }
+        __syncwarp();
+        if (lane == 0)
+            for (int t = 0; t < n; ++t) {
+                a0 += b[t][0];
+                a1 += b[t][1];
+                a2 += b[t][2];
             }
+        __syncwarp(); /* b is the next round's */
     }
-    double *o = rhs + 3 * ((size_t)offset + v);
-    o[0] += a0;
-    o[1] += a1;
-    o[2] += a2;
+    if (lane == 0) {
+        double *o = rhs + 3 * ((size_t)offset + v);
+        o[0] += a0;
+        o[1] += a1;
+        o[2] += a2;
+    }
+}
+
+unsigned gather_blocks(int nverts)
+{
+    return (unsigned)((nverts + kGatherWarps - 1) / kGatherWarps);
 }
 
 template <typename T>
@@ -310,7 +319,7 @@ extern "C" int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h
                            dual, g->warm,
                            g->slots, rhs, atomic, g->stats, g->acc);
         if (!atomic && g->nverts > 0)
-            pl_cuda_launch(k_gather, (unsigned)((g->nverts + 255) / 256), 256, 0, st, g->nverts,
+            pl_cuda_launch(k_gather, gather_blocks(g->nverts), 32 * kGatherWarps, 0, st, g->nverts,
                            g->vptr, g->vinc, g->slots, offset, rhs);
     }
     HC_CK(cudaGetLastError(), "local step kernels");
@@ -334,7 +343,7 @@ extern "C" int hyper_cuda_gather(int nverts, const int *vptr, const int *vinc, c
                                  int offset, double *out, struct CUstream_st *stream, pl_error *err)
 {
     if (nverts > 0)
-        pl_cuda_launch(k_gather, (unsigned)((nverts + 255) / 256), 256, 0, (cudaStream_t)stream,
+        pl_cuda_launch(k_gather, gather_blocks(nverts), 32 * kGatherWarps, 0, (cudaStream_t)stream,
                        nverts, vptr, vinc, slots, offset, out);
     HC_CK(cudaGetLastError(), "gather");
     return PL_OK;
