@@ -1,6 +1,6 @@
 /* contact_device.c - NonSmoothNewtonContactSolver on device buffers (see
  * contact_device.h): the step's data up once, then each iteration queued
- * on the device's stream. */
+ * on the device's stream (its kernels: contact_device_update.c). */
 #include "contact_device_impl.h"
 #include "pliant/util.h"
 

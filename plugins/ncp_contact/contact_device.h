@@ -9,7 +9,8 @@
  * the row values, the constraint update (ncp_cuda_step.cu, W products
  * dense or as scatter / device solve / gather) and the correction
  * q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) (for few rows one product with
- * U = A^-1 H^T, made at the upload: ncp_cuda_correct.h), and asynchronous copies of
+ * U = A^-1 H^T, made at the upload: ncp_cuda_correct.h; with the fused update of few
+ * rows too, all three in one launch: ncp_cuda_iterate_few), and asynchronous copies of
  * lambda into page-locked host memory.  Nothing waits for the device, so
  * the animation loop can capture an iteration as a CUDA graph, and keep it
  * for later steps: the kernels read the rows from the device descriptor
