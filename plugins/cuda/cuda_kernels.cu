@@ -79,7 +79,7 @@ __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double 
  * the warp's buffer w at once, then lane 0 subtracts them in order; only
  * lane 0's y is the result.  One thread walking the row waited for two
  * memory latencies every few entries, and a small system's row is nothing
- * but such latencies (docs/benchmarks.md, "Gathers a warp a vertex"). */
+ * but such latencies (docs/benchmarks.md, "The iteration in fewer, shorter kernels"). */
 constexpr int kRowWarps = kThreads / 32;
 
 __device__ __forceinline__ void sub_row_warp(int b, int e, const int *__restrict__ j,

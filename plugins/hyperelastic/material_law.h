@@ -78,8 +78,8 @@ PL_HD int hm_sv_eval(const int d, int material, double mu, double la, const doub
  * the domain (J <= 0, where the signed singular values have one s <= 0) P
  * is NaN, as there.  The force residual evaluates it at every iteration
  * (forceTolerance): an SVD is most of its cost on the CPU and a long
- * dependent chain on the GPU (docs/benchmarks.md, "Neo-Hookean stress
- * without an SVD"). */
+ * dependent chain on the GPU (docs/benchmarks.md, "The cable finger's
+ * iteration at about 73 us"). */
 PL_HD void hm_neohookean_piola3(double mu, double la, const double *F, double *P)
 {
     double C[9]; /* cof(F): C[a][b] = (-1)^(a+b) minor(a, b) */

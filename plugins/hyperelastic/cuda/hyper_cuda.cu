@@ -178,7 +178,7 @@ __global__ void __launch_bounds__(kThreads)
  * memory latencies for the lot) and lane 0 adds them in order.  One thread
  * a vertex walking its slots waited for those two latencies every few
  * slots, and a tiny scene's gather is nothing but such latencies
- * (docs/benchmarks.md, "Gathers a warp a vertex"). */
+ * (docs/benchmarks.md, "The iteration in fewer, shorter kernels"). */
 constexpr int kGatherWarps = 4; /* vertices a block */
 
 __global__ void __launch_bounds__(32 * kGatherWarps)
