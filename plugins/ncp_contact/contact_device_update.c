@@ -145,6 +145,5 @@ int ncpc_device_constrained(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl
     ncpc_device_lap(g, ctx, profile, st->t_corr, 1, err);
     rc = correction(g, sys, st->h * st->h, q_next, err);
     if (!rc) rc = ncpc_device_lap(g, ctx, profile, st->t_corr, 0, err);
-    if (rc) return rc;
-    return PL_OK;
+    return rc;
 }

@@ -359,17 +359,22 @@ __global__ void __launch_bounds__(kThreads)
  * waits).  Read once; -1: not yet. */
 int fused_profile = -1;
 
+int profile_launches()
+{
+    if (fused_profile < 0) {
+        const char *pe = getenv("PLIANT_NCP_FUSED_PROFILE");
+        fused_profile = pe && atoi(pe) >= 0 ? 1 + atoi(pe) : 0;
+    }
+    return fused_profile;
+}
+
 } // namespace
 
 extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                      const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
                                      const double *W, int jacobian, int warp)
 {
-    if (fused_profile < 0) {
-        const char *pe = getenv("PLIANT_NCP_FUSED_PROFILE");
-        fused_profile = pe && atoi(pe) >= 0 ? 1 + atoi(pe) : 0;
-    }
-    k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, fused_profile, warp);
+    k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, profile_launches(), warp);
     return (int)cudaGetLastError();
 }
 
@@ -379,11 +384,7 @@ extern "C" int ncp_cuda_iterate_few(struct CUstream_st *st, const pl_ncp_cuda_ro
                                     const double *q, int nfree, double h2, const double *U,
                                     double *q_next)
 {
-    if (fused_profile < 0) {
-        const char *pe = getenv("PLIANT_NCP_FUSED_PROFILE");
-        fused_profile = pe && atoi(pe) >= 0 ? 1 + atoi(pe) : 0;
-    }
-    k_iterate<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, fused_profile, q_free, q,
+    k_iterate<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, profile_launches(), q_free, q,
                                       nfree > 0 ? nfree : 0, h2, U, q_next);
     return (int)cudaGetLastError();
 }

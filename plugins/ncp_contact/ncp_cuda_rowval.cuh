@@ -22,24 +22,29 @@ __device__ __forceinline__ double dot3(const double *a, const double *b)
  * and shuffled, where one lane's chain of dependent loads took 8 us. */
 constexpr int kDeltaSerial = 8;
 
+/* Term k of row j (entries p0 .. p0 + np - 1 prescribed, then the free
+ * ones e0 ..): its coefficient times q at the prescribed vertex, or times
+ * the free unknown (x, or q at free_vertex when that is not NULL). */
+__device__ __forceinline__ double row_term(const pl_ncp_cuda_rows *__restrict__ Rp, int p0, int np,
+                                           int e0, int k, const double *x, const double *q,
+                                           const int *free_vertex)
+{
+    if (k < np) return dot3(Rp->pcoef + 3 * (size_t)(p0 + k), q + 3 * (size_t)Rp->pvert[p0 + k]);
+    const int e = e0 + k - np, f = Rp->fcol[e];
+    const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
+    return dot3(Rp->fcoef + 3 * (size_t)e, xe);
+}
+
 /* H_j [x; q_p], the row's sum without its offset, on one thread in entry
- * order (the host's): the prescribed entries, then the free ones (x, or q
- * at free_vertex when that is not NULL). */
+ * order (the host's): the prescribed entries, then the free ones. */
 __device__ __forceinline__ double row_value(const pl_ncp_cuda_rows *__restrict__ Rp, int j,
                                             const double *x, const double *q,
                                             const int *free_vertex)
 {
-    const int p0 = Rp->pstart[j], p1 = Rp->pstart[j + 1];
-    const int e0 = Rp->fstart[j], e1 = Rp->fstart[j + 1];
-    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
-    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
+    const int p0 = Rp->pstart[j], np = Rp->pstart[j + 1] - p0;
+    const int e0 = Rp->fstart[j], n = np + Rp->fstart[j + 1] - e0;
     double s = 0.0;
-    for (int p = p0; p < p1; ++p) s += dot3(pcoef + 3 * (size_t)p, q + 3 * (size_t)pvert[p]);
-    for (int e = e0; e < e1; ++e) {
-        const int f = fcol[e];
-        const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-        s += dot3(fcoef + 3 * (size_t)e, xe);
-    }
+    for (int k = 0; k < n; ++k) s += row_term(Rp, p0, np, e0, k, x, q, free_vertex);
     return s;
 }
 
@@ -53,22 +58,12 @@ __device__ __forceinline__ void row_delta_warp(const pl_ncp_cuda_rows *__restric
 {
     const int *free_vertex = use_fvert ? Rp->fvert : NULL;
     const int p0 = Rp->pstart[j], np = Rp->pstart[j + 1] - p0;
-    const int e0 = Rp->fstart[j], ne = Rp->fstart[j + 1] - e0;
-    const double *pcoef = Rp->pcoef, *fcoef = Rp->fcoef;
-    const int *pvert = Rp->pvert, *fcol = Rp->fcol;
+    const int e0 = Rp->fstart[j], n = np + Rp->fstart[j + 1] - e0;
     double s = 0.0;
-    if (np + ne <= kDeltaSerial) {
+    if (n <= kDeltaSerial) {
         if (lane == 0) s = row_value(Rp, j, x, q, free_vertex);
     } else {
-        for (int k = lane; k < np + ne; k += 32) {
-            if (k < np) {
-                s += dot3(pcoef + 3 * (size_t)(p0 + k), q + 3 * (size_t)pvert[p0 + k]);
-            } else {
-                const int e = e0 + k - np, f = fcol[e];
-                const double *xe = free_vertex ? q + 3 * (size_t)free_vertex[f] : x + 3 * (size_t)f;
-                s += dot3(fcoef + 3 * (size_t)e, xe);
-            }
-        }
+        for (int k = lane; k < n; k += 32) s += row_term(Rp, p0, np, e0, k, x, q, free_vertex);
         for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
     }
     if (lane == 0) delta[j] = s - Rp->offset[j];
