@@ -77,7 +77,7 @@ int hyper_elements_project_relaxed(const pl_hyper_elements *e, int offset, doubl
         for (int a = 0; a < nd; ++a) z[a] = u ? F[a] + u[a] : F[a];
         int nhalf = 0;
         int it = hyper_local_solve_warm(&law, e->weight_scale * hyper_law_weight(&law), z, p,
-                                        warm ? warm + (size_t)i * d : NULL, &nhalf);
+                                        warm ? warm + (size_t)i * HM_WARM_LEN(d) : NULL, &nhalf);
         halvings += nhalf;
         int finite = 1;
         for (int a = 0; a < nd; ++a) finite &= isfinite(p[a]);

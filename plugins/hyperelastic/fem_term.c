@@ -256,8 +256,7 @@ static int fem_project(const pl_component *c, pl_data *d, int offset, double h2,
     if (!work) return err->code;
     hyper_term_ws *w = pl_data_workspace(d, c); /* not NULL: hyper_term_work made it */
     double *warm = NULL;
-    if (f->material == PL_HYPER_NEOHOOKEAN &&
-        !(warm = hyper_term_warm(c, d, (size_t)f->el.n * f->el.d, err)))
+    if (!(warm = hyper_term_warm(c, d, (size_t)f->el.n * HM_WARM_LEN(f->el.d), err)))
         return err->code;
     double *prev = NULL, alpha = 1.0;
     if (dual && f->admm_relaxation != 1.0) {

@@ -156,16 +156,15 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     gpu->fresh = 0;
     int stats[2];
     pl_error e;
-    if (hyper_cuda_stats(gpu->g, gpu->stream, stats, &e) != PL_OK) /* waits for the stream */
+    /* the step's counts join the host's (fem_term.c publishes them); one
+     * copy and one wait for the stream, the duals' copy included */
+    hyper_term_ws *w = pl_data_workspace(d, &f->base);
+    if (hyper_cuda_step_stats(gpu->g, gpu->stream, stats, w ? &w->prox : NULL, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
                                  "local step on the device, step %ld: %s", d->step, e.msg);
     if (stats[1] > 0)
         pl_log_debug("%s: %d local solves stopped before their tolerance (this step)",
                      f->base.name, stats[1]);
-    /* the step's counts join the host's (fem_term.c publishes them) */
-    hyper_term_ws *w = pl_data_workspace(d, &f->base);
-    if (w && hyper_cuda_prox_stats(gpu->g, gpu->stream, &w->prox, &e) != PL_OK)
-        return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     if (w && stats[0] > w->prox.max_iterations) w->prox.max_iterations = stats[0];
     return PL_OK;
 }

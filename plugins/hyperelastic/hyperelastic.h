@@ -49,6 +49,11 @@ void hyper_svd3(const double F[9], double U[9], double s[3], double V[9]);
 /* SVD of a 3x2 F: F = U diag(s) V^T, U 3x2 with orthonormal columns,
  * s0 >= s1 >= 0, V 2x2 rotation. */
 void hyper_svd32(const double F[6], double U[6], double s[2], double V[4]);
+/* The same with the Jacobi sweeps started from V0 (a rotation, e.g. the V
+ * of a nearby matrix: then fewer sweeps; NULL: the identity, as above). */
+void hyper_svd3_from(const double F[9], const double V0[9], double U[9], double s[3], double V[9]);
+void hyper_svd32_from(const double F[6], const double V0[4], double U[6], double s[2],
+                      double V[4]);
 /* Closest proper rotation to F (3x3), also for inverted F. */
 void hyper_polar3(const double F[9], double R[9]);
 /* Closest 3x2 matrix with orthonormal columns to F (3x2). */
@@ -115,9 +120,13 @@ void pl_hyper_dPdF(const pl_hyper_law *m, const double *F, int psd, double *H);
  * Neo-Hookean).  Returns the Newton iterations (>= 0), or -1 if it did not
  * reach its tolerance (p is then the last iterate) or z is not finite. */
 int hyper_local_solve(const pl_hyper_law *m, double what, const double *z, double *p);
-/* The same, started from warm (d values: the element's previous singular
- * values, used when warm[0] > 0; NULL: cold) and leaving its own there,
- * adding its line-search halvings to *halvings (not NULL). */
+/* The doubles of an element's warm start: its last solve's d singular
+ * values (warm[0] > 0: set), then its d x d right singular vectors V. */
+#define HM_WARM_LEN(d) ((d) + (d) * (d))
+/* The same, started from warm (HM_WARM_LEN(d) values: the element's
+ * previous solve, used when warm[0] > 0; NULL: cold): the SVD's Jacobi
+ * sweeps from its V, the Newton on the singular values from its s; leaves
+ * its own there, adding its line-search halvings to *halvings (not NULL). */
 int hyper_local_solve_warm(const pl_hyper_law *m, double what, const double *z, double *p,
                            double *warm, int *halvings);
 
@@ -185,9 +194,9 @@ size_t hyper_elements_work_size(const pl_hyper_elements *e);
  * n x dual_size (NULL for ARAP; ADMM duals updated in place); work: the
  * caller's scratch of hyper_elements_work_size doubles (the element set
  * is only read, so several states may project with it at once); adds
- * h2 * w (p - u) D^T into rhs (global n x 3).  warm (n x d, or NULL):
- * each element's prox starts from its row when set (row[0] > 0) and leaves
- * its solution there (zeros: cold).  If stats != NULL, this call's counts
+ * h2 * w (p - u) D^T into rhs (global n x 3).  warm (n x HM_WARM_LEN(d),
+ * or NULL): each element's prox starts from its row when set (row[0] > 0)
+ * and leaves its solution there (zeros: cold).  If stats != NULL, this call's counts
  * are added to it.  PL_EINTERNAL if q gives a non-finite F. */
 int hyper_elements_project(const pl_hyper_elements *e, int offset, double h2, const double *q,
                               double *dual, double *warm, double *work, double *rhs,

@@ -253,9 +253,11 @@ PL_HD int hm_solve_singular_values(const int d, int mat, double mu, double la, d
 
 /* p (3 x d) = the local step of z (3 x d), both row-major: the closest
  * rotation (ARAP; closest orthonormal columns for d = 2) or the prox of the
- * law `mat` with weight what (warm: the element's previous s, in and
- * out, or NULL: see hm_solve_singular_values; *halvings, if not NULL, +=
- * its line-search halvings).  Returns the Newton iterations (0 for ARAP),
+ * law `mat` with weight what (warm: HM_WARM_LEN(d) values in and out, or
+ * NULL: the element's previous solve, set when warm[0] > 0; its V starts
+ * the SVD's sweeps, and for Neo-Hookean its s the Newton of
+ * hm_solve_singular_values; *halvings, if not NULL, += its line-search
+ * halvings).  Returns the Newton iterations (0 for ARAP),
  * or -1 if z is not finite or the Newton iteration missed its tolerance
  * (p is then its last iterate). */
 PL_HD int hm_local_solve(const int d, int mat, double mu, double la, double what, const double *z,
@@ -265,15 +267,28 @@ PL_HD int hm_local_solve(const int d, int mat, double mu, double la, double what
     for (int i = 0; i < 3 * d; ++i)
         if (!isfinite(z[i])) return -1;
     double U[9], zh[3], V[9]; /* U: 3 x d */
+    /* the previous solve's V starts the SVD's Jacobi sweeps (warm[0] > 0:
+     * set; see HM_WARM_LEN) */
+    const bool use = warm && warm[0] > 0.0;
     if (d == 3)
-        hm_svd3(z, U, zh, V);
+        hm_svd3_from(z, warm ? warm + d : NULL, use, U, zh, V);
     else
-        hm_svd32(z, U, zh, V);
+        hm_svd32_from(z, warm ? warm + d : NULL, use, U, zh, V);
+    if (warm) {
+        PL_UNROLL
+        for (int k = 0; k < d * d; ++k) warm[d + k] = V[k];
+        /* the flag warm[0] > 0: z's largest singular value; for Neo-Hookean
+         * hm_solve_singular_values puts its s there (its Newton's start) */
+        if (mat != PL_HYPER_NEOHOOKEAN)
+            PL_UNROLL
+            for (int k = 0; k < d; ++k) warm[k] = zh[k];
+    }
     if (mat == PL_HYPER_ARAP) {
         hm_polar_from_svd(d, U, V, p);
         return 0;
     }
     double s[3];
+    /* (the corotational closed form neither reads nor writes warm) */
     int it = hm_solve_singular_values(d, mat, mu, la, what, zh, s, warm, halvings);
     PL_UNROLL
     for (int a = 0; a < 3; ++a)

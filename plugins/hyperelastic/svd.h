@@ -17,6 +17,7 @@
 #define PLIANT_HYPER_SVD_H
 
 #include <math.h>
+#include <stdbool.h>
 
 #include "pliant/hostdevice.h"
 #include "small_matrix.h"
@@ -51,6 +52,36 @@ PL_HD void hm_jacobi_pair(const int n, const int i, const int j, double *A, doub
     *tmax = fmax(*tmax, fabs(t));
 }
 
+/* The Jacobi iteration's start: V = V0 (n x n, a rotation: the previous
+ * SVD's V of a nearby matrix) when `use`, else the identity, and A = F V
+ * scaled by `scale` (F 3 x n).  From a nearby V0 the columns of A are
+ * already nearly orthogonal and one or two sweeps finish them.  A flag,
+ * not a NULL V0: on the GPU a pointer chosen at run time between an array
+ * and NULL puts the array in local memory (measured: a 96-byte stack frame
+ * in k_project), a flag keeps it in registers. */
+PL_HD void hm_start_columns(const int n, const double *F, double scale, const double *V0,
+                            bool use, double *A, double *V)
+{
+    if (!use) {
+        PL_UNROLL
+        for (int k = 0; k < n * n; ++k) V[k] = (k % (n + 1) == 0) ? 1.0 : 0.0;
+        PL_UNROLL
+        for (int k = 0; k < 3 * n; ++k) A[k] = F[k] * scale;
+        return;
+    }
+    PL_UNROLL
+    for (int k = 0; k < n * n; ++k) V[k] = V0[k];
+    PL_UNROLL
+    for (int r = 0; r < 3; ++r)
+        PL_UNROLL
+        for (int j = 0; j < n; ++j) {
+            double v = 0.0;
+            PL_UNROLL
+            for (int i = 0; i < n; ++i) v += F[r * n + i] * V0[i * n + j];
+            A[r * n + j] = v * scale;
+        }
+}
+
 /* Orthogonalises the n columns of A (3 x n) in place, accumulating the
  * rotations in V (n x n).  Convergence is quadratic: once a sweep rotates
  * by less than 1e-8, the next one would rotate by less than round-off, so
@@ -58,8 +89,6 @@ PL_HD void hm_jacobi_pair(const int n, const int i, const int j, double *A, doub
 PL_HD void hm_hestenes(const int n, double *A, double *V)
 {
     double nrm[3];
-    PL_UNROLL
-    for (int k = 0; k < n * n; ++k) V[k] = (k % (n + 1) == 0) ? 1.0 : 0.0;
     PL_UNROLL
     for (int j = 0; j < n; ++j) nrm[j] = A[j] * A[j] + A[n + j] * A[n + j] + A[2 * n + j] * A[2 * n + j];
     for (int sweep = 0; sweep < 40; ++sweep) {
@@ -166,13 +195,13 @@ PL_HD int hm_scale_exponent(const int len, const double *F)
 
 /* Signed SVD of a 3x3 F = U diag(s) V^T, U and V proper rotations,
  * |s0| >= |s1| >= |s2|, s2 < 0 exactly when det F < 0 (hyper_svd3). */
-PL_HD void hm_svd3(const double *F, double *U, double *s, double *V)
+PL_HD void hm_svd3_from(const double *F, const double *V0, bool use, double *U, double *s,
+                        double *V)
 {
     double A[9];
     int ex = hm_scale_exponent(9, F);
     const double down = ldexp(1.0, -ex), up = ldexp(1.0, ex); /* exact powers of two */
-    PL_UNROLL
-    for (int i = 0; i < 9; ++i) A[i] = F[i] * down;
+    hm_start_columns(3, F, down, V0, use, A, V);
     hm_hestenes(3, A, V);
     hm_sort_columns(3, A, V, s);
     /* make V a proper rotation: flipping v2 flips a2 = F v2 */
@@ -201,13 +230,15 @@ PL_HD void hm_svd3(const double *F, double *U, double *s, double *V)
 
 /* SVD of a 3x2 F = U diag(s) V^T: U 3x2 with orthonormal columns,
  * s0 >= s1 >= 0, V a 2x2 rotation (hyper_svd32). */
-PL_HD void hm_svd32(const double *F, double *U, double *s, double *V)
+PL_HD void hm_svd32_from(const double *F, const double *V0, bool use, double *U, double *s,
+                         double *V)
 {
     double A[6], Fs[6];
     int ex = hm_scale_exponent(6, F);
     const double down = ldexp(1.0, -ex), up = ldexp(1.0, ex);
     PL_UNROLL
-    for (int i = 0; i < 6; ++i) A[i] = Fs[i] = F[i] * down;
+    for (int i = 0; i < 6; ++i) Fs[i] = F[i] * down;
+    hm_start_columns(2, Fs, 1.0, V0, use, A, V);
     hm_hestenes(2, A, V);
     hm_sort_columns(2, A, V, s);
     if (V[0] * V[3] - V[1] * V[2] < 0.0) V[1] = -V[1], V[3] = -V[3];
@@ -221,6 +252,16 @@ PL_HD void hm_svd32(const double *F, double *U, double *s, double *V)
     s[1] *= up;
     PL_UNROLL
     for (int r = 0; r < 3; ++r) U[r * 2] = u0[r], U[r * 2 + 1] = u1[r];
+}
+
+PL_HD void hm_svd3(const double *F, double *U, double *s, double *V)
+{
+    hm_svd3_from(F, NULL, false, U, s, V);
+}
+
+PL_HD void hm_svd32(const double *F, double *U, double *s, double *V)
+{
+    hm_svd32_from(F, NULL, false, U, s, V);
 }
 
 /* R (3 x d) = U V^T from an SVD (U 3 x d, V d x d): the closest rotation

@@ -15,10 +15,11 @@ typedef struct hyper_term_ws {
     hyper_prox_stats prox;             /* FEM terms: this step's local solves (end_step
                                         * adds them to the timers' statistics) */
     double prox_seconds;               /* FEM terms: this step's host time in project() */
-    double *warm;                      /* FEM terms (ADMM-PD): n x d singular values of each
-                                        * element's last prox, the next one's start;
-                                        * zeroed (cold) by begin_step, so that a step
-                                        * depends on the pl_data's slots only */
+    double *warm;                      /* FEM terms: n x HM_WARM_LEN(d), each element's
+                                        * last local solve (singular values, V), the
+                                        * next one's start; zeroed (cold) by begin_step,
+                                        * so that a step depends on the pl_data's slots
+                                        * only */
     size_t nwarm;
     double *prev;                      /* FEM terms with admmRelaxation != 1: n x dual_size,
                                         * each element's last prox solution of this step */

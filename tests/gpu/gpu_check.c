@@ -76,7 +76,7 @@ static void check_local(gpu_bar *bar, int m)
         double *dq = gpu_put(q, n3, PL_F64), *dr = gpu_put(NULL, n3, PL_F64);
         double *du = admm ? gpu_put(u0, nd, PL_F64) : NULL;
         int rc_ = hyper_cuda_project(g, 0, h2, dq, du, dr, (pl_hyper_cuda_assembly)mode, NULL, &err);
-        if (rc_ == PL_OK) rc_ = hyper_cuda_stats(g, NULL, sg, &err);
+        if (rc_ == PL_OK) rc_ = hyper_cuda_step_stats(g, NULL, sg, NULL, &err);
         if (rc_ != PL_OK) printf("GPU local step: %s\n", err.msg);
         if (rc_ == PL_OK && gpu_get(rg, dr, n3, PL_F64) == 0 &&
             (!admm || gpu_get(ug, du, nd, PL_F64) == 0)) {

@@ -41,7 +41,7 @@ START_TEST(warm_start_gives_the_cold_prox_in_fewer_iterations)
         const double what = hyper_law_weight(&m);
         int cold_its = 0, warm_its = 0;
         for (int t = 0; t < 300; ++t) {
-            double z[9], z2[9], pc[9], pw[9], warm[3] = {0, 0, 0}, p0[9];
+            double z[9], z2[9], pc[9], pw[9], warm[HM_WARM_LEN(3)] = {0}, p0[9];
             int h = 0;
             random_F(&st, d, 0.4, z);
             /* the previous local-global iterate: z, solved, leaves its s */
@@ -104,7 +104,7 @@ START_TEST(a_capped_solve_is_counted)
     ck_assert_int_eq(hyper_elements_build(&el, PL_HYPER_NEOHOOKEAN, 4, tet, 1, rest, 4, &E, 1,
                                           &nu, 1, 1e-3, NULL),
                      PL_OK);
-    double q[12], rhs[12] = {0}, dual[9] = {0}, warm[3] = {0}, work[12];
+    double q[12], rhs[12] = {0}, dual[9] = {0}, warm[HM_WARM_LEN(3)] = {0}, work[12];
     for (int v = 0; v < 4; ++v) {
         q[3 * v] = 1e6 * rest[3 * v];
         q[3 * v + 1] = 1e-6 * rest[3 * v + 1];
@@ -121,7 +121,7 @@ START_TEST(a_capped_solve_is_counted)
     /* an ordinary deformation of the same element is binned, not capped */
     for (int i = 0; i < 12; ++i) q[i] = 1.05 * rest[i];
     hyper_prox_stats s2 = {0};
-    double dual2[9] = {0}, warm2[3] = {0};
+    double dual2[9] = {0}, warm2[HM_WARM_LEN(3)] = {0};
     ck_assert_int_eq(hyper_elements_project(&el, 0, 1e-4, q, dual2, warm2, work, rhs, &s2, NULL),
                      PL_OK);
     ck_assert_int_eq(s2.capped, 0);

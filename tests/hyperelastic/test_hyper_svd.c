@@ -33,11 +33,12 @@ static double fro(const double *A, int n)
     return sqrt(s);
 }
 
-/* Checks every property of the signed 3x3 SVD of F. */
-static void check_svd3(const double *F)
+/* Checks every property of the signed 3x3 SVD of F, its Jacobi sweeps
+ * started from V0 (NULL: the identity). */
+static void check_svd3_from(const double *F, const double *V0)
 {
     double U[9], s[3], V[9], R[9];
-    hyper_svd3(F, U, s, V);
+    hyper_svd3_from(F, V0, U, s, V);
     double err = 0.0;
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
@@ -59,6 +60,11 @@ static void check_svd3(const double *F)
     hyper_polar3(F, R);
     ck_assert_double_le(orth_error(R, 3, 3), 1e-13);
     ck_assert_double_eq_tol(det3(R), 1.0, 1e-12);
+}
+
+static void check_svd3(const double *F)
+{
+    check_svd3_from(F, NULL);
 }
 
 START_TEST(svd3_reconstructs_with_proper_rotations)
@@ -107,6 +113,58 @@ START_TEST(svd3_handles_degenerate_and_repeated_values)
         }
     hyper_svd3(F, U, s, V);
     ck_assert_double_eq_tol(s[2], 1e-12, 1e-15);
+}
+END_TEST
+
+/* The warm start of the local step: the sweeps from the V of a nearby
+ * matrix (the previous local-global iterate), of a far one, and of the
+ * same matrix give the cold SVD's singular values to round-off, with all
+ * of its properties (also for inverted and rank-deficient matrices). */
+START_TEST(svd_from_any_start_gives_the_cold_svd)
+{
+    unsigned long long st = 5;
+    for (int t = 0; t < 2000; ++t) {
+        double F[9], G[9], U[9], s[3], V0[9], Vf[9], sc[3], Vc[9], Uc[9];
+        for (int i = 0; i < 9; ++i) F[i] = ht_rand(&st);
+        if (t % 4 == 1) /* rank 2 */
+            for (int a = 0; a < 3; ++a) F[a * 3 + 2] = F[a * 3] - 0.5 * F[a * 3 + 1];
+        const double step = t % 3 == 0 ? 1e-3 : t % 3 == 1 ? 1e-7 : 0.0;
+        for (int i = 0; i < 9; ++i) G[i] = F[i] + step * ht_rand(&st);
+        hyper_svd3(G, U, s, V0); /* the nearby matrix's V */
+        ht_random_rotation(&st, Vf);
+        hyper_svd3(F, Uc, sc, Vc);
+        const double *starts[3] = {V0, Vf, Vc};
+        for (int k = 0; k < 3; ++k) {
+            double Vo[9];
+            check_svd3_from(F, starts[k]);
+            hyper_svd3_from(F, starts[k], U, s, Vo);
+            for (int i = 0; i < 3; ++i)
+                ck_assert_msg(fabs(s[i] - sc[i]) <= 1e-14 * sc[0], "sample %d start %d: s%d %.17g "
+                              "cold %.17g", t, k, i, s[i], sc[i]);
+        }
+        double F2[6], U2[6], s2[2], V2[4], W0[4], c2[2], Wc[4];
+        for (int i = 0; i < 6; ++i) F2[i] = F[i];
+        hyper_svd32(F2, U2, c2, Wc);
+        const double a = 0.3 * t; /* a rotation of the plane as the start */
+        W0[0] = cos(a), W0[1] = -sin(a), W0[2] = sin(a), W0[3] = cos(a);
+        hyper_svd32_from(F2, W0, U2, s2, V2);
+        double err = 0.0;
+        for (int r = 0; r < 3; ++r)
+            for (int b = 0; b < 2; ++b)
+                err = fmax(err, fabs(U2[r * 2] * s2[0] * V2[b * 2] +
+                                     U2[r * 2 + 1] * s2[1] * V2[b * 2 + 1] - F2[r * 2 + b]));
+        ck_assert_double_le(err, 1e-13 * fmax(1.0, fro(F2, 6)));
+        ck_assert_double_le(orth_error(U2, 3, 2), 1e-13);
+        ck_assert_double_eq_tol(V2[0] * V2[3] - V2[1] * V2[2], 1.0, 1e-12);
+        for (int i = 0; i < 2; ++i) ck_assert_double_le(fabs(s2[i] - c2[i]), 1e-14 * c2[0]);
+    }
+    /* an inverted matrix from the V of its mirror image */
+    double F[9], M[9], U[9], s[3], V[9];
+    ht_random_rotation(&st, F);
+    for (int i = 0; i < 9; ++i) M[i] = F[i];
+    for (int a = 0; a < 3; ++a) F[a * 3 + 2] = -0.5 * F[a * 3 + 2];
+    hyper_svd3(M, U, s, V);
+    check_svd3_from(F, V);
 }
 END_TEST
 
@@ -225,6 +283,7 @@ int main(void)
     TCase *tc = tcase_create("svd");
     tcase_add_test(tc, svd3_reconstructs_with_proper_rotations);
     tcase_add_test(tc, svd3_handles_degenerate_and_repeated_values);
+    tcase_add_test(tc, svd_from_any_start_gives_the_cold_svd);
     tcase_add_test(tc, polar_of_inverted_matrix_is_a_proper_rotation);
     tcase_add_test(tc, polar_of_rotation_times_spd_is_the_rotation);
     tcase_add_test(tc, svd32_reconstructs_and_polar_has_orthonormal_columns);

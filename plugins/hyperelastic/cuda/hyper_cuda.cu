@@ -7,6 +7,7 @@
 #include "pliant/cuda_launch.h"
 #include <limits.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "local_solve.h" /* the local solve the CPU runs too (compiled as CUDA) */
 
@@ -19,10 +20,16 @@ struct pl_hyper_cuda {
     double *mu, *lambda, *w;/* n */
     int *vptr, *vinc;       /* nverts + 1, 4n */
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
-    int *stats;             /* max iterations, missed, first non-finite element */
-    double *warm;           /* n x d: each element's last prox solution (zeros: cold) */
     double *prev;           /* n x 3d: each element's last p (over-relaxation; ADMM only) */
+    /* What a step starts at zero, one allocation (one memset a step, one
+     * read-back): acc, stats, then warm. */
+    void *block;
+    size_t block_bytes;
     unsigned long long *acc;/* since begin_step: solves, Newton, halvings, capped, histogram */
+    int *stats;             /* max iterations, missed, INT_MAX - the first non-finite element
+                               (0: none; so that zero is the fresh value) */
+    double *warm;           /* n x HM_WARM_LEN(d): each element's last prox solution, s and V
+                               (zeros: cold) */
 };
 
 namespace {
@@ -42,10 +49,9 @@ int cuda_fail(pl_error *err, cudaError_t e, const char *what)
         if (hc_e_ != cudaSuccess) return cuda_fail(err, hc_e_, what); \
     } while (0)
 
-__global__ void k_reset(int *stats)
-{
-    stats[0] = 0, stats[1] = 0, stats[2] = INT_MAX;
-}
+/* acc (kAcc counts), then the stats (3 ints, 16 bytes kept): what the
+ * end of a step reads back */
+constexpr size_t kCountBytes = kAcc * sizeof(unsigned long long) + 16;
 
 /* Element i's K local vertices (K = 4: one 16-byte load). */
 template <int K> __device__ __forceinline__ void load_verts(const int *verts, int i, int *v);
@@ -83,6 +89,11 @@ __global__ void __launch_bounds__(kThreads)
         double Dl[KD], F[ND], z[ND], p[ND];
 #pragma unroll
         for (int k = 0; k < KD; ++k) Dl[k] = D[KD * (size_t)i + k];
+        /* the warm start (s, V) in registers: its loads wait with the others */
+        constexpr int WL = HM_WARM_LEN(Dd);
+        double *wg = warm + WL * (size_t)i, wl[WL];
+#pragma unroll
+        for (int k = 0; k < WL; ++k) wl[k] = wg[k];
 #pragma unroll
         for (int k = 0; k < ND; ++k) F[k] = 0.0;
 #pragma unroll
@@ -111,8 +122,9 @@ __global__ void __launch_bounds__(kThreads)
             ul[k] = u ? u[k] : 0.0;
             z[k] = u ? F[k] + ul[k] : F[k];
         }
-        double *wl = material == PL_HYPER_NEOHOOKEAN ? warm + Dd * (size_t)i : NULL;
         const int it = hm_local_solve(Dd, material, m, la, what, z, p, wl, &halvings);
+#pragma unroll
+        for (int k = 0; k < WL; ++k) wg[k] = wl[k];
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
@@ -160,7 +172,7 @@ __global__ void __launch_bounds__(kThreads)
     if ((threadIdx.x & 31) == 0) {
         if (iters > 0) atomicMax(stats, iters);
         if (missed > 0) atomicAdd(stats + 1, missed);
-        if (bad != INT_MAX) atomicMin(stats + 2, bad);
+        if (bad != INT_MAX) atomicMax(stats + 2, INT_MAX - bad); /* the lowest bad */
         if (solves) atomicAdd(acc, (unsigned long long)solves);
         if (nsum) atomicAdd(acc + 1, (unsigned long long)nsum);
         if (hsum) atomicAdd(acc + 2, (unsigned long long)hsum);
@@ -253,18 +265,20 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
         upload(g, &g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
         upload(g, &g->vinc, e->vinc, k * n, err) ||
         upload(g, &g->slots, static_cast<const double *>(NULL), 3 * k * n, err) ||
-        upload(g, &g->stats, static_cast<const int *>(NULL), 3, err) ||
-        upload(g, &g->warm, static_cast<const double *>(NULL), (size_t)e->d * n, err) ||
         (e->material != PL_HYPER_ARAP &&
-         upload(g, &g->prev, static_cast<const double *>(NULL), 3 * (size_t)e->d * n, err)) ||
-        upload(g, &g->acc, static_cast<const unsigned long long *>(NULL), kAcc, err)) {
+         upload(g, &g->prev, static_cast<const double *>(NULL), 3 * (size_t)e->d * n, err))) {
         hyper_cuda_destroy(g);
         return NULL;
     }
-    const int fresh[3] = {0, 0, INT_MAX}; /* as k_reset leaves them */
-    cudaError_t ce = cudaMemcpy(g->stats, fresh, sizeof fresh, cudaMemcpyHostToDevice);
-    if (ce == cudaSuccess) ce = cudaMemset(g->warm, 0, (n > 0 ? n : 1) * e->d * sizeof(double));
-    if (ce == cudaSuccess) ce = cudaMemset(g->acc, 0, kAcc * sizeof(unsigned long long));
+    g->block_bytes = kCountBytes + (n > 0 ? n : 1) * HM_WARM_LEN((size_t)e->d) * sizeof(double);
+    cudaError_t ce = cudaMalloc(&g->block, g->block_bytes);
+    if (ce == cudaSuccess) {
+        unsigned char *b = static_cast<unsigned char *>(g->block);
+        g->acc = reinterpret_cast<unsigned long long *>(b);
+        g->stats = reinterpret_cast<int *>(b + kAcc * sizeof(unsigned long long));
+        g->warm = reinterpret_cast<double *>(b + kCountBytes);
+        ce = cudaMemset(g->block, 0, g->block_bytes);
+    }
     if (ce != cudaSuccess) {
         cuda_fail(err, ce, "upload");
         hyper_cuda_destroy(g);
@@ -276,8 +290,8 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
 extern "C" void hyper_cuda_destroy(pl_hyper_cuda *g)
 {
     if (!g) return;
-    void *ptrs[] = {g->verts, g->D,     g->mu,    g->lambda, g->w,  g->vptr,
-                    g->vinc,  g->slots, g->stats, g->warm,   g->acc, g->prev};
+    void *ptrs[] = {g->verts, g->D,     g->mu,    g->lambda, g->w,
+                    g->vptr,  g->vinc,  g->slots, g->block,  g->prev};
     for (void *p : ptrs)
         if (p) cudaFree(p);
     free(g);
@@ -326,16 +340,26 @@ extern "C" int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h
     return PL_OK;
 }
 
-extern "C" int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
-                                   pl_error *err)
+extern "C" int hyper_cuda_step_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
+                                     hyper_prox_stats *out, pl_error *err)
 {
-    int h[3];
-    HC_CK(cudaMemcpyAsync(h, g->stats, sizeof h, cudaMemcpyDeviceToHost, stream), "stats");
+    unsigned long long h[kCountBytes / sizeof(unsigned long long)];
+    HC_CK(cudaMemcpyAsync(h, g->acc, kCountBytes, cudaMemcpyDeviceToHost, stream), "counts");
     HC_CK(cudaStreamSynchronize(stream), "local step");
-    stats[0] = h[0], stats[1] = h[1];
-    if (h[2] != INT_MAX)
+    int s[3];
+    memcpy(s, h + kAcc, sizeof s);
+    stats[0] = s[0], stats[1] = s[1];
+    if (s[2] != 0)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL,
-                            "element %d: non-finite deformation gradient in the local step", h[2]);
+                            "element %d: non-finite deformation gradient in the local step",
+                            INT_MAX - s[2]);
+    if (out) {
+        out->solves += (long long)h[0];
+        out->newton += (long long)h[1];
+        out->halvings += (long long)h[2];
+        out->capped += (long long)h[3];
+        for (int b = 0; b < HYPER_PROX_HIST; ++b) out->hist[b] += (long long)h[4 + b];
+    }
     return PL_OK;
 }
 
@@ -351,24 +375,7 @@ extern "C" int hyper_cuda_gather(int nverts, const int *vptr, const int *vinc, c
 
 extern "C" int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err)
 {
-    size_t nw = (size_t)(g->n > 0 ? g->n : 1) * (g->k == 4 ? 3 : 2);
-    HC_CK(cudaMemsetAsync(g->warm, 0, nw * sizeof(double), stream), "warm start reset");
-    HC_CK(cudaMemsetAsync(g->acc, 0, kAcc * sizeof(unsigned long long), stream), "counts reset");
-    k_reset<<<1, 1, 0, stream>>>(g->stats);
-    HC_CK(cudaGetLastError(), "stats reset");
-    return PL_OK;
-}
-
-extern "C" int hyper_cuda_prox_stats(pl_hyper_cuda *g, struct CUstream_st *stream,
-                                        hyper_prox_stats *out, pl_error *err)
-{
-    unsigned long long h[kAcc];
-    HC_CK(cudaMemcpyAsync(h, g->acc, sizeof h, cudaMemcpyDeviceToHost, stream), "counts");
-    HC_CK(cudaStreamSynchronize(stream), "local step");
-    out->solves += (long long)h[0];
-    out->newton += (long long)h[1];
-    out->halvings += (long long)h[2];
-    out->capped += (long long)h[3];
-    for (int b = 0; b < HYPER_PROX_HIST; ++b) out->hist[b] += (long long)h[4 + b];
+    /* counts, stats and warm starts: one memset */
+    HC_CK(cudaMemsetAsync(g->block, 0, g->block_bytes, stream), "step reset");
     return PL_OK;
 }

@@ -58,21 +58,21 @@ int hyper_cuda_project_relaxed(pl_hyper_cuda *g, int offset, double h2, const do
                                pl_error *err);
 
 /* Waits for the step's projects and reads their statistics since
- * hyper_cuda_begin_step (or creation): stats[0] the largest Newton
- * iteration count, stats[1] the element solves that missed their
+ * hyper_cuda_begin_step (or creation) in one copy: stats[0] the largest
+ * Newton iteration count, stats[1] the element solves that missed their
  * tolerance, summed over the projects (reset once a step, not at each
- * project: one launch less per iteration).  PL_EINTERNAL, naming the first
- * element, if some F was not finite. */
-int hyper_cuda_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2], pl_error *err);
+ * project: one launch less per iteration), and (out not NULL) the counts
+ * (solves, Newton iterations, halvings, capped solves, histogram) added to
+ * *out.  PL_EINTERNAL, naming the first element, if some F was not
+ * finite. */
+int hyper_cuda_step_stats(pl_hyper_cuda *g, struct CUstream_st *stream, int stats[2],
+                          hyper_prox_stats *out, pl_error *err);
 
 /* Queues the start of a step on stream: every element's prox starts cold
- * (the warm-start rows, n x d on the device, zeroed: as the CPU's
- * workspace, hyper_term_warm) and the counts and statistics restart. */
+ * (the warm-start rows, n x HM_WARM_LEN(d) on the device, zeroed: as the CPU's
+ * workspace, hyper_term_warm) and the counts and statistics restart (one
+ * memset). */
 int hyper_cuda_begin_step(pl_hyper_cuda *g, struct CUstream_st *stream, pl_error *err);
-/* Waits for the stream and adds the counts since begin_step (solves,
- * Newton iterations, halvings, capped solves, histogram) to *out. */
-int hyper_cuda_prox_stats(pl_hyper_cuda *g, struct CUstream_st *stream, hyper_prox_stats *out,
-                             pl_error *err);
 
 /* Queues out[offset + v] += the sum of vertex v's slots (n x 3k corner
  * 3-vectors, incidence vptr/vinc as in pl_hyper_elements), in increasing
