@@ -351,8 +351,15 @@ int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx
     pl_buffer bb = {g->b_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     pl_buffer xb = {g->q_free, (size_t)d->nfree, 3, PL_DEVICE, PL_F64};
     if (profile) pl_timer_start(ctx->timers, s->t_local);
-    int rc = o->zero(dev, g->change, g->scalars * sizeof(double), err); /* + residual, grad */
-    if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
+    /* rhs = M sn; change, residual and grad cleared (one launch: version 4) */
+    int rc;
+    if (o->version >= 4 && o->scale_rows_zero) {
+        rc = o->scale_rows_zero(dev, d->n, m->mass, g->sn, g->rhs, g->change,
+                                g->scalars * sizeof(double), err);
+    } else {
+        rc = o->zero(dev, g->change, g->scalars * sizeof(double), err);
+        if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
+    }
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);

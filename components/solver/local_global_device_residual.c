@@ -18,7 +18,9 @@
  * on device buffers (accepts(PL_DEVICE, PL_F64 | PL_ACCEPTS_GRADIENT))
  * into grad (zeroed with change at the iteration's start),
  * t = rhs_f - A_f* q (gather_sub_csr; only with rows), and the
- * device service's residual_max (version 2) into one device double; all
+ * device service's residual_max (version 2) into one device double (t and
+ * the residual in one launch where the service has residual_max_csr,
+ * version 4); all
  * queued on the stream, so the iteration's graph holds them.  Without rows
  * the t term is left out, as the CPU leaves out H^T lambda.  The loop reads
  * that double after each iteration (a copy and a wait): the device runs no
@@ -135,6 +137,9 @@ int pl_lg_device_residual_queue(const local_global_solver *s, lg_device_ws *g, p
     }
     if (rc || d->nfree == 0) return rc;
     int rows = g->nrows > 0;
+    if (rows && o->version >= 4 && o->residual_max_csr) /* t and the residual in one launch */
+        return o->residual_max_csr(g->dev, d->nfree, m->free_vertex, m->mass, d->h * d->h, g->q,
+                                   g->sn, g->grad, g->rhs, &m->A_f, g->residual, err);
     if (rows) rc = pl_lg_device_gather_sub(g, d->nfree, m->free_vertex, g->rhs, &m->A_f, g->q, g->t, err);
     if (!rc)
         rc = o->residual_max(g->dev, d->nfree, m->free_vertex, m->mass, d->h * d->h, g->q,

@@ -193,6 +193,23 @@ static int dev_residual_max(pl_component *c, int m, const int *map, const double
                     "residual_max", err);
 }
 
+static int dev_residual_max_csr(pl_component *c, int m, const int *map, const double *s,
+                                double h2, const double *x, const double *y, const double *g,
+                                const double *b, const pl_csr *A, double *out, pl_error *err)
+{
+    return launched(c,
+                    cuda_residual_max_csr(STREAM(c), m, map, s, h2, x, y, g, b, A ? A->p : NULL,
+                                          A ? A->j : NULL, A ? A->x : NULL, out),
+                    "residual_max_csr", err);
+}
+
+static int dev_scale_rows_zero(pl_component *c, int n, const double *s, const double *x,
+                               double *y, void *z, size_t bytes, pl_error *err)
+{
+    return launched(c, cuda_scale_rows_zero(STREAM(c), n, s, x, y, z, bytes), "scale_rows_zero",
+                    err);
+}
+
 static int dev_capture_begin(pl_component *c, pl_error *err)
 {
     CK(c, cudaStreamBeginCapture(STREAM(c), cudaStreamCaptureModeThreadLocal),
@@ -279,4 +296,6 @@ const pl_device_ops pl_cuda_device_ops = {
     .residual_max = dev_residual_max,
     .loop = dev_loop,
     .gather_sub_csr = dev_gather_sub_csr,
+    .scale_rows_zero = dev_scale_rows_zero,
+    .residual_max_csr = dev_residual_max_csr,
 };

@@ -42,14 +42,29 @@ __global__ void k_gather_rows(int m, const int *__restrict__ map, const double *
     y[3 * (size_t)f + 2] = src[2];
 }
 
-/* Non-negative doubles order like their bit patterns, so the maximum can be
- * taken with an integer atomicMax: the result does not depend on the order. */
+/* *out = max(*out, the largest d of the block's threads) (d >= 0).
+ * Non-negative doubles order like their bit patterns, so the maximum can be
+ * taken with an integer atomicMax: the result does not depend on the order.
+ * Every thread of the block calls it. */
+__device__ __forceinline__ void block_max_to(double d, double *out)
+{
+    __shared__ double red[kThreads / 32];
+    for (int o = 16; o > 0; o >>= 1) d = fmax(d, __shfl_down_sync(0xffffffffu, d, o));
+    if ((threadIdx.x & 31) == 0) red[threadIdx.x >> 5] = d;
+    __syncthreads();
+    if (threadIdx.x == 0) {
+        for (int w = 1; w < kThreads / 32; ++w) d = fmax(d, red[w]);
+        if (d > 0.0)
+            atomicMax(reinterpret_cast<unsigned long long *>(out),
+                      (unsigned long long)__double_as_longlong(d));
+    }
+}
+
 __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double *__restrict__ y,
                                double *__restrict__ x, double *__restrict__ change)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    __shared__ double red[kThreads / 32];
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     double d = 0.0;
     if (f < m) {
@@ -62,15 +77,7 @@ __global__ void k_scatter_rows(int m, const int *__restrict__ map, const double 
             dst[k] = nv;
         }
     }
-    for (int o = 16; o > 0; o >>= 1) d = fmax(d, __shfl_down_sync(0xffffffffu, d, o));
-    if ((threadIdx.x & 31) == 0) red[threadIdx.x >> 5] = d;
-    __syncthreads();
-    if (threadIdx.x == 0) {
-        for (int w = 1; w < kThreads / 32; ++w) d = fmax(d, red[w]);
-        if (d > 0.0)
-            atomicMax(reinterpret_cast<unsigned long long *>(change),
-                      (unsigned long long)__double_as_longlong(d));
-    }
+    block_max_to(d, change);
 }
 
 /* (y0, y1, y2) -= sum over entries q in [b, e) of a[q] x[j[q]], each
@@ -152,6 +159,22 @@ unsigned row_blocks(long long rows)
  * force_residual.c's order of operations), and
  * *out = max(*out, |r|) by the bit-pattern atomicMax of k_scatter_rows;
  * +inf when an r is not finite. */
+__device__ __forceinline__ double residual_norm(size_t v, const double *__restrict__ s, double h2,
+                                                const double *__restrict__ x,
+                                                const double *__restrict__ y,
+                                                const double *__restrict__ g, const double *t)
+{
+    const double sv = s[v];
+    double r2 = 0.0;
+#pragma unroll
+    for (int k = 0; k < 3; ++k) {
+        double r = sv * (x[3 * v + k] - y[3 * v + k]) / h2 + g[3 * v + k];
+        if (t) r += t[k] / h2;
+        r2 += r * r;
+    }
+    return isfinite(r2) ? sqrt(r2) : INFINITY;
+}
+
 __global__ void k_residual_max(int m, const int *__restrict__ map, const double *__restrict__ s,
                                double h2, const double *__restrict__ x, const double *__restrict__ y,
                                const double *__restrict__ g, const double *__restrict__ t,
@@ -159,30 +182,52 @@ __global__ void k_residual_max(int m, const int *__restrict__ map, const double 
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    __shared__ double red[kThreads / 32];
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     double d = 0.0;
-    if (f < m) {
+    if (f < m) d = residual_norm((size_t)map[f], s, h2, x, y, g, t ? t + 3 * (size_t)f : NULL);
+    block_max_to(d, out);
+}
+
+/* k_gather_sub_csr's t_f = b[map[f]] - (A x)[f] and k_residual_max's r_f
+ * with it, one warp a row (launch with row_blocks): the same values as the
+ * two kernels, without t's round trip through memory. */
+__global__ void k_residual_max_csr(int m, const int *__restrict__ map, const double *__restrict__ s,
+                                   double h2, const double *__restrict__ x,
+                                   const double *__restrict__ y, const double *__restrict__ g,
+                                   const double *__restrict__ b, const int *__restrict__ p,
+                                   const int *__restrict__ j, const double *__restrict__ a,
+                                   double *__restrict__ out)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    __shared__ double buf[kRowWarps][32][4];
+    const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+    const int f = (int)(blockIdx.x * (size_t)kRowWarps + warp);
+    double d = 0.0;
+    if (f < m) { /* the whole warp */
         const size_t v = (size_t)map[f];
-        const double sv = s[v];
-        double r2 = 0.0;
-#pragma unroll
-        for (int k = 0; k < 3; ++k) {
-            double r = sv * (x[3 * v + k] - y[3 * v + k]) / h2 + g[3 * v + k];
-            if (t) r += t[3 * (size_t)f + k] / h2;
-            r2 += r * r;
-        }
-        d = isfinite(r2) ? sqrt(r2) : INFINITY;
+        double t[3] = {b[3 * v], b[3 * v + 1], b[3 * v + 2]};
+        if (p) sub_row_warp(p[f], p[f + 1], j, a, x, buf[warp], lane, t[0], t[1], t[2]);
+        if (lane == 0) d = residual_norm(v, s, h2, x, y, g, t);
     }
-    for (int o = 16; o > 0; o >>= 1) d = fmax(d, __shfl_down_sync(0xffffffffu, d, o));
-    if ((threadIdx.x & 31) == 0) red[threadIdx.x >> 5] = d;
-    __syncthreads();
-    if (threadIdx.x == 0) {
-        for (int w = 1; w < kThreads / 32; ++w) d = fmax(d, red[w]);
-        if (d > 0.0)
-            atomicMax(reinterpret_cast<unsigned long long *>(out),
-                      (unsigned long long)__double_as_longlong(d));
-    }
+    block_max_to(d, out);
+}
+
+/* k_scale_rows and bytes / 8 doubles of z zeroed (a memset's launch less). */
+__global__ void k_scale_rows_zero(int n, const double *__restrict__ s,
+                                  const double *__restrict__ x, double *__restrict__ y,
+                                  double *__restrict__ z, long long nz)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const long long i = (long long)blockIdx.x * blockDim.x + threadIdx.x;
+    const long long stride = (long long)gridDim.x * blockDim.x;
+    for (long long k = i; k < nz; k += stride) z[k] = 0.0;
+    if (i >= n) return;
+    const double m = s[i];
+    y[3 * i] = m * x[3 * i];
+    y[3 * i + 1] = m * x[3 * i + 1];
+    y[3 * i + 2] = m * x[3 * i + 2];
 }
 
 } // namespace
@@ -193,6 +238,32 @@ extern "C" int cuda_residual_max(struct CUstream_st *st, int m, const int *map, 
 {
     if (m <= 0) return 0;
     pl_cuda_launch(k_residual_max, blocks(m), kThreads, 0, st, m, map, s, h2, x, y, g, t, out);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int cuda_residual_max_csr(struct CUstream_st *st, int m, const int *map,
+                                     const double *s, double h2, const double *x, const double *y,
+                                     const double *g, const double *b, const int *p, const int *j,
+                                     const double *a, double *out)
+{
+    if (m <= 0) return 0;
+    pl_cuda_launch(k_residual_max_csr, row_blocks(m), kThreads, 0, st, m, map, s, h2, x, y, g, b,
+                   p, j, a, out);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int cuda_scale_rows_zero(struct CUstream_st *st, int n, const double *s,
+                                    const double *x, double *y, void *z, size_t bytes)
+{
+    const long long nz = (long long)(bytes / sizeof(double));
+    if (bytes % sizeof(double)) return (int)cudaErrorInvalidValue;
+    if (n <= 0 && nz <= 0) return 0;
+    /* a thread a row; the zeros by grid stride over at least as many
+     * threads, up to 32 blocks of them */
+    const unsigned rows = blocks(n), zeros = blocks(nz) < 32 ? blocks(nz) : 32;
+    const unsigned nb = rows > zeros ? rows : zeros;
+    pl_cuda_launch(k_scale_rows_zero, nb, kThreads, 0, st, n, s, x, y,
+                   static_cast<double *>(z), nz);
     return (int)cudaGetLastError();
 }
 

@@ -4,6 +4,8 @@
 #ifndef PLIANT_CUDA_KERNELS_H
 #define PLIANT_CUDA_KERNELS_H
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -29,6 +31,17 @@ int cuda_gather_sub_csr(struct CUstream_st *st, int m, const int *map, const dou
 int cuda_residual_max(struct CUstream_st *st, int m, const int *map, const double *s, double h2,
                       const double *x, const double *y, const double *g, const double *t,
                       double *out);
+
+/* cuda_residual_max with t[f] = b[map[f]] - the sum over row f's entries of
+ * A(f, j) x[j], in entry order (cuda_gather_sub_csr's values; p NULL: no A),
+ * in one launch */
+int cuda_residual_max_csr(struct CUstream_st *st, int m, const int *map, const double *s,
+                          double h2, const double *x, const double *y, const double *g,
+                          const double *b, const int *p, const int *j, const double *a,
+                          double *out);
+/* cuda_scale_rows, and bytes (a multiple of 8) at z zeroed, in one launch */
+int cuda_scale_rows_zero(struct CUstream_st *st, int n, const double *s, const double *x,
+                         double *y, void *z, size_t bytes);
 
 #ifdef __cplusplus
 }

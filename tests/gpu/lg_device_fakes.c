@@ -141,6 +141,30 @@ static int hd_residual_max(pl_component *c, int m, const int *map, const double 
     }
     return PL_OK;
 }
+/* version 4: scale_rows with a zero, one call */
+static int hd_scale_rows_zero(pl_component *c, int n, const double *s, const double *x, double *y,
+                              void *z, size_t bytes, pl_error *err)
+{
+    memset(z, 0, bytes);
+    return hd_scale_rows(c, n, s, x, y, err);
+}
+/* version 4: gather_sub_csr's t and residual_max with it, one call (t row
+ * by row in a 3-vector: the same values) */
+static int hd_residual_max_csr(pl_component *c, int m, const int *map, const double *s,
+                               double h2, const double *x, const double *y, const double *g,
+                               const double *b, const pl_csr *A, double *out, pl_error *err)
+{
+    for (int f = 0; f < m; ++f) {
+        double t[3];
+        memcpy(t, &b[3 * map[f]], sizeof t);
+        for (int p = A ? A->p[f] : 0; A && p < A->p[f + 1]; ++p)
+            for (int k = 0; k < 3; ++k) t[k] -= A->x[p] * x[3 * A->j[p] + k];
+        int one[1] = {map[f]};
+        int rc = hd_residual_max(c, 1, one, s, h2, x, y, g, t, out, err);
+        if (rc) return rc;
+    }
+    return PL_OK;
+}
 static int hd_no_graphs(pl_component *c, pl_error *err)
 {
     return pl_component_fail(c, err, PL_EINTERNAL, "HostDevice records no graphs");
@@ -197,6 +221,34 @@ static const pl_device_ops HD_OPS = {
     .residual_max = hd_residual_max,
     .loop = hd_loop,
     .gather_sub_csr = hd_gather_sub_csr,
+    .scale_rows_zero = hd_scale_rows_zero,
+    .residual_max_csr = hd_residual_max_csr,
+};
+
+/* The same service as a version 3 table (without the version 4 members):
+ * the solver's other path */
+static const pl_device_ops HD_OPS_V3 = {
+    .version = 3,
+    .flags = hd_flags,
+    .stream = hd_stream,
+    .alloc = hd_alloc,
+    .free = hd_free,
+    .zero = hd_zero,
+    .copy = hd_copy,
+    .pin = hd_pin,
+    .unpin = hd_unpin,
+    .sync = hd_sync,
+    .scale_rows = hd_scale_rows,
+    .gather_rows = hd_gather_rows,
+    .scatter_rows = hd_scatter_rows,
+    .sub_csr = hd_sub_csr,
+    .capture_begin = hd_no_graphs,
+    .capture_end = hd_capture_end,
+    .replay = hd_replay,
+    .graph_free = hd_graph_free,
+    .residual_max = hd_residual_max,
+    .loop = hd_loop,
+    .gather_sub_csr = hd_gather_sub_csr,
 };
 
 static const pl_field HD_FIELDS[] = {
@@ -221,6 +273,17 @@ const pl_type fake_host_device_type = {
     .nfields = 2,
     .ops = {.destroy = hd_destroy},
     .roles = {[PL_ROLE_DEVICE] = &HD_OPS},
+};
+
+const pl_type fake_host_device_v3_type = {
+    .abi_version = PL_ABI_VERSION,
+    .name = "HostDeviceV3",
+    .help = "test device service in host memory, device ops version 3",
+    .size = sizeof(host_device),
+    .fields = HD_FIELDS,
+    .nfields = 2,
+    .ops = {.destroy = hd_destroy},
+    .roles = {[PL_ROLE_DEVICE] = &HD_OPS_V3},
 };
 
 long fake_device_calls(const pl_component *c)

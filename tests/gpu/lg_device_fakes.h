@@ -12,6 +12,7 @@
 #include "pliant/pliant.h"
 
 extern const pl_type fake_host_device_type;
+extern const pl_type fake_host_device_v3_type; /* "HostDeviceV3": device ops version 3 */
 extern const pl_type fake_springs_type;
 extern const pl_type fake_dense_solver_type;
 

@@ -62,6 +62,7 @@ static pl_registry *registry(void)
     ck_assert_ptr_nonnull(r);
     ck_assert_int_eq(pl_register_builtin_components(r, &err), PL_OK);
     ck_assert_int_eq(pl_registry_add(r, &fake_host_device_type, &err), PL_OK);
+    ck_assert_int_eq(pl_registry_add(r, &fake_host_device_v3_type, &err), PL_OK);
     ck_assert_int_eq(pl_registry_add(r, &fake_springs_type, &err), PL_OK);
     ck_assert_int_eq(pl_registry_add(r, &fake_dense_solver_type, &err), PL_OK);
     return r;
@@ -420,6 +421,12 @@ START_TEST(force_tolerance_on_the_device_stops_where_the_cpu_stops)
     assert_same(&dev, &cpu);
     ck_assert_int_gt(fake_device_calls(pl_sim_component(sim, "dev")), 0);
     pl_sim_free(sim);
+    /* a service of device ops version 3 (the zero and the scale in two
+     * calls): the same run */
+    s.before = "<HostDeviceV3 name=\"dev\"/>";
+    run(r, &s, 8, &dev, NULL);
+    assert_same(&dev, &cpu);
+    s.before = plain("cpu").before;
     ck_assert_int_eq(fake_device_leaks, 0);
     /* a term whose gradient cannot take device buffers: refused by name
      * (cuda), the CPU (auto); Rayleigh damping's L q: refused */

@@ -46,7 +46,9 @@
  * pl_regression_detail, PL_HESSIAN_FIXED_ROTATION (add_hessian's psd = 2;
  * a term built for an older minor reads it as psd != 0: projected).
  * 5.5: device ops version 3 (pl_device_ops.loop, PL_DEVICE_LOOPS,
- * device_loop.h: an iteration loop kept on the device). */
+ * device_loop.h: an iteration loop kept on the device).
+ * 5.6: device ops version 4 (pl_device_ops.scale_rows_zero and
+ * residual_max_csr: two launches fewer in a device iteration). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

@@ -295,7 +295,11 @@ typedef struct pl_animation_loop_ops {
  * one stream, in call order, and returns without waiting unless it says so;
  * other components queue their own kernels on stream().  The vector kernels
  * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
-#if PL_ABI_TARGET_MINOR >= 5
+#if PL_ABI_TARGET_MINOR >= 6
+#include "device_loop.h"
+/* 2: residual_max; 3: loop, gather_sub_csr; 4: scale_rows_zero, residual_max_csr */
+#define PL_DEVICE_OPS_VERSION 4
+#elif PL_ABI_TARGET_MINOR >= 5
 #include "device_loop.h"
 #define PL_DEVICE_OPS_VERSION 3 /* 2: residual_max; 3: loop, gather_sub_csr */
 #elif PL_ABI_TARGET_MINOR >= 4
@@ -389,6 +393,21 @@ typedef struct pl_device_ops {
      * with their arithmetic in their order (bitwise the same) */
     int (*gather_sub_csr)(pl_component *c, int m, const int *map, const double *x,
                           const pl_csr *A, const double *q, double *y, pl_error *err);
+#endif
+#if PL_ABI_TARGET_MINOR >= 6
+    /* version 4, optional (NULL: callers use the version 1-3 members).
+     * scale_rows and zero (`bytes` bytes at z) in one launch: y[i] = s[i]
+     * x[i] for rows i < n, as scale_rows */
+    int (*scale_rows_zero)(pl_component *c, int n, const double *s, const double *x, double *y,
+                           void *z, size_t bytes, pl_error *err);
+    /* version 4, optional: residual_max whose t term is gather_sub_csr's
+     * y, in one launch: *out = max(*out, the largest |r_f| over f < m),
+     * r_f = s[v] (x[v] - y[v]) / h2 + g[v] + t_f / h2 with v = map[f] and
+     * t_f = b[v] - (A x)[f] (A: m rows in global columns, a CSR of device
+     * arrays), each in its member's order (bitwise the same values) */
+    int (*residual_max_csr)(pl_component *c, int m, const int *map, const double *s, double h2,
+                            const double *x, const double *y, const double *g, const double *b,
+                            const pl_csr *A, double *out, pl_error *err);
 #endif
 } pl_device_ops;
 
