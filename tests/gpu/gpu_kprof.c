@@ -10,7 +10,12 @@
  *
  * GPU_KPROF_OUT: the table's file (default: standard error).  Tracing adds
  * a little host time to each launch, so frame times come from runs
- * without it; the kernels' own times are the device's. */
+ * without it; the kernels' own times are the device's.
+ *
+ * GPU_KPROF_TIMELINE (a file): also every kernel, memset and memory copy
+ * on the device's clock, in start order ("start_us end_us kind name", the
+ * first record's start as 0), to find the gaps between them (host work,
+ * waits and launch latencies that no kernel's time shows). */
 #include <cupti.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -26,6 +31,16 @@ typedef struct kstat {
 
 static kstat *stats;
 static size_t nstats, capstats;
+
+/* The timeline's records (GPU_KPROF_TIMELINE): name points into stats. */
+typedef struct event {
+    uint64_t start, end;
+    char kind; /* k kernel, s memset, c copy */
+    const char *name;
+} event;
+static event *events;
+static size_t nevents, capevents;
+static int timeline; /* GPU_KPROF_TIMELINE set */
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 
 enum { BUF_BYTES = 8 << 20 };
@@ -54,10 +69,22 @@ static kstat *find(const char *name)
     return k;
 }
 
-static void add(const char *name, double us)
+static void add_event(uint64_t start, uint64_t end, char kind, const char *name)
+{
+    if (nevents == capevents) {
+        size_t c = capevents ? 2 * capevents : 4096;
+        event *e = realloc(events, c * sizeof *e);
+        if (!e) return;
+        events = e, capevents = c;
+    }
+    events[nevents++] = (event){start, end, kind, name};
+}
+
+static void add(const char *name, double us, uint64_t start, uint64_t end)
 {
     kstat *k = find(name ? name : "?");
     if (!k) return;
+    if (timeline) add_event(start, end, 'k', k->name);
     if (k->n == k->cap) {
         size_t c = k->cap ? 2 * k->cap : 256;
         double *u = realloc(k->us, c * sizeof *u);
@@ -77,7 +104,16 @@ static void CUPTIAPI buffer_completed(CUcontext ctx, uint32_t stream, uint8_t *b
         if (rec->kind == CUPTI_ACTIVITY_KIND_CONCURRENT_KERNEL ||
             rec->kind == CUPTI_ACTIVITY_KIND_KERNEL) {
             const CUpti_ActivityKernel10 *k = (const CUpti_ActivityKernel10 *)rec;
-            add(k->name, (double)(k->end - k->start) * 1e-3);
+            add(k->name, (double)(k->end - k->start) * 1e-3, k->start, k->end);
+        } else if (rec->kind == CUPTI_ACTIVITY_KIND_MEMSET) {
+            const CUpti_ActivityMemset4 *m = (const CUpti_ActivityMemset4 *)rec;
+            add_event(m->start, m->end, 's', "memset");
+        } else if (rec->kind == CUPTI_ACTIVITY_KIND_MEMCPY) {
+            const CUpti_ActivityMemcpy6 *m = (const CUpti_ActivityMemcpy6 *)rec;
+            add_event(m->start, m->end, 'c',
+                      m->copyKind == CUPTI_ACTIVITY_MEMCPY_KIND_HTOD   ? "copy HtoD"
+                      : m->copyKind == CUPTI_ACTIVITY_MEMCPY_KIND_DTOH ? "copy DtoH"
+                                                                      : "copy");
         }
     pthread_mutex_unlock(&lock);
     free(buf);
@@ -120,10 +156,32 @@ static int cmp_total(const void *a, const void *b)
     return (tx < ty) - (tx > ty);
 }
 
+static int cmp_start(const void *a, const void *b)
+{
+    const event *x = a, *y = b;
+    return (x->start > y->start) - (x->start < y->start);
+}
+
+static void write_timeline(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return;
+    qsort(events, nevents, sizeof *events, cmp_start);
+    const uint64_t t0 = nevents ? events[0].start : 0;
+    for (size_t i = 0; i < nevents; ++i) {
+        char nm[96];
+        short_name(events[i].name, nm, sizeof nm);
+        fprintf(f, "%.3f %.3f %c %s\n", (double)(events[i].start - t0) * 1e-3,
+                (double)(events[i].end - t0) * 1e-3, events[i].kind, nm);
+    }
+    fclose(f);
+}
+
 static void report(void)
 {
     cuptiActivityFlushAll(1);
     pthread_mutex_lock(&lock);
+    if (timeline) write_timeline(getenv("GPU_KPROF_TIMELINE"));
     const char *path = getenv("GPU_KPROF_OUT");
     FILE *f = path && *path ? fopen(path, "w") : stderr;
     if (!f) f = stderr;
@@ -152,6 +210,11 @@ __attribute__((visibility("default"))) int InitializeInjection(void)
         fprintf(stderr, "gpu_kprof: CUPTI activity tracing refused\n");
         return 0;
     }
+    const char *tl = getenv("GPU_KPROF_TIMELINE");
+    if (tl && *tl && (cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMSET) != CUPTI_SUCCESS ||
+                      cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMCPY) != CUPTI_SUCCESS))
+        fprintf(stderr, "gpu_kprof: no memset and copy records for the timeline\n");
+    timeline = tl && *tl;
     atexit(report);
     return 1;
 }
