@@ -72,7 +72,11 @@ PL_HD double hm_inf_norm(const int d, const double *v)
 PL_HD bool hm_newton_direction(const int d, const double *H, const double *r, double floor_,
                                double *dx)
 {
-    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    /* L's off-diagonal entries and rinv[j] = 1 / L_jj: the solves below
+     * multiply, so the dependent chain has d divisions, not 3 d (on the GPU
+     * each is a long sequence; docs/benchmarks.md, "The local step's Newton
+     * in fewer divisions") */
+    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, rinv[3] = {0, 0, 0};
     bool pd = true;
     PL_UNROLL
     for (int j = 0; j < d; ++j) {
@@ -84,13 +88,13 @@ PL_HD bool hm_newton_direction(const int d, const double *H, const double *r, do
             pd = false;
             break;
         }
-        L[j * d + j] = sqrt(v);
+        rinv[j] = 1.0 / sqrt(v);
         PL_UNROLL
         for (int i = j + 1; i < d; ++i) {
             double w = H[i * d + j];
             PL_UNROLL
             for (int k = 0; k < j; ++k) w -= L[i * d + k] * L[j * d + k];
-            L[i * d + j] = w / L[j * d + j];
+            L[i * d + j] = w * rinv[j];
         }
     }
     if (pd) {
@@ -99,14 +103,14 @@ PL_HD bool hm_newton_direction(const int d, const double *H, const double *r, do
             double v = -r[i];
             PL_UNROLL
             for (int k = 0; k < i; ++k) v -= L[i * d + k] * dx[k];
-            dx[i] = v / L[i * d + i];
+            dx[i] = v * rinv[i];
         }
         PL_UNROLL
         for (int i = d - 1; i >= 0; --i) {
             double v = dx[i];
             PL_UNROLL
             for (int k = i + 1; k < d; ++k) v -= L[k * d + i] * dx[k];
-            dx[i] = v / L[i * d + i];
+            dx[i] = v * rinv[i];
         }
         return true;
     }

@@ -38,16 +38,23 @@ PL_HD int hm_sv_eval(const int d, int material, double mu, double la, const doub
             I1 += s[i] * s[i];
         }
         *psi = 0.5 * mu * (I1 - d) - mu * lnJ + 0.5 * la * lnJ * lnJ;
+        /* d divisions, not d (d + 1) + d: the prox's Newton evaluates this
+         * at every step, and on the GPU each division is a long dependent
+         * sequence (docs/benchmarks.md, "The local step's Newton in fewer
+         * divisions") */
+        double inv[3];
+        PL_UNROLL
+        for (int i = 0; i < d; ++i) inv[i] = 1.0 / s[i];
         if (g)
             PL_UNROLL
-            for (int i = 0; i < d; ++i) g[i] = mu * s[i] + (la * lnJ - mu) / s[i];
+            for (int i = 0; i < d; ++i) g[i] = mu * s[i] + (la * lnJ - mu) * inv[i];
         if (H)
             PL_UNROLL
             for (int i = 0; i < d; ++i)
                 PL_UNROLL
                 for (int j = 0; j < d; ++j)
-                    H[i * d + j] = la / (s[i] * s[j]) +
-                                   (i == j ? mu + (mu - la * lnJ) / (s[i] * s[i]) : 0.0);
+                    H[i * d + j] = la * (inv[i] * inv[j]) +
+                                   (i == j ? mu + (mu - la * lnJ) * (inv[i] * inv[i]) : 0.0);
         return 0;
     }
     /* ARAP and corotational: quadratic in the (signed) singular values */

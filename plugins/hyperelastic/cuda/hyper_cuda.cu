@@ -16,11 +16,16 @@ struct pl_hyper_cuda {
     double wscale;          /* the ADMM-PD penalty's scale (elements' weight_scale) */
     int k;                  /* corners: 4 (tetrahedra) or 3 (triangles) */
     int *verts;             /* n x k local vertices */
-    double *D;              /* n x (k d): k x d shape matrices */
+    /* Per-element arrays of several values are stored value-major ("SoA":
+     * value k of element i at [k n + i]), so that a warp's loads and stores
+     * of one value are contiguous: element-major, each was 32 transactions
+     * (the cable finger's k_project, docs/benchmarks.md "The local step's
+     * Newton in fewer divisions"). */
+    double *D;              /* (k d) x n: k x d shape matrices, SoA */
     double *mu, *lambda, *w;/* n */
     int *vptr, *vinc;       /* nverts + 1, 4n */
     double *slots;          /* n x 3k: corner 3-vectors (GATHER) */
-    double *prev;           /* n x 3d: each element's last p (over-relaxation; ADMM only) */
+    double *prev;           /* 3d x n, SoA: each element's last p (over-relaxation; ADMM only) */
     /* What a step starts at zero, one allocation (one memset a step, one
      * read-back): acc, stats, then warm. */
     void *block;
@@ -28,8 +33,8 @@ struct pl_hyper_cuda {
     unsigned long long *acc;/* since begin_step: solves, Newton, halvings, capped, histogram */
     int *stats;             /* max iterations, missed, INT_MAX - the first non-finite element
                                (0: none; so that zero is the fresh value) */
-    double *warm;           /* n x HM_WARM_LEN(d): each element's last prox solution, s and V
-                               (zeros: cold) */
+    double *warm;           /* HM_WARM_LEN(d) x n, SoA: each element's last prox solution, s
+                               and V (zeros: cold) */
 };
 
 namespace {
@@ -88,12 +93,14 @@ __global__ void __launch_bounds__(kThreads)
         load_verts<K>(verts, i, v);
         double Dl[KD], F[ND], z[ND], p[ND];
 #pragma unroll
-        for (int k = 0; k < KD; ++k) Dl[k] = D[KD * (size_t)i + k];
-        /* the warm start (s, V) in registers: its loads wait with the others */
+        for (int k = 0; k < KD; ++k) Dl[k] = D[(size_t)k * n + i];
+        /* the element's constants and warm start (s, V) in registers: their
+         * loads wait with the others, not after the solve */
+        const double m = mu[i], la = lambda[i], wi = w[i];
         constexpr int WL = HM_WARM_LEN(Dd);
-        double *wg = warm + WL * (size_t)i, wl[WL];
+        double *wg = warm + i, wl[WL]; /* value k at wg[k n] */
 #pragma unroll
-        for (int k = 0; k < WL; ++k) wl[k] = wg[k];
+        for (int k = 0; k < WL; ++k) wl[k] = wg[(size_t)k * n];
 #pragma unroll
         for (int k = 0; k < ND; ++k) F[k] = 0.0;
 #pragma unroll
@@ -107,14 +114,13 @@ __global__ void __launch_bounds__(kThreads)
                 F[2 * Dd + b] += x2 * Dl[c * Dd + b];
             }
         }
-        const double m = mu[i], la = lambda[i];
         const double what = wscale * (material == 0 ? 2.0 * m : 2.0 * m + la);
         double *u = material != 0 ? dual + ND * (size_t)i : NULL;
         /* over-relaxed ADMM (the host's hyper_elements_project_relaxed) */
-        double *pv = u && prev ? prev + ND * (size_t)i : NULL;
+        double *pv = u && prev ? prev + i : NULL; /* value k at pv[k n] */
         if (pv && alpha != 1.0) {
 #pragma unroll
-            for (int k = 0; k < ND; ++k) F[k] = alpha * F[k] + (1.0 - alpha) * pv[k];
+            for (int k = 0; k < ND; ++k) F[k] = alpha * F[k] + (1.0 - alpha) * pv[(size_t)k * n];
         }
         double ul[ND];
 #pragma unroll
@@ -124,7 +130,7 @@ __global__ void __launch_bounds__(kThreads)
         }
         const int it = hm_local_solve(Dd, material, m, la, what, z, p, wl, &halvings);
 #pragma unroll
-        for (int k = 0; k < WL; ++k) wg[k] = wl[k];
+        for (int k = 0; k < WL; ++k) wg[(size_t)k * n] = wl[k];
         bool finite = true;
 #pragma unroll
         for (int k = 0; k < ND; ++k) finite &= isfinite(p[k]) != 0;
@@ -142,13 +148,13 @@ __global__ void __launch_bounds__(kThreads)
         if (u && finite) {
 #pragma unroll
             for (int k = 0; k < ND; ++k) {
-                if (pv) pv[k] = p[k];
+                if (pv) pv[(size_t)k * n] = p[k];
                 ul[k] += F[k] - p[k];
                 p[k] -= ul[k];
                 u[k] = ul[k];
             }
         }
-        const double scale = h2 * w[i];
+        const double scale = h2 * wi;
 #pragma unroll
         for (int c = 0; c < K; ++c)
 #pragma unroll
@@ -259,8 +265,18 @@ extern "C" pl_hyper_cuda *hyper_cuda_create(const pl_hyper_elements *e, pl_error
     g->n = e->n, g->nverts = e->nverts, g->material = (int)e->material, g->k = e->k;
     g->wscale = e->weight_scale;
     size_t n = (size_t)e->n, k = (size_t)e->k;
-    if (upload(g, &g->verts, e->verts, k * n, err) ||
-        upload(g, &g->D, e->D, k * (size_t)e->d * n, err) || upload(g, &g->mu, e->mu, n, err) ||
+    const size_t kd = k * (size_t)e->d;
+    double *Dt = static_cast<double *>(malloc((kd * n > 0 ? kd * n : 1) * sizeof(double)));
+    if (!Dt) {
+        pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "hyperelastic (cuda): out of memory");
+        hyper_cuda_destroy(g);
+        return NULL;
+    }
+    for (size_t i = 0; i < n; ++i) /* element-major to value-major */
+        for (size_t c = 0; c < kd; ++c) Dt[c * n + i] = e->D[kd * i + c];
+    const int bad_D = upload(g, &g->D, Dt, kd * n, err);
+    free(Dt);
+    if (bad_D || upload(g, &g->verts, e->verts, k * n, err) || upload(g, &g->mu, e->mu, n, err) ||
         upload(g, &g->lambda, e->lambda, n, err) || upload(g, &g->w, e->w, n, err) ||
         upload(g, &g->vptr, e->vptr, (size_t)e->nverts + 1, err) ||
         upload(g, &g->vinc, e->vinc, k * n, err) ||
