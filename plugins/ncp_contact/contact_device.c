@@ -102,6 +102,7 @@ void ncpc_device_destroy(pl_ncpc_device *g)
     free_host(g, (void **)&g->h_lambda);
     free_host(g, (void **)&g->h_lambda_all);
     free_host(g, (void **)&g->h_sc);
+    free_host(g, (void **)&g->h_series);
     free(g);
 }
 
@@ -406,9 +407,38 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     return ncpc_device_lap(g, ctx, profile, st->t_cglobal, 0, err);
 }
 
+/* g->h_series made (page-locked); non-zero with err set when it cannot be. */
+static int host_series(pl_ncpc_device *g, pl_error *err)
+{
+    if (g->h_series) return PL_OK;
+    g->h_series = malloc(SERIES_CAP * 4 * sizeof(double));
+    if (!g->h_series) return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
+    if (g->ops->pin && g->ops->pin(g->dev, g->h_series, SERIES_CAP * 4 * sizeof(double), err)) {
+        free(g->h_series);
+        g->h_series = NULL;
+        return err->code ? err->code : PL_EINTERNAL;
+    }
+    return PL_OK;
+}
+
+/* The series' first `guess` iterations queued to g->h_series (the copy
+ * waits with fetch's); -1 with err set on failure. */
+static int queue_series(pl_ncpc_device *g, pl_error *err)
+{
+    if (host_series(g, err)) return -1;
+    int guess = g->series_guess < 64 ? 64 : g->series_guess > SERIES_CAP ? SERIES_CAP
+                                                                         : g->series_guess;
+    cudaError_t ce = cudaMemcpyAsync(g->h_series, g->series, sizeof(double) * 4 * (size_t)guess,
+                                     cudaMemcpyDeviceToHost, (cudaStream_t)g->stream);
+    if (ce != cudaSuccess) return ncpc_device_cuda_fail(g, err, (int)ce, "series"), -1;
+    return guess;
+}
+
 int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_error *err)
 {
     if (!g || !g->ran) return PL_OK;
+    int queued = 0; /* series iterations on their way with fetch's copies */
+    if (record && timers && !g->fetched && (queued = queue_series(g, err)) < 0) return err->code;
     int rc = fetch(g, err);
     if (rc) return rc;
     static const char *const what[] = {"", "the CR right-hand side is not finite",
@@ -420,17 +450,19 @@ int ncpc_device_end_step(pl_ncpc_device *g, pl_timers *timers, int record, pl_er
                                  "device: %s", what[code]);
     if (record && timers) {
         int n = g->h_sc->iter < SERIES_CAP ? g->h_sc->iter : SERIES_CAP;
-        double *s = malloc(sizeof(double) * 4 * (size_t)(n > 0 ? n : 1));
-        if (!s) return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
-        rc = g->ops->copy(g->dev, s, PL_HOST, g->series, PL_DEVICE, sizeof(double) * 4 * (size_t)n,
-                          err);
+        if (n > g->series_guess) g->series_guess = n;
+        if ((rc = host_series(g, err))) return rc;
+        if (n > queued) /* the rest (all if fetched earlier): one more wait */
+            rc = g->ops->copy(g->dev, g->h_series + 4 * (size_t)queued, PL_HOST,
+                              g->series + 4 * (size_t)queued, PL_DEVICE,
+                              sizeof(double) * 4 * (size_t)(n - queued), err);
+        const double *s = g->h_series;
         for (int k = 0; !rc && k < n; ++k) {
             pl_series_push(timers, "ncp residual", s[4 * k]);
             pl_series_push(timers, "cr iterations", s[4 * k + 1]);
             pl_series_push(timers, "cr residual", s[4 * k + 2]);
             pl_series_push(timers, "step length", s[4 * k + 3]);
         }
-        free(s);
     }
     return rc;
 }

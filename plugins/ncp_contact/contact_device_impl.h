@@ -45,6 +45,11 @@ struct pl_ncpc_device {
     int dense;              /* this step's: 0 < m <= dense_max, unknowns */
     pl_ncp_cuda_scalars *sc;
     double *series;
+    /* page-locked host copy of the series' first series_guess iterations,
+     * queued before fetch's wait (one wait a step where the step iterated
+     * no more than the guess: the largest count so far, at least 64) */
+    double *h_series;
+    int series_guess;
     /* page-locked host copies of lambda (m), lambda_all (nall), scalars */
     double *h_lambda, *h_lambda_all;
     size_t h_cap, h_all_cap;

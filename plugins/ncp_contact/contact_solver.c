@@ -48,7 +48,8 @@ static const pl_field FIELDS[] = {
              "conjugate residual iterations per constraint solve [count] (the paper's Table 3 uses 10)",
              PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, cr_tolerance, "crTolerance", PL_F_DOUBLE, "0",
-             "relative residual at which CR stops early [1] (0: always run crIterations)",
+             "relative residual at which CR stops early [1] (0: run crIterations unless the "
+             "residual is at round-off, 4 machine epsilons)",
              PL_FIELD_RUNTIME),
     PL_FIELD_ENUM(ncp_contact_solver, cr_scaling, "crScaling", CR_SCALING_CHOICES, "jacobi",
                   "scaling of the linear system CR solves: jacobi (symmetric diagonal scaling "
@@ -368,7 +369,7 @@ static int constraint_solve(const ncp_contact_solver *s, ncpc_ws *w, pl_ncp_step
     par.h = w->h;
     par.fb_eps = s->fb_eps;
     par.cr_max_iter = s->cr_iterations;
-    par.cr_rtol = s->cr_tolerance;
+    par.cr_rtol = ncpc_cr_rtol(s);
     par.full_force = s->correction == 1;
     par.cr_jacobi = s->cr_scaling == 0;
     pl_ncp_operator op = ncpc_delassus_operator(&w->D);

@@ -5,6 +5,8 @@
 #ifndef PLIANT_NCP_CONTACT_SOLVER_H
 #define PLIANT_NCP_CONTACT_SOLVER_H
 
+#include <float.h>
+
 #include "contact.h"
 #include "pliant/timer.h"
 #ifdef PLIANT_HAVE_CUDA
@@ -34,6 +36,18 @@ typedef struct ncp_contact_solver {
     /* model */
     int slot;                 /* pl_data slot of the warm-start records */
 } ncp_contact_solver;
+
+/* CR's relative tolerance: crTolerance, at least 4 machine epsilons.  A
+ * residual at round-off cannot be reduced, and further products only move
+ * the solution by round-off: for the cable finger's one row CR's first
+ * product leaves |r| ~ 1e-16 |b|, and without the floor it often ran
+ * its nine more (the device's update 24.9 instead of 18.2 us on the H100;
+ * docs/benchmarks.md, "The local step's Newton in fewer divisions"). */
+static inline double ncpc_cr_rtol(const ncp_contact_solver *s)
+{
+    const double floor_ = 4.0 * DBL_EPSILON;
+    return s->cr_tolerance > floor_ ? s->cr_tolerance : floor_;
+}
 
 /* Per data (pl_data_workspace): the step being taken, and what the step
  * needs from the model but computes on first use. */

@@ -217,7 +217,7 @@ int ncpc_iterate_device(const ncp_contact_solver *s, ncpc_ws *w, pl_ctx *ctx,
         .lambda_all = w->lambda_all, .nall = w->nall, .h = w->h, .fn = s->ncp == 1 ? PL_NCP_MINMAP : PL_NCP_FB,
         .cr_iterations = s->cr_iterations, .full_force = s->correction == 1, .project = s->project,
         .cr_jacobi = s->cr_scaling == 0,
-        .line_search = s->line_search, .record = s->record, .cr_tolerance = s->cr_tolerance,
+        .line_search = s->line_search, .record = s->record, .cr_tolerance = ncpc_cr_rtol(s),
         .damping = s->damping, .fb_eps = s->fb_eps, .t_global = w->t_global, .t_assembly = w->t_assembly,
         .t_solve = w->t_solve, .t_corr = w->t_corr, .t_cglobal = w->t_cglobal};
     pl_ncp_work empty = {0};
