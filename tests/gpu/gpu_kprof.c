@@ -12,10 +12,11 @@
  * a little host time to each launch, so frame times come from runs
  * without it; the kernels' own times are the device's.
  *
- * GPU_KPROF_TIMELINE (a file): also every kernel, memset and memory copy
- * on the device's clock, in start order ("start_us end_us kind name", the
- * first record's start as 0), to find the gaps between them (host work,
- * waits and launch latencies that no kernel's time shows). */
+ * GPU_KPROF_TIMELINE (a file): also every kernel (k), memset (s), memory
+ * copy (c) and CUDA runtime call of the host (r: launches, copies, waits;
+ * CUPTI's clock is one for both), in start order ("start_us end_us kind
+ * name", the first record's start as 0), to find the gaps between them:
+ * host work, waits and launch latencies that no kernel's time shows. */
 #include <cupti.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -35,7 +36,7 @@ static size_t nstats, capstats;
 /* The timeline's records (GPU_KPROF_TIMELINE): name points into stats. */
 typedef struct event {
     uint64_t start, end;
-    char kind; /* k kernel, s memset, c copy */
+    char kind; /* k kernel, s memset, c copy, r runtime call */
     const char *name;
 } event;
 static event *events;
@@ -108,6 +109,13 @@ static void CUPTIAPI buffer_completed(CUcontext ctx, uint32_t stream, uint8_t *b
         } else if (rec->kind == CUPTI_ACTIVITY_KIND_MEMSET) {
             const CUpti_ActivityMemset4 *m = (const CUpti_ActivityMemset4 *)rec;
             add_event(m->start, m->end, 's', "memset");
+        } else if (rec->kind == CUPTI_ACTIVITY_KIND_RUNTIME) {
+            const CUpti_ActivityAPI *a = (const CUpti_ActivityAPI *)rec;
+            const char *nm = NULL;
+            if (cuptiGetCallbackName(CUPTI_CB_DOMAIN_RUNTIME_API, a->cbid, &nm) != CUPTI_SUCCESS)
+                nm = NULL;
+            kstat *k = find(nm ? nm : "runtime"); /* names interned there, no times added */
+            if (k) add_event(a->start, a->end, 'r', k->name);
         } else if (rec->kind == CUPTI_ACTIVITY_KIND_MEMCPY) {
             const CUpti_ActivityMemcpy6 *m = (const CUpti_ActivityMemcpy6 *)rec;
             add_event(m->start, m->end, 'c',
@@ -189,6 +197,7 @@ static void report(void)
     fprintf(f, "| kernel | launches | median us | mean us | total ms |\n|---|--:|--:|--:|--:|\n");
     for (size_t i = 0; i < nstats; ++i) {
         kstat *k = &stats[i];
+        if (!k->n) continue; /* a runtime call's name (the timeline's) */
         double tot = 0.0;
         for (size_t j = 0; j < k->n; ++j) tot += k->us[j];
         qsort(k->us, k->n, sizeof *k->us, cmp_double);
@@ -212,8 +221,9 @@ __attribute__((visibility("default"))) int InitializeInjection(void)
     }
     const char *tl = getenv("GPU_KPROF_TIMELINE");
     if (tl && *tl && (cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMSET) != CUPTI_SUCCESS ||
-                      cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMCPY) != CUPTI_SUCCESS))
-        fprintf(stderr, "gpu_kprof: no memset and copy records for the timeline\n");
+                      cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMCPY) != CUPTI_SUCCESS ||
+                      cuptiActivityEnable(CUPTI_ACTIVITY_KIND_RUNTIME) != CUPTI_SUCCESS))
+        fprintf(stderr, "gpu_kprof: no memset, copy or runtime records for the timeline\n");
     timeline = tl && *tl;
     atexit(report);
     return 1;
