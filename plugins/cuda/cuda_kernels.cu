@@ -130,6 +130,22 @@ __global__ void k_sub_csr(int nrows, const int *__restrict__ p, const int *__res
     if (lane == 0) y[3 * (size_t)r] = y0, y[3 * (size_t)r + 1] = y1, y[3 * (size_t)r + 2] = y2;
 }
 
+/* t = x[map[f]] - (A q)[f] for row f by its warp (p NULL: no A), the
+ * entries in k_sub_csr's order; only lane 0's t is the result.  w: the
+ * warp's buffer. */
+__device__ __forceinline__ void gather_sub_row(int f, const int *__restrict__ map,
+                                               const double *__restrict__ x,
+                                               const int *__restrict__ p,
+                                               const int *__restrict__ j,
+                                               const double *__restrict__ a,
+                                               const double *__restrict__ q, double (*w)[4],
+                                               int lane, double t[3])
+{
+    const double *src = x + 3 * (size_t)map[f];
+    t[0] = src[0], t[1] = src[1], t[2] = src[2];
+    if (p) sub_row_warp(p[f], p[f + 1], j, a, q, w, lane, t[0], t[1], t[2]);
+}
+
 /* k_gather_rows then k_sub_csr for row f, one warp a row: the same values
  * subtracted in the same order (A NULL: the gather alone). */
 __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const double *__restrict__ x,
@@ -143,10 +159,9 @@ __global__ void k_gather_sub_csr(int m, const int *__restrict__ map, const doubl
     const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
     const int f = (int)(blockIdx.x * (size_t)kRowWarps + warp);
     if (f >= m) return; /* the whole warp */
-    const double *src = x + 3 * (size_t)map[f];
-    double y0 = src[0], y1 = src[1], y2 = src[2];
-    if (p) sub_row_warp(p[f], p[f + 1], j, a, q, buf[warp], lane, y0, y1, y2);
-    if (lane == 0) y[3 * (size_t)f] = y0, y[3 * (size_t)f + 1] = y1, y[3 * (size_t)f + 2] = y2;
+    double t[3];
+    gather_sub_row(f, map, x, p, j, a, q, buf[warp], lane, t);
+    if (lane == 0) y[3 * (size_t)f] = t[0], y[3 * (size_t)f + 1] = t[1], y[3 * (size_t)f + 2] = t[2];
 }
 
 unsigned row_blocks(long long rows)
@@ -205,10 +220,9 @@ __global__ void k_residual_max_csr(int m, const int *__restrict__ map, const dou
     const int f = (int)(blockIdx.x * (size_t)kRowWarps + warp);
     double d = 0.0;
     if (f < m) { /* the whole warp */
-        const size_t v = (size_t)map[f];
-        double t[3] = {b[3 * v], b[3 * v + 1], b[3 * v + 2]};
-        if (p) sub_row_warp(p[f], p[f + 1], j, a, x, buf[warp], lane, t[0], t[1], t[2]);
-        if (lane == 0) d = residual_norm(v, s, h2, x, y, g, t);
+        double t[3];
+        gather_sub_row(f, map, b, p, j, a, x, buf[warp], lane, t);
+        if (lane == 0) d = residual_norm((size_t)map[f], s, h2, x, y, g, t);
     }
     block_max_to(d, out);
 }

@@ -83,7 +83,7 @@ PL_HD void hm_start_columns(const int n, const double *F, double scale, const do
 }
 
 /* Orthogonalises the n columns of A (3 x n) in place, accumulating the
- * rotations in V (n x n).  Convergence is quadratic: once a sweep rotates
+ * rotations into V (n x n, the start: hm_start_columns).  Convergence is quadratic: once a sweep rotates
  * by less than 1e-8, the next one would rotate by less than round-off, so
  * it is skipped. */
 PL_HD void hm_hestenes(const int n, double *A, double *V)

@@ -199,57 +199,26 @@ static void hd_graph_free(pl_component *c, void *graph)
     (void)c, (void)graph;
 }
 
+/* The members every version of the table has (3: loop, gather_sub_csr) */
+#define HD_OPS_V3_MEMBERS                                                              \
+    .flags = hd_flags, .stream = hd_stream, .alloc = hd_alloc, .free = hd_free,        \
+    .zero = hd_zero, .copy = hd_copy, .pin = hd_pin, .unpin = hd_unpin, .sync = hd_sync, \
+    .scale_rows = hd_scale_rows, .gather_rows = hd_gather_rows,                        \
+    .scatter_rows = hd_scatter_rows, .sub_csr = hd_sub_csr,                            \
+    .capture_begin = hd_no_graphs, .capture_end = hd_capture_end, .replay = hd_replay, \
+    .graph_free = hd_graph_free, .residual_max = hd_residual_max, .loop = hd_loop,     \
+    .gather_sub_csr = hd_gather_sub_csr
+
 static const pl_device_ops HD_OPS = {
     .version = PL_DEVICE_OPS_VERSION,
-    .flags = hd_flags,
-    .stream = hd_stream,
-    .alloc = hd_alloc,
-    .free = hd_free,
-    .zero = hd_zero,
-    .copy = hd_copy,
-    .pin = hd_pin,
-    .unpin = hd_unpin,
-    .sync = hd_sync,
-    .scale_rows = hd_scale_rows,
-    .gather_rows = hd_gather_rows,
-    .scatter_rows = hd_scatter_rows,
-    .sub_csr = hd_sub_csr,
-    .capture_begin = hd_no_graphs,
-    .capture_end = hd_capture_end,
-    .replay = hd_replay,
-    .graph_free = hd_graph_free,
-    .residual_max = hd_residual_max,
-    .loop = hd_loop,
-    .gather_sub_csr = hd_gather_sub_csr,
+    HD_OPS_V3_MEMBERS,
     .scale_rows_zero = hd_scale_rows_zero,
     .residual_max_csr = hd_residual_max_csr,
 };
 
 /* The same service as a version 3 table (without the version 4 members):
  * the solver's other path */
-static const pl_device_ops HD_OPS_V3 = {
-    .version = 3,
-    .flags = hd_flags,
-    .stream = hd_stream,
-    .alloc = hd_alloc,
-    .free = hd_free,
-    .zero = hd_zero,
-    .copy = hd_copy,
-    .pin = hd_pin,
-    .unpin = hd_unpin,
-    .sync = hd_sync,
-    .scale_rows = hd_scale_rows,
-    .gather_rows = hd_gather_rows,
-    .scatter_rows = hd_scatter_rows,
-    .sub_csr = hd_sub_csr,
-    .capture_begin = hd_no_graphs,
-    .capture_end = hd_capture_end,
-    .replay = hd_replay,
-    .graph_free = hd_graph_free,
-    .residual_max = hd_residual_max,
-    .loop = hd_loop,
-    .gather_sub_csr = hd_gather_sub_csr,
-};
+static const pl_device_ops HD_OPS_V3 = {.version = 3, HD_OPS_V3_MEMBERS};
 
 static const pl_field HD_FIELDS[] = {
     PL_FIELD(host_device, profile, "profile", PL_F_BOOL, "0", "sync after each phase", 0),
