@@ -18,9 +18,13 @@ FT_ITERATIONS (see device_cost.c), prints a table
   scene | CPU ms | GPU ms | predicted CPU | predicted GPU | choice | right?
 
 and, with --write FILE, replaces the FITTED block of FILE (device_cost.c).
+With --check FILE it fits nothing: the table of the choices FILE's constants
+make on these timings (after a change that sped up one side, are they still
+right?), exit 1 if one is wrong.
 Python 3 standard library only (the GPU machine has no packages).
 
   python3 tests/bench/device_cost_fit.py DIR [--sizes DIR] [--write core/src/device_cost.c]
+  python3 tests/bench/device_cost_fit.py DIR --check core/src/device_cost.c
   python3 tests/bench/device_cost_fit.py --selftest    (ctest device_cost_fit)
 """
 import argparse
@@ -242,6 +246,42 @@ def selftest():
     return 0
 
 
+def read_block(path):
+    """The constants of a device_cost.c's FITTED block (as --write writes them)."""
+    text = open(path).read()
+    m = re.search(r"/\* BEGIN FITTED.*?/\* END FITTED \*/", text, flags=re.S)
+    if not m:
+        sys.exit(f"device_cost_fit: no FITTED block in {path}")
+    block = m.group(0)
+
+    def arr(name):
+        a = re.search(name + r"\[NTERMS\] = \{([^}]*)\}", block)
+        return [float(v) for v in a.group(1).split(",")]
+
+    def num(name):
+        return float(re.search(name + r" = ([0-9.eE+-]+)", block).group(1))
+
+    return {"CPU_MS": arr("CPU_MS"), "GPU_MS": arr("GPU_MS"), "S_TET": num("S_TET"),
+            "S_TRI": num("S_TRI"), "PARTIAL": num("PARTIAL"),
+            "FT_ITERATIONS": int(num("FT_ITERATIONS"))}
+
+
+def check(scenes, k):
+    """The choices of constants k (no fit) against the measured times."""
+    print("| scene | CPU ms | GPU ms | predicted CPU | predicted GPU | choice | right? |")
+    print("|---|--:|--:|--:|--:|---|---|")
+    wrong = 0
+    for s in scenes:
+        cpu, gpu = predict(k, s["z"])
+        v = verdict(s, gpu < cpu)
+        wrong += v == "NO"
+        print(f"| {s['name']} | {s['cpu']:.3g} | {s['gpu']:.3g} | {cpu:.3g} | {gpu:.3g} | "
+              f"{'GPU' if gpu < cpu else 'CPU'} | {v} |")
+    print(f"\n{len(scenes)} scenes; wrong choices (more than {CLOSE:.0%} slower) of the "
+          f"constants as they are: {wrong}")
+    return 1 if wrong else 0
+
+
 def write_block(path, block):
     with open(path) as f:
         text = f.read()
@@ -262,9 +302,12 @@ def main():
     ap.add_argument("--write", help="device_cost.c whose FITTED block to replace")
     ap.add_argument("--threads", type=int, default=CAL_THREADS,
                     help="threads of the CPU runs (default 16)")
+    ap.add_argument("--check", help="device_cost.c whose FITTED constants to judge, unfitted")
     a = ap.parse_args()
     globals()["CAL_THREADS"] = a.threads
     scenes = read_scenes(a.folder, a.sizes)
+    if a.check:
+        return check(scenes, read_block(a.check))
     if len(scenes) < len(TERMS):
         sys.exit(f"device_cost_fit: {len(scenes)} scenes with timings and sizes: too few")
     partial_before = 1.0
