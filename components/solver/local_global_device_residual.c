@@ -103,6 +103,13 @@ void pl_lg_device_residual_free(lg_device *g)
     memset(&g->A_f, 0, sizeof g->A_f);
 }
 
+/* Whether the device service forms t and the residual in one launch
+ * (version 4): then no t buffer. */
+static int fused_residual(const lg_device_ws *g)
+{
+    return g->ops->version >= 4 && g->ops->residual_max_csr != NULL;
+}
+
 int pl_lg_device_residual_ws_alloc(const local_global_solver *s, lg_device_ws *g, pl_error *err)
 {
     const pl_dynamics *d = &s->dyn;
@@ -111,6 +118,7 @@ int pl_lg_device_residual_ws_alloc(const local_global_solver *s, lg_device_ws *g
      * together at the start of an iteration) */
     g->residual = g->change + 1;
     g->grad = g->change + 2;
+    if (fused_residual(g)) return PL_OK;
     size_t bytes = (size_t)(d->nfree ? d->nfree : 1) * 3 * sizeof(double);
     if (!(g->t = g->ops->alloc(g->dev, bytes, err))) return err->code ? err->code : PL_EINTERNAL;
     return PL_OK;
@@ -137,7 +145,7 @@ int pl_lg_device_residual_queue(const local_global_solver *s, lg_device_ws *g, p
     }
     if (rc || d->nfree == 0) return rc;
     int rows = g->nrows > 0;
-    if (rows && o->version >= 4 && o->residual_max_csr) /* t and the residual in one launch */
+    if (rows && fused_residual(g)) /* t and the residual in one launch */
         return o->residual_max_csr(g->dev, d->nfree, m->free_vertex, m->mass, d->h * d->h, g->q,
                                    g->sn, g->grad, g->rhs, &m->A_f, g->residual, err);
     if (rows) rc = pl_lg_device_gather_sub(g, d->nfree, m->free_vertex, g->rhs, &m->A_f, g->q, g->t, err);

@@ -16,17 +16,23 @@ unsigned blocks(long long n)
     return (unsigned)((n + kThreads - 1) / kThreads);
 }
 
+/* y[i] = s[i] x[i] for row i (a vertex's xyz). */
+__device__ __forceinline__ void scale_row(size_t i, const double *__restrict__ s,
+                                          const double *__restrict__ x, double *__restrict__ y)
+{
+    const double m = s[i];
+    y[3 * i] = m * x[3 * i];
+    y[3 * i + 1] = m * x[3 * i + 1];
+    y[3 * i + 2] = m * x[3 * i + 2];
+}
+
 __global__ void k_scale_rows(int n, const double *__restrict__ s, const double *__restrict__ x,
                              double *__restrict__ y)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
     const int i = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (i >= n) return;
-    const double m = s[i];
-    y[3 * (size_t)i] = m * x[3 * (size_t)i];
-    y[3 * (size_t)i + 1] = m * x[3 * (size_t)i + 1];
-    y[3 * (size_t)i + 2] = m * x[3 * (size_t)i + 2];
+    if (i < n) scale_row((size_t)i, s, x, y);
 }
 
 __global__ void k_gather_rows(int m, const int *__restrict__ map, const double *__restrict__ x,
@@ -237,11 +243,7 @@ __global__ void k_scale_rows_zero(int n, const double *__restrict__ s,
     const long long i = (long long)blockIdx.x * blockDim.x + threadIdx.x;
     const long long stride = (long long)gridDim.x * blockDim.x;
     for (long long k = i; k < nz; k += stride) z[k] = 0.0;
-    if (i >= n) return;
-    const double m = s[i];
-    y[3 * i] = m * x[3 * i];
-    y[3 * i + 1] = m * x[3 * i + 1];
-    y[3 * i + 2] = m * x[3 * i + 2];
+    if (i < n) scale_row((size_t)i, s, x, y);
 }
 
 } // namespace

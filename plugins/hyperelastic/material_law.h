@@ -42,9 +42,10 @@ PL_HD int hm_sv_eval(const int d, int material, double mu, double la, const doub
          * at every step, and on the GPU each division is a long dependent
          * sequence (docs/benchmarks.md, "The local step's Newton in fewer
          * divisions") */
-        double inv[3];
-        PL_UNROLL
-        for (int i = 0; i < d; ++i) inv[i] = 1.0 / s[i];
+        double inv[3] = {0, 0, 0};
+        if (g || H) /* not for psi alone (the line search's objective) */
+            PL_UNROLL
+            for (int i = 0; i < d; ++i) inv[i] = 1.0 / s[i];
         if (g)
             PL_UNROLL
             for (int i = 0; i < d; ++i) g[i] = mu * s[i] + (la * lnJ - mu) * inv[i];

@@ -71,15 +71,9 @@ PL_HD void hm_start_columns(const int n, const double *F, double scale, const do
     }
     PL_UNROLL
     for (int k = 0; k < n * n; ++k) V[k] = V0[k];
+    hm_mul(3, n, n, F, V0, A);
     PL_UNROLL
-    for (int r = 0; r < 3; ++r)
-        PL_UNROLL
-        for (int j = 0; j < n; ++j) {
-            double v = 0.0;
-            PL_UNROLL
-            for (int i = 0; i < n; ++i) v += F[r * n + i] * V0[i * n + j];
-            A[r * n + j] = v * scale;
-        }
+    for (int k = 0; k < 3 * n; ++k) A[k] *= scale;
 }
 
 /* Orthogonalises the n columns of A (3 x n) in place, accumulating the
