@@ -59,6 +59,10 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * finger's one row: docs/benchmarks.md); 1: in place, 0: the block */
     const char *fw = getenv("PLIANT_NCP_FUSED_WARP");
     g->fused_warp = fw && (!strcmp(fw, "0") || !strcmp(fw, "1")) ? atoi(fw) : 2;
+    /* 1 by default: a capacity of at most 128 or 256 rows updated by a block
+     * of 128 or 256 threads (bitwise the 512's); 0: always 512 */
+    const char *fn = getenv("PLIANT_NCP_FUSED_NARROW");
+    g->fused_narrow = !(fn && !strcmp(fn, "0"));
     const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;

@@ -41,7 +41,7 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     pl_ncp_cuda_vecs *V = &g->V;
     if (g->fused) { /* all of the below in one kernel */
         int e = ncp_cuda_update_fused(g->stream, g->in_dev, V, &g->P, g->W, g->jacobian,
-                                      g->fused_warp);
+                                      g->fused_warp, g->fused_narrow ? g->mcap : 0);
         return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
     }
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */

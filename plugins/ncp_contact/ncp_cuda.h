@@ -140,12 +140,14 @@ int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
  * are done by the block's first warp alone, one row a lane, with warp
  * barriers and shuffles only, on copies of the step's rows, W and work
  * vectors in shared memory; warp = 1: that warp on the arrays in place;
- * 0: the whole block for few rows too.  The same sums in all three. */
+ * 0: the whole block for few rows too.  mcap > 0 (>= R->m): a block of 128
+ * or 256 threads where the capacity fits it, else (or mcap = 0) 512.  The
+ * same sums in all of them. */
 #define NCP_CUDA_FUSED_MAX_ROWS 256
 #define NCP_CUDA_WARP_MAX_ROWS 32
 int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                           const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
-                          int jacobian, int warp);
+                          int jacobian, int warp, int mcap);
 /* A few rows' whole constrained iteration in one launch (W explicit, the
  * dense correction's U made, R->m <= NCP_CUDA_WARP_MAX_ROWS rows): the
  * row values as ncp_cuda_delta2 (jacobian: delta at q, delta_free at

@@ -25,61 +25,103 @@
 namespace {
 
 /* y = W x by the NT threads: row i by the K threads i K ... i K + K - 1 (K =
- * dense_row_width(m); 1 for the warp's few rows), NT / K rows at a time. */
+ * dense_row_width(m); 1 for the warp's few rows), NT / K rows a pass.  The
+ * block's K m <= kThreads threads take at most NP = kThreads / NT passes
+ * (the narrow paths' NT = 128 or 256 up to 4 or 2, the warp's 1), summed
+ * side by side so that their chains of multiply-adds overlap; each row's
+ * sum is dense_row_dot's, in its order (bitwise k_dense's). */
 template <int NT>
 __device__ void product(int m, const double *__restrict__ W, const double *x, double *y)
 {
-    const int K = dense_row_width(m), c = threadIdx.x & (K - 1);
-    for (int i0 = 0; i0 < m; i0 += NT / K) { /* uniform bound: shuffles inside */
-        const int i = i0 + threadIdx.x / K, ok = i < m;
-        const double s = dense_row_dot(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
-        if (ok && c == 0) y[i] = s;
+    constexpr int NP = NT == 32 ? 1 : kThreads / NT;
+    const int K = dense_row_width(m), c = threadIdx.x & (K - 1), per = NT / K;
+    if constexpr (NP == 1) {
+        for (int i0 = 0; i0 < m; i0 += per) { /* uniform bound: shuffles inside */
+            const int i = i0 + threadIdx.x / K, ok = i < m;
+            const double s = dense_row_dot(W + (ok ? (size_t)i * (size_t)m : 0), x, ok ? m : 0, c, K);
+            if (ok && c == 0) y[i] = s;
+        }
+    } else {
+        const double *row[NP];
+        double s[NP];
+#pragma unroll
+        for (int p = 0; p < NP; ++p) {
+            const int i = p * per + threadIdx.x / K;
+            row[p] = W + (size_t)(i < m ? i : 0) * (size_t)m; /* a row past m: summed, not kept */
+            s[p] = 0.0;
+        }
+        if (per >= m) { /* one pass */
+            for (int j = c; j < m; j += K) s[0] += row[0][j] * x[j];
+        } else {
+            for (int j = c; j < m; j += K) {
+                const double xj = x[j];
+#pragma unroll
+                for (int p = 0; p < NP; ++p) s[p] += row[p][j] * xj;
+            }
+        }
+#pragma unroll
+        for (int p = 0; p < NP; ++p) {
+            for (int o = K / 2; o > 0; o >>= 1) s[p] += __shfl_down_sync(0xffffffffu, s[p], o, K);
+            const int i = p * per + threadIdx.x / K;
+            if (i < m && c == 0) y[i] = s[p];
+        }
     }
 }
 
 /* CR's loop after phase D (phases E and F of ncp_cuda.h with the product
  * between them): the same arithmetic as cr_e and cr_f, with the scalars in
- * registers (the same in every thread) and each thread on its own rows.
- * The product after an update of r runs before the stop test, so that
- * |r|^2 and r.Ar are summed together (block_reduce2): two reductions and
- * two more barriers an iteration.  When CR stops there, that product only
- * wrote tmp, tmp2 and cr_Ar, which nothing reads before it writes them
- * again (phase A, the next products). */
+ * registers (the same in every thread) and, since a fused update has at
+ * most one row a thread (m <= NT), each thread's row of dlambda, r, p, Ap,
+ * Ar, op_omega and op_e in registers too: an iteration reads no global
+ * memory but W.  The product's operand and result go through xs and ys
+ * (shared memory, m <= NCP_CUDA_FUSED_MAX_ROWS doubles each), not tmp
+ * and tmp2.  The product after
+ * an update of r runs before the stop test, so that |r|^2 and r.Ar are
+ * summed together (block_reduce2): two reductions and two more barriers
+ * an iteration.  The rows' dlambda, r, p, Ap and Ar go back to V at the
+ * end; tmp and tmp2 are left as they were, as nothing reads them before
+ * it writes them again (phase G on, as after the phased path's CR). */
 template <int NT>
 __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
-                        const pl_ncp_cuda_params &P, const double *__restrict__ W, red &rd)
+                        const pl_ncp_cuda_params &P, const double *__restrict__ W, red &rd,
+                        double *xs, double *ys)
 {
     pl_ncp_cuda_scalars *sc = V.sc;
-    const int m = R.m;
+    const int m = R.m, j = threadIdx.x, own = j < m;
     const double h2 = P.h * P.h, bnorm = sc->bnorm;
     int done = sc->done, its = sc->its, error = 0;
     double rAr = sc->rAr, rnorm = sc->rnorm;
+    double dl = 0.0, r = 0.0, p = 0.0, Ap = 0.0, Ar = 0.0, om = 0.0, oe = 0.0;
+    if (own) {
+        dl = V.dlambda[j], r = V.cr_r[j], p = V.cr_p[j], Ap = V.cr_Ap[j], Ar = V.cr_Ar[j];
+        om = V.op_omega[j], oe = V.op_e[j];
+    }
     for (int t = 1; t < P.cr_max_iter && !done; ++t) {
         const int last = t == P.cr_max_iter - 1;
-        const double ApAp = dot<NT>(m, V.cr_Ap, V.cr_Ap, rd);
+        double s0 = 0.0; /* dot()'s sum */
+        if (own) s0 += Ap * Ap;
+        const double ApAp = block_reduce<NT>(s0, 0, rd);
         if (!(ApAp > 0.0) || rAr == 0.0) {
             done = 1;
             break;
         }
         const double alpha = rAr / ApAp;
         double ss = 0.0, s = 0.0;
-        for (int j = threadIdx.x; j < m; j += NT) {
-            V.dlambda[j] += alpha * V.cr_p[j];
-            const double r = V.cr_r[j] - alpha * V.cr_Ap[j];
-            V.cr_r[j] = r;
+        if (own) {
+            dl += alpha * p;
+            r = r - alpha * Ap;
             ss += r * r;
-            if (!last) V.tmp[j] = V.op_omega[j] * r;
+            if (!last) xs[j] = om * r;
         }
         if (last) {
             ss = block_reduce<NT>(ss, 0, rd);
         } else {
             sync_nt<NT>();
-            product<NT>(m, W, V.tmp, V.tmp2);
+            product<NT>(m, W, xs, ys);
             sync_nt<NT>();
-            for (int j = threadIdx.x; j < m; j += NT) {
-                const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
-                V.cr_Ar[j] = ar;
-                s += V.cr_r[j] * ar;
+            if (own) {
+                Ar = cr_ar(h2, om, ys[j], oe, r);
+                s += r * Ar;
             }
             block_reduce2<NT>(ss, s, rd);
         }
@@ -92,12 +134,13 @@ __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
         its += 1; /* the product that follows (counted on the last one too, as cr_e) */
         if (last) break;
         const double beta = s / rAr;
-        for (int j = threadIdx.x; j < m; j += NT) {
-            V.cr_p[j] = V.cr_r[j] + beta * V.cr_p[j];
-            V.cr_Ap[j] = V.cr_Ar[j] + beta * V.cr_Ap[j];
+        if (own) {
+            p = r + beta * p;
+            Ap = Ar + beta * Ap;
         }
         rAr = s;
     }
+    if (own) V.dlambda[j] = dl, V.cr_r[j] = r, V.cr_p[j] = p, V.cr_Ap[j] = Ap, V.cr_Ar[j] = Ar;
     sync_nt<NT>(); /* every thread has read sc above */
     if (threadIdx.x == 0) {
         sc->done = done, sc->its = its, sc->rAr = rAr, sc->rnorm = rnorm;
@@ -143,7 +186,7 @@ __device__ void prof_print(const prof &pf, int skip, int m, int its)
 template <int NT>
 __device__ void update_all(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                            const pl_ncp_cuda_params &P, const double *__restrict__ W,
-                           int jacobian, red &rd, prof &pf)
+                           int jacobian, red &rd, prof &pf, double *xy)
 {
     const int m = R.m;
 #define PHASE(p)                             \
@@ -172,7 +215,7 @@ __device__ void update_all(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     PRODUCT(V.tmp);
     PHASE(PL_NCP_PHASE_D);
     pf.mark();
-    cr_loop<NT>(R, V, P, W, rd);
+    cr_loop<NT>(R, V, P, W, rd, xy, xy + NCP_CUDA_FUSED_MAX_ROWS);
     sync_nt<NT>();
     pf.mark();
     PHASE(PL_NCP_PHASE_G);
@@ -236,7 +279,7 @@ __device__ __forceinline__ void stage_w(double *sh, const double *__restrict__ W
  * as the phased path leaves). */
 __device__ void update_warp_staged(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                                    const pl_ncp_cuda_params &P, const double *__restrict__ W,
-                                   int jacobian, red &rd, prof &pf, warp_stage &st)
+                                   int jacobian, red &rd, prof &pf, warp_stage &st, double *xy)
 {
     const int m = R.m, j = threadIdx.x;
     if (j < m) {
@@ -267,7 +310,7 @@ __device__ void update_warp_staged(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_
     SV.is_clamped = st.is_clamped, SV.sc = &st.sc;
     SR.kind = st.kind, SR.full = st.full, SR.contact = st.contact;
     __syncwarp();
-    update_all<32>(SR, SV, P, st.W, jacobian, rd, pf);
+    update_all<32>(SR, SV, P, st.W, jacobian, rd, pf, xy);
     __syncwarp();
     if (j < m) {
 #define OUT_VEC(k, f) V.f[j] = st.vec[k][j];
@@ -284,28 +327,39 @@ __device__ void update_warp_staged(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_
 #undef OUT_VEC
 }
 
-/* The constraint update in one launch of one block.  warp (the
- * PLIANT_NCP_FUSED_WARP switch): 2 = at most kWarpRows rows by the first
- * warp on shared copies, 1 = by the first warp in place, 0 = by the block. */
-__global__ void __launch_bounds__(kThreads)
+/* The constraint update in one launch of one block of NT threads.  warp
+ * (the PLIANT_NCP_FUSED_WARP switch): 2 = at most kWarpRows rows by the
+ * first warp on shared copies, 1 = by the first warp in place, 0 = by the
+ * block.  NT = kThreads, or 128 or 256 for a capacity of at most that many
+ * rows (one a thread as in kThreads' block: fewer warps meet at each
+ * barrier, and up to 255 registers a thread); the reductions' entries of
+ * the warps the smaller block lacks hold +0.0, what kThreads' empty warps
+ * give, so the sums are kThreads' bitwise. */
+template <int NT>
+__global__ void __launch_bounds__(NT, 1)
     k_update(const pl_ncp_cuda_rows *__restrict__ Rp, pl_ncp_cuda_vecs V, pl_ncp_cuda_params P,
              const double *__restrict__ W, int jacobian, int profile, int warp)
 {
     __shared__ double sh[kRedShared];
     __shared__ warp_stage st;
+    __shared__ double xy[2 * NCP_CUDA_FUSED_MAX_ROWS]; /* cr_loop's product operands */
     red rd = {sh, 0, 32};
     prof pf = {profile > 0, 0, {0}};
+    if constexpr (NT < kThreads) {
+        for (int i = threadIdx.x; i < kRedShared; i += NT) sh[i] = 0.0;
+        __syncthreads();
+    }
     pf.mark();
     const pl_ncp_cuda_rows R = *Rp;
     if (warp && R.m <= kWarpRows) {
         if (threadIdx.x >= 32) return; /* the other warps: nothing to do */
         rd.live = R.m;
         if (warp == 2)
-            update_warp_staged(R, V, P, W, jacobian, rd, pf, st);
+            update_warp_staged(R, V, P, W, jacobian, rd, pf, st, xy);
         else
-            update_all<32>(R, V, P, W, jacobian, rd, pf);
+            update_all<32>(R, V, P, W, jacobian, rd, pf, xy);
     } else {
-        update_all<kThreads>(R, V, P, W, jacobian, rd, pf);
+        update_all<NT>(R, V, P, W, jacobian, rd, pf, xy);
     }
     prof_print(pf, profile - 1, R.m, V.sc->its);
 }
@@ -327,6 +381,7 @@ __global__ void __launch_bounds__(kThreads)
 {
     __shared__ double sh[kRedShared];
     __shared__ warp_stage st;
+    __shared__ double xy[2 * NCP_CUDA_FUSED_MAX_ROWS]; /* cr_loop's product operands */
     red rd = {sh, 0, 32};
     prof pf = {profile > 0, 0, {0}};
     pf.mark(); /* the profile's first section (linearise) has the row values too */
@@ -342,10 +397,10 @@ __global__ void __launch_bounds__(kThreads)
     if (R.m <= kWarpRows) {
         if (tid < 32) {
             rd.live = R.m;
-            update_warp_staged(R, V, P, W, jacobian, rd, pf, st);
+            update_warp_staged(R, V, P, W, jacobian, rd, pf, st, xy);
         }
     } else { /* not chosen by the host (dense_max <= kWarpRows); correct all the same */
-        update_all<kThreads>(R, V, P, W, jacobian, rd, pf);
+        update_all<kThreads>(R, V, P, W, jacobian, rd, pf, xy);
     }
     __syncthreads();
     prof_print(pf, profile - 1, R.m, V.sc->its);
@@ -372,9 +427,15 @@ int profile_launches()
 
 extern "C" int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                      const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P,
-                                     const double *W, int jacobian, int warp)
+                                     const double *W, int jacobian, int warp, int mcap)
 {
-    k_update<<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, profile_launches(), warp);
+    const int pr = profile_launches();
+    if (mcap > 0 && mcap <= 128)
+        k_update<128><<<1, 128, 0, st>>>(R, *V, *P, W, jacobian, pr, warp);
+    else if (mcap > 0 && mcap <= 256)
+        k_update<256><<<1, 256, 0, st>>>(R, *V, *P, W, jacobian, pr, warp);
+    else
+        k_update<kThreads><<<1, kThreads, 0, st>>>(R, *V, *P, W, jacobian, pr, warp);
     return (int)cudaGetLastError();
 }
 

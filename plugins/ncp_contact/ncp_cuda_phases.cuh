@@ -64,7 +64,11 @@ template <int NT> __device__ __forceinline__ void sync_nt()
 }
 
 /* Sum (max = 0) or maximum (max = 1) over the NT threads; every thread
- * gets it.  NT = 32 (one warp, m = rd.live <= 32 rows): the levels of the
+ * gets it.  A block of NT < kThreads threads (the fused update's narrow
+ * blocks: rd.sh's entries of warps NT / 32 and on hold +0.0, written once
+ * before) combines by kThreads' tree, whose empty warps give +0.0 too: the
+ * bits of a kThreads block for at most NT rows.
+ * NT = 32 (one warp, m = rd.live <= 32 rows): the levels of the
  * warp's shuffle tree whose offset o < m (a level with o >= m adds to each
  * lane below o a partial sum of lanes at or past m, all +0.0 or, for the
  * maxima of |.|, 0.0: it changes at most a zero's sign), then what the
@@ -90,7 +94,7 @@ template <int NT> __device__ double block_reduce(double v, int max, red &rd)
         double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
         rd.k += 1;
         if (lane == 0) b[w] = v;
-        __syncthreads();
+        sync_nt<NT>();
         return warps_combine(b, max);
     }
 }
@@ -111,10 +115,20 @@ template <int NT> __device__ void block_reduce2(double &a, double &c, red &rd)
         double *b = rd.sh + (rd.k & 1) * 2 * kWarps;
         rd.k += 1;
         if (lane == 0) b[w] = a, b[kWarps + w] = c;
-        __syncthreads();
+        sync_nt<NT>();
         a = warps_combine(b, 0);
         c = warps_combine(b + kWarps, 0);
     }
+}
+
+/* CR's A r of one row, h^2 op_omega (W op_omega r) + op_e r, with its one
+ * fused multiply-add pinned: nvcc contracts the sum where the operands come
+ * from memory as fma(h2 om, y, oe r), and where they are kept in registers
+ * across a loop as fma(oe, r, h2 om y); the intrinsics keep phases D and F
+ * and the fused update's loop (ncp_cuda_fused.cu) on the same bits. */
+__device__ __forceinline__ double cr_ar(double h2, double om, double y, double oe, double r)
+{
+    return __fma_rn(__dmul_rn(h2, om), y, __dmul_rn(oe, r));
 }
 
 template <int NT> __device__ double dot(int m, const double *a, const double *b, red &rd)
@@ -261,7 +275,7 @@ __device__ void cr_f(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
     if (sc->done) return;
     double s = 0.0;
     for (int j = threadIdx.x; j < m; j += NT) {
-        const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+        const double ar = cr_ar(h2, V.op_omega[j], V.tmp2[j], V.op_e[j], V.cr_r[j]);
         V.cr_Ar[j] = ar;
         s += V.cr_r[j] * ar;
     }
@@ -362,7 +376,7 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
         if (sc->done) break;
         double s = 0.0;
         for (int j = threadIdx.x; j < m; j += NT) {
-            const double ar = h2 * V.op_omega[j] * V.tmp2[j] + V.op_e[j] * V.cr_r[j];
+            const double ar = cr_ar(h2, V.op_omega[j], V.tmp2[j], V.op_e[j], V.cr_r[j]);
             V.cr_Ar[j] = V.cr_Ap[j] = ar;
             V.cr_p[j] = V.cr_r[j];
             s += V.cr_r[j] * ar;

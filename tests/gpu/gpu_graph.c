@@ -23,6 +23,9 @@
  *     rows' row values, fused update and dense correction as three kernels,
  *     not one), gives the third run's positions bitwise (the one kernel
  *     runs the three's device code, in their order).
+ *   - a sixth, PLIANT_NCP_FUSED_CR=1 and PLIANT_NCP_FUSED_NARROW=0 (the
+ *     fused kernel in a block of 512 threads whatever the rows' capacity,
+ *     not 128 or 256 for few), gives the third run's positions bitwise.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -72,9 +75,11 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
                    double *captures, double *ms)
 {
     /* read by the contact solver's device path (fused 2: without the warp;
-     * one 0: the few rows' iteration as three kernels) */
+     * 3: always a block of 512; one 0: the few rows' iteration as three
+     * kernels) */
     setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
+    setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
@@ -127,6 +132,9 @@ static void check(const char *path, int steps)
     double *c = run(path, 1, 1, 1, steps, &nc, &cap_c, &ms_c);
     double *d = run(path, 1, 2, 1, steps, &nd, &cap_d, &ms_d);
     double *e = run(path, 1, 1, 0, steps, &ne, &cap_e, &ms_e);
+    size_t nf = 0;
+    double cap_f = 0, ms_f = NAN;
+    double *f = run(path, 1, 3, 1, steps, &nf, &cap_f, &ms_f);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -160,9 +168,17 @@ static void check(const char *path, int steps)
     gpu_check_line(md, what, c && e && nc == ne ? rel(c, e, ne) : INFINITY, 0.0);
     snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and ONE_KERNEL=0", path);
     gpu_note_line(md, what, ms_e);
-    free(a), free(b), free(c), free(d), free(e);
+    snprintf(what, sizeof what,
+             "%s: PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_FUSED_NARROW=1 vs =0, graph (relative; "
+             "bitwise)",
+             path);
+    gpu_check_line(md, what, c && f && nc == nf ? rel(c, f, nf) : INFINITY, 0.0);
+    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and FUSED_NARROW=0", path);
+    gpu_note_line(md, what, ms_f);
+    free(a), free(b), free(c), free(d), free(e), free(f);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
+    unsetenv("PLIANT_NCP_FUSED_NARROW");
     unsetenv("PLIANT_NCP_ONE_KERNEL");
 }
 
