@@ -199,6 +199,65 @@ static void check_wdiag(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double 
     free(H.p), free(H.j), free(H.x), free(ref), free(dw), free(dd);
 }
 
+/* The explicit W, every entry, against the host's W = Y^T Y (Y = S P H^T,
+ * apply_inverse_to_rows), for 60 random rows of 4 unknowns a component but
+ * rows 19, 39 and 59 of 30 (a cable's: more than 16 entries, whose entries
+ * a block each sums, spinv_cuda_delassus.cu); and W bitwise symmetric. */
+static void check_w_long(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double tol)
+{
+    enum { M = 60, K = 4, LONG = 30 };
+    int n = sparse_inverse_size(bar->spinv), m = M;
+    pl_csr H = {3 * m, n, malloc((3 * (size_t)m + 1) * sizeof(int)),
+                malloc(3 * (size_t)m * LONG * sizeof(int)), malloc(3 * (size_t)m * LONG * sizeof(double))};
+    double *dense = calloc((size_t)n * 3 * m, sizeof *dense), *ref = calloc((size_t)m * m, sizeof *ref);
+    double *w = malloc((size_t)m * m * sizeof *w), *dw = malloc(m * sizeof *dw);
+    void *W = gpu_put(NULL, (size_t)m * m, PL_F64);
+    pl_spinv_cuda_rows R = {0};
+    pl_csc Y = {0};
+    pl_error err;
+    char what[200];
+    unsigned st = 41;
+    int rc = H.p && H.j && H.x && dense && ref && w && dw && W ? PL_OK : PL_EINTERNAL;
+    H.p[0] = 0;
+    for (int r = 0; rc == PL_OK && r < 3 * m; ++r) { /* coordinate-major: row k m + j */
+        int j = r % m, cnt = j % 20 == 19 ? LONG : K, base = H.p[r];
+        int step = 1 + j % 3, span = n - 1 - (cnt - 1) * step; /* distinct, ascending */
+        int v0 = (int)(fabs(gpu_rand(&st)) * span) % (span > 0 ? span : 1);
+        for (int t = 0; t < cnt; ++t) {
+            H.j[base + t] = v0 + t * step;
+            H.x[base + t] = gpu_rand(&st);
+        }
+        H.p[r + 1] = base + cnt;
+    }
+    if (rc == PL_OK) rc = sparse_inverse_apply_inverse_to_rows(bar->spinv, &H, &Y, &err);
+    for (int c = 0; rc == PL_OK && c < 3 * m; ++c) /* W_ij = sum_k Y_(k m + i) . Y_(k m + j) */
+        for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) dense[(size_t)c * n + Y.i[p]] = Y.x[p];
+    for (int i = 0; rc == PL_OK && i < m; ++i)
+        for (int j = 0; j < m; ++j)
+            for (int k = 0; k < 3; ++k)
+                for (int t = 0; t < n; ++t)
+                    ref[(size_t)i * m + j] +=
+                        dense[((size_t)k * m + i) * n + t] * dense[((size_t)k * m + j) * n + t];
+    if (rc == PL_OK)
+        rc = spinv_cuda_rows_build(&H, m, sparse_inverse_perm(bar->spinv), n, &R, &err);
+    if (rc == PL_OK) rc = spinv_cuda_delassus(g, &R, W, dw, NULL, &err);
+    if (rc == PL_OK) rc = gpu_get(w, W, (size_t)m * m, PL_F64) ? PL_EINTERNAL : PL_OK;
+    if (rc != PL_OK) printf("W with long rows: %s\n", err.msg);
+    snprintf(what, sizeof what, "%dx%dx%d W %s with rows of %d entries, every entry vs host Y^T Y",
+             bar->nx, bar->ny, bar->nz, tag, 3 * LONG);
+    gpu_check_line(md, what, rc == PL_OK ? gpu_rel_diff(w, ref, (size_t)m * m) : INFINITY, tol);
+    size_t asym = 0;
+    for (int i = 0; rc == PL_OK && i < m; ++i)
+        for (int j = 0; j < i; ++j) asym += memcmp(&w[i * m + j], &w[j * m + i], sizeof *w) != 0;
+    snprintf(what, sizeof what, "%dx%dx%d W %s with long rows: entries W_ij != W_ji (bitwise)",
+             bar->nx, bar->ny, bar->nz, tag);
+    gpu_check_line(md, what, rc == PL_OK ? (double)asym : INFINITY, 0.0);
+    spinv_cuda_rows_free(&R);
+    pl_csc_free(&Y);
+    gpu_free(W);
+    free(H.p), free(H.j), free(H.x), free(dense), free(ref), free(w), free(dw);
+}
+
 /* Extra checks: in place, host copies, repeatability. */
 static void check_own_extras(gpu_bar *bar, pl_spinv_cuda *g, const double *b, const double *xc)
 {
@@ -275,6 +334,7 @@ static void check_global(gpu_bar *bar)
         check_products(bar, g, pi ? "float32" : "float64", pi ? 1e-5 : 1e-12);
         check_own_extras(bar, g, b, xc);
         check_wdiag(bar, g, tag, pi ? 1e-5 : 1e-12);
+        check_w_long(bar, g, tag, pi ? 1e-5 : 1e-12);
         spinv_cuda_destroy(g);
     }
 done:

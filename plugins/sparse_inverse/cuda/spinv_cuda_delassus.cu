@@ -3,13 +3,14 @@
  *
  * A^-1 = P^T S^T S P, so between two unknowns a and b, [A^-1]_ab is the dot
  * product of the columns P a and P b of S.  The rows of one step touch few
- * unknowns (nu, at most 4 per row): their columns of S go into a dense
+ * unknowns (nu; a contact row at most 4): their columns of S go into a dense
  * n x nu block Y (the profile layout gives S(i, c) without a search), one
  * cuBLAS SYRK forms G = Y^T Y = A^-1 on those unknowns (the product that
  * costs: n nu^2 multiply-adds, on the tensor cores), and a last kernel sums
  * W_ij = sum_k sum_{a in row i} sum_{b in row j} h_ka h_kb G_ab with one
  * thread per entry of the lower triangle, which writes W_ij and W_ji from
- * one sum (bitwise symmetric, deterministic).  Buffers are kept between
+ * one sum (bitwise symmetric, deterministic); the entries of a row with
+ * many entries (a cable's) take a block each.  Buffers are kept between
  * steps and grow by half.  With W NULL only the diagonal is made, along the
  * etree paths (spinv_cuda_wdiag.cu): a matrix-free W's scaling. */
 #include "spinv_cuda_internal.h"
@@ -73,7 +74,22 @@ __global__ void gather_columns(int n, int nu, const pl_spinv_cuda_rowmeta *meta,
     }
 }
 
-/* W_ij = W_ji for j <= i from G (lower triangle, column-major nu x nu). */
+/* A row of more entries than this (over its three components) is long: a
+ * cable's or a cavity's mapped points, not a contact's (at most 12).  An
+ * entry W_ij with a long row sums len_i x len_j products per component, a
+ * chain of dependent loads too long for one thread (a cable row of 56
+ * vertex entries a component against another: 9408 products, about 280 us
+ * on the H100, the whole assembly's time for the small raptor), so it is
+ * summed by a block (assemble_w_long). */
+constexpr int kLongEntries = 16;
+
+__device__ __forceinline__ int row_len(const int *rp, int m, int i)
+{
+    return rp[i + 1] - rp[i] + rp[m + i + 1] - rp[m + i] + rp[2 * m + i + 1] - rp[2 * m + i];
+}
+
+/* W_ij = W_ji for j <= i from G (lower triangle, column-major nu x nu),
+ * one thread an entry; the entries with a long row are assemble_w_long's. */
 __global__ void assemble_w(int m, int nu, const int *rp, const int *ru, const double *rx,
                            const double *G, double *W, double *diag)
 {
@@ -82,6 +98,7 @@ __global__ void assemble_w(int m, int nu, const int *rp, const int *ru, const do
          t += (size_t)gridDim.x * blockDim.x) {
         int i = (int)(t / (size_t)m), j = (int)(t % (size_t)m);
         if (j > i) continue;
+        if (row_len(rp, m, i) > kLongEntries || row_len(rp, m, j) > kLongEntries) continue;
         double s = 0.0;
         for (int k = 0; k < 3; ++k) {
             int ri = k * m + i, rj = k * m + j;
@@ -95,6 +112,44 @@ __global__ void assemble_w(int m, int nu, const int *rp, const int *ru, const do
         W[(size_t)i * m + j] = s;
         W[(size_t)j * m + i] = s;
         if (i == j) diag[i] = s;
+    }
+}
+
+/* The entries W_aj = W_ja of the long rows a = longr[l] (nl of them), one
+ * block of kLongThreads an entry (l, j): its threads take the components'
+ * products (entry p of row a, q of row j) in turn, and their partial sums
+ * meet by a fixed tree (shuffles, then the warps' sums in order:
+ * deterministic).  A pair of long rows a < b is summed once, by the block
+ * (b, a): the block (a, b) returns. */
+constexpr int kLongThreads = 256;
+
+__global__ void __launch_bounds__(kLongThreads)
+    assemble_w_long(int m, int nu, const int *longr, const int *rp, const int *ru,
+                    const double *rx, const double *G, double *W, double *diag)
+{
+    __shared__ double part[kLongThreads / 32];
+    const int a = longr[blockIdx.x / m], j = (int)(blockIdx.x % m), tid = threadIdx.x;
+    if (j > a && row_len(rp, m, j) > kLongEntries) return; /* the whole block */
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const int pa = rp[k * m + a], la = rp[k * m + a + 1] - pa;
+        const int pj = rp[k * m + j], lj = rp[k * m + j + 1] - pj;
+        for (int t = tid; t < la * lj; t += kLongThreads) {
+            const int p = pa + t / lj, q = pj + t % lj;
+            const int u = ru[p], v = ru[q];
+            const int hi = u > v ? u : v, lo = u > v ? v : u;
+            s += rx[p] * rx[q] * G[(size_t)lo * nu + hi];
+        }
+    }
+    for (int o = 16; o > 0; o >>= 1) s += __shfl_down_sync(0xffffffffu, s, o);
+    if ((tid & 31) == 0) part[tid >> 5] = s;
+    __syncthreads();
+    if (tid == 0) {
+        s = part[0];
+        for (int w = 1; w < kLongThreads / 32; ++w) s += part[w];
+        W[(size_t)a * m + j] = s;
+        W[(size_t)j * m + a] = s;
+        if (a == j) diag[a] = s;
     }
 }
 
@@ -159,23 +214,34 @@ extern "C" int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st 
     if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus prepare: SYRK");
     assemble_w<<<1, 32, 0, st>>>(0, 0, NULL, NULL, NULL, d->G, NULL, NULL);
     SPINV_CK(cudaGetLastError(), "Delassus prepare: assemble W");
-    pl_spinv_cuda_drows none = {0, 0, NULL, NULL, NULL, NULL};
+    pl_spinv_cuda_drows none = {0, 0, NULL, NULL, NULL, NULL, 0, NULL};
     if ((rc = spinv_cuda_launch_wdiag(g, &none, d->G, st, err))) return rc;
     SPINV_CK(cudaStreamSynchronize(st), "Delassus prepare: wait");
     d->prepared = 1;
     return PL_OK;
 }
 
-/* The rows into d->in (pos, rp, ru, rx packed, through the page-locked
- * staging buffer), queued on st; the device pointers into *A. */
+/* Row i has more than kLongEntries entries (row_len on the host). */
+static int is_long(const pl_spinv_cuda_rows *R, int i)
+{
+    const int *rp = R->rp, m = R->m;
+    return rp[i + 1] - rp[i] + rp[m + i + 1] - rp[m + i] + rp[2 * m + i + 1] - rp[2 * m + i] >
+           kLongEntries;
+}
+
+/* The rows into d->in (pos, rp, ru, rx and the long rows' indices packed,
+ * through the page-locked staging buffer), queued on st; the device
+ * pointers into *A. */
 static int upload_rows(struct spinv_delassus *d, const pl_spinv_cuda_rows *R, cudaStream_t st,
                        pl_spinv_cuda_drows *A, pl_error *err)
 {
-    int m = R->m, nu = R->nu;
+    int m = R->m, nu = R->nu, nl = 0;
     size_t nent = (size_t)R->rp[3 * m];
+    for (int i = 0; i < m; ++i) nl += is_long(R, i); /* assemble_w_long's rows */
     size_t b_pos = align16(sizeof(int) * (size_t)nu), b_rp = align16(sizeof(int) * (3 * (size_t)m + 1)),
-           b_ru = align16(sizeof(int) * nent), b_rx = sizeof(double) * nent;
-    size_t bytes = b_pos + b_rp + b_ru + b_rx;
+           b_ru = align16(sizeof(int) * nent), b_rx = align16(sizeof(double) * nent),
+           b_long = sizeof(int) * (size_t)nl;
+    size_t bytes = b_pos + b_rp + b_ru + b_rx + b_long;
     int rc = grow((void **)&d->in, &d->in_cap, bytes, err);
     if (!rc) rc = grow_host((void **)&d->h_in, &d->h_in_cap, bytes, err);
     if (!rc) rc = grow((void **)&d->diag, &d->diag_cap, sizeof(double) * (size_t)m, err);
@@ -187,12 +253,17 @@ static int upload_rows(struct spinv_delassus *d, const pl_spinv_cuda_rows *R, cu
     memcpy(h + b_pos, R->rp, sizeof(int) * (3 * (size_t)m + 1));
     memcpy(h + b_pos + b_rp, R->ru, sizeof(int) * nent);
     memcpy(h + b_pos + b_rp + b_ru, R->rx, sizeof(double) * nent);
+    int *hl = (int *)(h + b_pos + b_rp + b_ru + b_rx);
+    for (int i = 0, l = 0; i < m; ++i)
+        if (is_long(R, i)) hl[l++] = i;
     SPINV_CK(cudaMemcpyAsync(d->in, h, bytes, cudaMemcpyHostToDevice, st), "Delassus: upload rows");
     A->m = m, A->nu = nu;
     A->pos = (const int *)d->in;
     A->rp = (const int *)(d->in + b_pos);
     A->ru = (const int *)(d->in + b_pos + b_rp);
     A->rx = (const double *)(d->in + b_pos + b_rp + b_ru);
+    A->nl = nl;
+    A->longr = (const int *)(d->in + b_pos + b_rp + b_ru + b_rx);
     return PL_OK;
 }
 
@@ -228,6 +299,11 @@ extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R
         size_t mm = (size_t)m * (size_t)m;
         assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nu, A.rp, A.ru, A.rx, d->G, W, d->diag);
         SPINV_CK(cudaGetLastError(), "Delassus: assemble W");
+        if (A.nl > 0) {
+            assemble_w_long<<<(unsigned)A.nl * (unsigned)m, kLongThreads, 0, st>>>(
+                m, nu, A.longr, A.rp, A.ru, A.rx, d->G, W, d->diag);
+            SPINV_CK(cudaGetLastError(), "Delassus: assemble W (long rows)");
+        }
     }
     SPINV_CK(cudaMemcpyAsync(diag_host, d->diag, sizeof(double) * (size_t)m, cudaMemcpyDeviceToHost, st),
              "Delassus: diagonal down");

@@ -54,6 +54,8 @@ typedef struct pl_spinv_cuda_drows {
     int m, nu;
     const int *pos, *rp, *ru;
     const double *rx;
+    int nl;             /* rows of more than 16 entries (spinv_cuda_delassus.cu) */
+    const int *longr;   /* their indices, ascending */
 } pl_spinv_cuda_drows;
 
 /* diag[j] = W_jj = sum_k |S P h_kj|^2 for the m rows of A (spinv_cuda_wdiag.cu),
