@@ -201,7 +201,7 @@ static void check_wdiag(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double 
 
 /* The explicit W, every entry, against the host's W = Y^T Y (Y = S P H^T,
  * apply_inverse_to_rows), for 60 random rows of 4 unknowns a component but
- * rows 19, 39 and 59 of 30 (a cable's: more than 16 entries, whose entries
+ * rows 19, 39 and 59 of 30 (a cable's: more than 64 entries, whose entries
  * a block each sums, spinv_cuda_delassus.cu); and W bitwise symmetric. */
 static void check_w_long(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double tol)
 {

@@ -75,13 +75,17 @@ __global__ void gather_columns(int n, int nu, const pl_spinv_cuda_rowmeta *meta,
 }
 
 /* A row of more entries than this (over its three components) is long: a
- * cable's or a cavity's mapped points, not a contact's (at most 12).  An
- * entry W_ij with a long row sums len_i x len_j products per component, a
- * chain of dependent loads too long for one thread (a cable row of 56
- * vertex entries a component against another: 9408 products, about 280 us
- * on the H100, the whole assembly's time for the small raptor), so it is
- * summed by a block (assemble_w_long). */
-constexpr int kLongEntries = 16;
+ * cable's or a cavity's mapped points, not a contact's (at most 12 between
+ * two meshes; up to 48 where a face's corners are mapped into tetrahedra,
+ * 4 vertices each, as on the soft fingers).  An entry W_ij sums
+ * len_i x len_j products per component in one thread's chain of dependent
+ * loads: 507 for two mapped contacts, but 9408 for two cable rows of 56
+ * vertex entries a component (about 280 us on the H100, the whole
+ * assembly's time for the small raptor).  So an entry with a long row is
+ * summed by a block (assemble_w_long).  Set so that only such rows are
+ * long: with 16, the small raptor's mapped contacts (hundreds of rows)
+ * made hundreds of thousands of blocks, 190 us a step. */
+constexpr int kLongEntries = 64;
 
 __device__ __forceinline__ int row_len(const int *rp, int m, int i)
 {

@@ -54,7 +54,7 @@ typedef struct pl_spinv_cuda_drows {
     int m, nu;
     const int *pos, *rp, *ru;
     const double *rx;
-    int nl;             /* rows of more than 16 entries (spinv_cuda_delassus.cu) */
+    int nl;             /* rows of more than 64 entries (spinv_cuda_delassus.cu) */
     const int *longr;   /* their indices, ascending */
 } pl_spinv_cuda_drows;
 
