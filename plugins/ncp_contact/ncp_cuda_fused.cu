@@ -74,13 +74,13 @@ __device__ void product(int m, const double *__restrict__ W, const double *x, do
  * most one row a thread (m <= NT), each thread's row of dlambda, r, p, Ap,
  * Ar, op_omega and op_e in registers too: an iteration reads no global
  * memory but W.  The product's operand and result go through xs and ys
- * (shared memory, m <= NCP_CUDA_FUSED_MAX_ROWS doubles each), not tmp
- * and tmp2.  The product after
- * an update of r runs before the stop test, so that |r|^2 and r.Ar are
- * summed together (block_reduce2): two reductions and two more barriers
- * an iteration.  The rows' dlambda, r, p, Ap and Ar go back to V at the
- * end; tmp and tmp2 are left as they were, as nothing reads them before
- * it writes them again (phase G on, as after the phased path's CR). */
+ * (shared memory, m <= NCP_CUDA_FUSED_MAX_ROWS doubles each), not tmp and
+ * tmp2.  The product after an update of r runs before the stop test, so
+ * that |r|^2 and r.Ar are summed together (block_reduce2): two reductions
+ * and two more barriers an iteration.  The rows' dlambda, r, p, Ap and Ar
+ * go back to V at the end; tmp and tmp2 are left as they were, as nothing
+ * reads them before it writes them again (phase G on, as after the phased
+ * path's CR). */
 template <int NT>
 __device__ void cr_loop(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                         const pl_ncp_cuda_params &P, const double *__restrict__ W, red &rd,

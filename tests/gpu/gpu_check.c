@@ -147,6 +147,25 @@ done:
     free(x), free(yc), free(yg);
 }
 
+/* H (3m x n, coordinate-major: row k m + j) filled with random rows of
+ * cnt_all distinct ascending unknowns a component, but big for the rows j
+ * with j % every == first; H's arrays hold 3 m big entries. */
+static void random_rows(pl_csr *H, int m, int n, int cnt_all, int big, int first, int every,
+                        unsigned *st)
+{
+    H->p[0] = 0;
+    for (int r = 0; r < 3 * m; ++r) {
+        int j = r % m, cnt = j % every == first ? big : cnt_all, base = H->p[r];
+        int step = 1 + j % 3, span = n - 1 - (cnt - 1) * step; /* distinct, ascending */
+        int v0 = (int)(fabs(gpu_rand(st)) * span) % (span > 0 ? span : 1);
+        for (int t = 0; t < cnt; ++t) {
+            H->j[base + t] = v0 + t * step;
+            H->x[base + t] = gpu_rand(st);
+        }
+        H->p[r + 1] = base + cnt;
+    }
+}
+
 /* W's diagonal on the device, alone (W NULL: the etree walk) and from the
  * explicit W (cuBLAS), against the host's |S P h^T|^2 (apply_inverse_to_rows)
  * for 300 random rows of 4 unknowns; a row of 20 unknowns must come back NaN
@@ -165,17 +184,7 @@ static void check_wdiag(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double 
     char what[200];
     unsigned st = 23;
     int rc = H.p && H.j && H.x && ref && dw && dd && W ? PL_OK : PL_EINTERNAL;
-    H.p[0] = 0;
-    for (int r = 0; rc == PL_OK && r < 3 * m; ++r) { /* coordinate-major: row k m + j */
-        int j = r % m, cnt = j == m - 1 ? BIG : K, base = H.p[r];
-        int step = 1 + j % 3, span = n - 1 - (cnt - 1) * step; /* distinct, ascending */
-        int v0 = (int)(fabs(gpu_rand(&st)) * span) % (span > 0 ? span : 1);
-        for (int t = 0; t < cnt; ++t) {
-            H.j[base + t] = v0 + t * step;
-            H.x[base + t] = gpu_rand(&st);
-        }
-        H.p[r + 1] = base + cnt;
-    }
+    if (rc == PL_OK) random_rows(&H, m, n, K, BIG, m - 1, m, &st);
     if (rc == PL_OK) rc = sparse_inverse_apply_inverse_to_rows(bar->spinv, &H, &Y, &err);
     for (int c = 0; rc == PL_OK && c < 3 * m; ++c)
         for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) ref[c % m] += Y.x[p] * Y.x[p];
@@ -218,17 +227,7 @@ static void check_w_long(gpu_bar *bar, pl_spinv_cuda *g, const char *tag, double
     char what[200];
     unsigned st = 41;
     int rc = H.p && H.j && H.x && dense && ref && w && dw && W ? PL_OK : PL_EINTERNAL;
-    H.p[0] = 0;
-    for (int r = 0; rc == PL_OK && r < 3 * m; ++r) { /* coordinate-major: row k m + j */
-        int j = r % m, cnt = j % 20 == 19 ? LONG : K, base = H.p[r];
-        int step = 1 + j % 3, span = n - 1 - (cnt - 1) * step; /* distinct, ascending */
-        int v0 = (int)(fabs(gpu_rand(&st)) * span) % (span > 0 ? span : 1);
-        for (int t = 0; t < cnt; ++t) {
-            H.j[base + t] = v0 + t * step;
-            H.x[base + t] = gpu_rand(&st);
-        }
-        H.p[r + 1] = base + cnt;
-    }
+    if (rc == PL_OK) random_rows(&H, m, n, K, LONG, 19, 20, &st);
     if (rc == PL_OK) rc = sparse_inverse_apply_inverse_to_rows(bar->spinv, &H, &Y, &err);
     for (int c = 0; rc == PL_OK && c < 3 * m; ++c) /* W_ij = sum_k Y_(k m + i) . Y_(k m + j) */
         for (int p = Y.p[c]; p < Y.p[c + 1]; ++p) dense[(size_t)c * n + Y.i[p]] = Y.x[p];
