@@ -63,6 +63,11 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * of 128 or 256 threads (bitwise the 512's); 0: always 512 */
     const char *fn = getenv("PLIANT_NCP_FUSED_NARROW");
     g->fused_narrow = !(fn && !strcmp(fn, "0"));
+    /* on by default: the phase kernels' consecutive phases (CR's F and the
+     * next E, ...) two a launch, the same results; PLIANT_NCP_PHASE_PAIRS=0
+     * keeps one a launch */
+    const char *pp = getenv("PLIANT_NCP_PHASE_PAIRS");
+    g->phase_pairs = !(pp && !strcmp(pp, "0"));
     const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;

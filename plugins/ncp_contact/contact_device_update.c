@@ -34,6 +34,19 @@ static int phase(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_error *err
     return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
 }
 
+/* Phase p, then q with no product between them: one launch (the same
+ * results; PLIANT_NCP_PHASE_PAIRS=0 keeps two). */
+static int phases(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_ncp_cuda_phase q,
+                  int last_q, pl_error *err)
+{
+    if (!g->phase_pairs) {
+        int rc = phase(g, p, last, err);
+        return rc ? rc : phase(g, q, last_q, err);
+    }
+    int e = ncp_cuda_phase_run2(g->stream, p, last, q, last_q, g->in_dev, &g->V, &g->P);
+    return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
+}
+
 /* The constraint update: dlambda (CR), step length, lambda, projection. */
 static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
 {
@@ -44,33 +57,41 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
                                       g->fused_warp, g->fused_narrow ? g->mcap : 0);
         return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
     }
+    /* the sequence (phases with no product between them go in pairs):
+     *   [W lambda, LIN,] A, W, B, W, C, W, D, E_1, then for t < maxit - 1:
+     *   W, F_t, E_t+1 (E_t's last = t == maxit - 1); G,
+     *   line search: [LAMBDA, W, LS0,] DLAMBDA, W; UPDATE */
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
         rc = product(g, sys, V->lambda, V->tmp2, err);
-        if (!rc) rc = phase(g, PL_NCP_PHASE_LIN, 0, err);
+        if (!rc) rc = phases(g, PL_NCP_PHASE_LIN, 0, PL_NCP_PHASE_A, 0, err);
+    } else {
+        rc = phase(g, PL_NCP_PHASE_A, 0, err);
     }
-    if (!rc) rc = phase(g, PL_NCP_PHASE_A, 0, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
     if (!rc) rc = phase(g, PL_NCP_PHASE_B, 0, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
     if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_D, 0, err);
-    for (int t = 1; !rc && t < maxit; ++t) {
-        int last = t == maxit - 1;
-        rc = phase(g, PL_NCP_PHASE_E, last, err);
-        if (!rc && !last) rc = product(g, sys, V->tmp, V->tmp2, err);
-        if (!rc && !last) rc = phase(g, PL_NCP_PHASE_F, 0, err);
+    if (!rc) {
+        if (maxit > 1)
+            rc = phases(g, PL_NCP_PHASE_D, 0, PL_NCP_PHASE_E, maxit == 2, err);
+        else
+            rc = phase(g, PL_NCP_PHASE_D, 0, err);
     }
-    if (!rc) rc = phase(g, PL_NCP_PHASE_G, 0, err);
-    if (!rc && g->P.line_search) {
-        if (g->jacobian) {
-            rc = phase(g, PL_NCP_PHASE_LAMBDA, 0, err);
-            if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
-            if (!rc) rc = phase(g, PL_NCP_PHASE_LS0, 0, err);
-        }
-        if (!rc) rc = phase(g, PL_NCP_PHASE_DLAMBDA, 0, err);
+    for (int t = 1; !rc && t < maxit - 1; ++t) { /* E_t ran; not the last */
+        rc = product(g, sys, V->tmp, V->tmp2, err);
+        if (!rc) rc = phases(g, PL_NCP_PHASE_F, 0, PL_NCP_PHASE_E, t + 1 == maxit - 1, err);
+    }
+    if (rc) return rc;
+    if (!g->P.line_search) return phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_UPDATE, 0, err);
+    if (g->jacobian) {
+        rc = phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_LAMBDA, 0, err);
         if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
+        if (!rc) rc = phases(g, PL_NCP_PHASE_LS0, 0, PL_NCP_PHASE_DLAMBDA, 0, err);
+    } else {
+        rc = phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_DLAMBDA, 0, err);
     }
+    if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
     if (!rc) rc = phase(g, PL_NCP_PHASE_UPDATE, 0, err);
     return rc;
 }

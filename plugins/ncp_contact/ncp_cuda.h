@@ -128,6 +128,11 @@ typedef enum pl_ncp_cuda_phase {
 int ncp_cuda_phase_run(struct CUstream_st *st, pl_ncp_cuda_phase phase,
                           const pl_ncp_cuda_rows *R, const pl_ncp_cuda_vecs *V,
                           const pl_ncp_cuda_params *P, int last);
+/* Two phases with no product between them in one launch (phase, then
+ * phase2 after a block barrier): the results of the two launches. */
+int ncp_cuda_phase_run2(struct CUstream_st *st, pl_ncp_cuda_phase phase, int last,
+                        pl_ncp_cuda_phase phase2, int last2, const pl_ncp_cuda_rows *R,
+                        const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P);
 
 /* The whole constraint update (contact_device.c's constraint_update: the
  * phases above and the products y = W x between them, CR's loop included)

@@ -26,6 +26,9 @@
  *   - a sixth, PLIANT_NCP_FUSED_CR=1 and PLIANT_NCP_FUSED_NARROW=0 (the
  *     fused kernel in a block of 512 threads whatever the rows' capacity,
  *     not 128 or 256 for few), gives the third run's positions bitwise.
+ *   - a seventh, PLIANT_NCP_FUSED_CR=0 and PLIANT_NCP_PHASE_PAIRS=0 (the
+ *     phase kernels one phase a launch, not two where no product comes
+ *     between them), gives the second run's positions bitwise.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -75,11 +78,12 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
                    double *captures, double *ms)
 {
     /* read by the contact solver's device path (fused 2: without the warp;
-     * 3: always a block of 512; one 0: the few rows' iteration as three
-     * kernels) */
-    setenv("PLIANT_NCP_FUSED_CR", fused ? "1" : "0", 1);
+     * 3: always a block of 512; -1: the phase kernels one a launch; one 0:
+     * the few rows' iteration as three kernels) */
+    setenv("PLIANT_NCP_FUSED_CR", fused > 0 ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
+    setenv("PLIANT_NCP_PHASE_PAIRS", fused == -1 ? "0" : "1", 1);
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
@@ -135,6 +139,9 @@ static void check(const char *path, int steps)
     size_t nf = 0;
     double cap_f = 0, ms_f = NAN;
     double *f = run(path, 1, 3, 1, steps, &nf, &cap_f, &ms_f);
+    size_t ng = 0;
+    double cap_g = 0, ms_g = NAN;
+    double *h = run(path, 0, -1, 1, steps, &ng, &cap_g, &ms_g);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -175,10 +182,16 @@ static void check(const char *path, int steps)
     gpu_check_line(md, what, c && f && nc == nf ? rel(c, f, nf) : INFINITY, 0.0);
     snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and FUSED_NARROW=0", path);
     gpu_note_line(md, what, ms_f);
-    free(a), free(b), free(c), free(d), free(e), free(f);
+    snprintf(what, sizeof what,
+             "%s: PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph (relative; "
+             "bitwise)",
+             path);
+    gpu_check_line(md, what, b && h && nb == ng ? rel(b, h, ng) : INFINITY, 0.0);
+    free(a), free(b), free(c), free(d), free(e), free(f), free(h);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
     unsetenv("PLIANT_NCP_FUSED_NARROW");
+    unsetenv("PLIANT_NCP_PHASE_PAIRS");
     unsetenv("PLIANT_NCP_ONE_KERNEL");
 }
 
