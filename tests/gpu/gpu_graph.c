@@ -121,6 +121,15 @@ static double rel(const double *a, const double *b, size_t n)
     return n ? (r > 0 ? sqrt(d / r) : sqrt(d)) : 0.0;
 }
 
+/* The check line "PATH: LABEL (relative[; bitwise])": x against y. */
+static void same_line(const char *path, const char *label, const double *x, size_t nx,
+                      const double *y, size_t ny, double tol)
+{
+    char what[256];
+    snprintf(what, sizeof what, "%s: %s (relative%s)", path, label, tol == 0.0 ? "; bitwise" : "");
+    gpu_check_line(md, what, x && y && nx == ny ? rel(x, y, ny) : INFINITY, tol);
+}
+
 static void check(const char *path, int steps)
 {
     char what[256];
@@ -157,36 +166,23 @@ static void check(const char *path, int steps)
         snprintf(what, sizeof what, "%s: median step ms without a graph", path);
         gpu_note_line(md, what, ms_b);
     }
-    snprintf(what, sizeof what, "%s: PLIANT_NCP_FUSED_CR=1 with a graph vs no graph (relative)",
-             path);
-    gpu_check_line(md, what, c && b && nc == nb ? rel(c, b, nb) : INFINITY, 1e-12);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1 with a graph vs no graph", c, nc, b, nb, 1e-12);
     snprintf(what, sizeof what, "%s: median step ms, graph and PLIANT_NCP_FUSED_CR=1", path);
     gpu_note_line(md, what, ms_c);
     snprintf(what, sizeof what, "%s: graph captures with PLIANT_NCP_FUSED_CR=1", path);
     gpu_note_line(md, what, cap_c);
-    snprintf(what, sizeof what,
-             "%s: PLIANT_NCP_FUSED_CR=1 PLIANT_NCP_FUSED_WARP=0 with a graph vs no graph "
-             "(relative)",
-             path);
-    gpu_check_line(md, what, d && b && nd == nb ? rel(d, b, nb) : INFINITY, 1e-12);
-    snprintf(what, sizeof what,
-             "%s: PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_ONE_KERNEL=1 vs =0, graph (relative; bitwise)",
-             path);
-    gpu_check_line(md, what, c && e && nc == ne ? rel(c, e, ne) : INFINITY, 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1 PLIANT_NCP_FUSED_WARP=0 with a graph vs no graph", d,
+              nd, b, nb, 1e-12);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_ONE_KERNEL=1 vs =0, graph", c, nc, e, ne,
+              0.0);
     snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and ONE_KERNEL=0", path);
     gpu_note_line(md, what, ms_e);
-    snprintf(what, sizeof what,
-             "%s: PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_FUSED_NARROW=1 vs =0, graph (relative; "
-             "bitwise)",
-             path);
-    gpu_check_line(md, what, c && f && nc == nf ? rel(c, f, nf) : INFINITY, 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_FUSED_NARROW=1 vs =0, graph", c, nc, f, nf,
+              0.0);
     snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and FUSED_NARROW=0", path);
     gpu_note_line(md, what, ms_f);
-    snprintf(what, sizeof what,
-             "%s: PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph (relative; "
-             "bitwise)",
-             path);
-    gpu_check_line(md, what, b && h && nb == ng ? rel(b, h, ng) : INFINITY, 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph", b, nb, h, ng,
+              0.0);
     free(a), free(b), free(c), free(d), free(e), free(f), free(h);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
