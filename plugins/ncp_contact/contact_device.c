@@ -68,6 +68,10 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * keeps one a launch */
     const char *pp = getenv("PLIANT_NCP_PHASE_PAIRS");
     g->phase_pairs = !(pp && !strcmp(pp, "0"));
+    /* on by default: H^T x (the correction's and a matrix-free product's)
+     * a warp an unknown, the same sums; PLIANT_NCP_SCATTER_WARP=0: a thread */
+    const char *sw = getenv("PLIANT_NCP_SCATTER_WARP");
+    g->scatter_warp = !(sw && !strcmp(sw, "0"));
     const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;

@@ -62,6 +62,7 @@ struct pl_ncpc_device {
     int fused;              /* this step's: fused_env, W explicit, mcap <= NCP_CUDA_FUSED_MAX_ROWS */
     int fused_warp;         /* PLIANT_NCP_FUSED_WARP: few rows by one warp (ncp_cuda.h) */
     int fused_narrow;       /* PLIANT_NCP_FUSED_NARROW: few rows by a block of 128 or 256 */
+    int scatter_warp;       /* PLIANT_NCP_SCATTER_WARP: H^T x a warp an unknown */
     int phase_pairs;        /* PLIANT_NCP_PHASE_PAIRS: two phases a launch where no product
                                comes between them (contact_device_update.c) */
     int one_env;            /* PLIANT_NCP_ONE_KERNEL (on unless 0): see `one` */

@@ -20,7 +20,7 @@ static int product(pl_ncpc_device *g, const pl_system *sys, const double *x, dou
     }
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);
     pl_buffer Xb = {g->X, (size_t)sys->nfree, 3, PL_DEVICE, PL_F64};
-    if ((e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, x, 1.0, g->X)))
+    if ((e = ncp_cuda_scatter(g->stream, g->in_dev, sys->nfree, x, 1.0, g->X, g->scatter_warp)))
         return ncpc_device_cuda_fail(g, err, e, "H^T x");
     int rc = gs->solve(sys->global_solver, &Xb, &Xb, err);
     if (rc) return rc;
@@ -109,7 +109,7 @@ static int correction(pl_ncpc_device *g, const pl_system *sys, double h2, pl_buf
         return e ? ncpc_device_cuda_fail(g, err, e, "correction") : PL_OK;
     }
     if ((e = ncp_cuda_scatter_scaled(g->stream, g->in_dev, g->mcap, nf, g->V.scale, g->V.lambda,
-                                     h2, g->V.force, g->corr)))
+                                     h2, g->V.force, g->corr, g->scatter_warp)))
         return ncpc_device_cuda_fail(g, err, e, "H^T lambda");
     pl_buffer cb = {g->corr, (size_t)nf, 3, PL_DEVICE, PL_F64};
     const pl_global_solver_ops *gs = pl_component_role(sys->global_solver, PL_ROLE_GLOBAL_SOLVER);

@@ -86,14 +86,16 @@ int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, 
  * delta at q (use_fvert) and delta_free at x (the same sums, one launch). */
 int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *x,
                     const double *q, double *delta, double *delta_free);
-/* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order). */
+/* X (nfree x 3) = alpha H_free^T x (per unknown, entries in row order);
+ * warp: a warp an unknown (its entries loaded at once), else a thread (the
+ * same sums). */
 int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int nfree,
-                     const double *x, double alpha, double *X);
+                     const double *x, double alpha, double *X, int warp);
 /* force = scale .* lambda (PL_NCP_PHASE_LAMBDA) and X = alpha H_free^T
  * force (ncp_cuda_scatter) in one launch, the same values. */
 int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
                             int nfree, const double *scale, const double *lambda, double alpha,
-                            double *force, double *X);
+                            double *force, double *X, int warp);
 /* y_j = H_j,free X. */
 int ncp_cuda_gather(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, const double *X,
                     double *y);

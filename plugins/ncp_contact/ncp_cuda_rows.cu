@@ -79,6 +79,47 @@ __device__ __forceinline__ void scatter_unknown(const pl_ncp_cuda_rows *__restri
     X[3 * (size_t)f + 2] = a2;
 }
 
+/* scatter_unknown by the 32 lanes of a warp (all call it): each lane loads
+ * one entry's row value and coefficients (a chunk of 32 entries at once,
+ * one memory latency instead of a chain of dependent loads an entry: a
+ * soft finger's vertex under many mapped contacts has tens), then every
+ * lane adds the chunk's entries in order from the shuffled values, the
+ * same operations as scatter_unknown's loop; lane 0 writes. */
+template <bool SCALED>
+__device__ __forceinline__ void scatter_unknown_warp(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
+                                                     const double *scale, const double *x,
+                                                     double alpha, double *X, int lane)
+{
+    const int k0 = Rp->tptr[f], k1 = Rp->tptr[f + 1];
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int b = k0; b < k1; b += 32) {
+        const int k = b + lane, n = k1 - b < 32 ? k1 - b : 32;
+        double l = 0.0, c0 = 0.0, c1 = 0.0, c2 = 0.0;
+        if (k < k1) {
+            const int e = Rp->tent[k];
+            const int r = Rp->erow[e];
+            const double v = SCALED ? scale[r] * x[r] : x[r];
+            const double *c = Rp->fcoef + 3 * (size_t)e;
+            l = alpha * v, c0 = c[0], c1 = c[1], c2 = c[2];
+        }
+        for (int i = 0; i < n; ++i) {
+            const double li = __shfl_sync(0xffffffffu, l, i);
+            const double d0 = __shfl_sync(0xffffffffu, c0, i);
+            const double d1 = __shfl_sync(0xffffffffu, c1, i);
+            const double d2 = __shfl_sync(0xffffffffu, c2, i);
+            if (li == 0.0) continue; /* as the CPU, which skips such rows */
+            a0 += li * d0;
+            a1 += li * d1;
+            a2 += li * d2;
+        }
+    }
+    if (lane == 0) {
+        X[3 * (size_t)f] = a0;
+        X[3 * (size_t)f + 1] = a1;
+        X[3 * (size_t)f + 2] = a2;
+    }
+}
+
 /* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
  * multipliers phase (force = S lambda, ncp_cuda_step.cu) and k_scatter in
  * one launch; l = alpha (scale lambda) rounds as force then alpha force. */
@@ -95,6 +136,21 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
     scatter_unknown<true>(Rp, f, scale, lambda, alpha, X);
 }
 
+/* k_scatter_scaled a warp an unknown (and a warp a row's force). */
+__global__ void k_scatter_scaled_warp(const pl_ncp_cuda_rows *__restrict__ Rp,
+                                      const double *__restrict__ scale,
+                                      const double *__restrict__ lambda, double alpha,
+                                      double *__restrict__ force, double *__restrict__ X)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
+    const int f = (int)(g >> 5), lane = (int)(g & 31);
+    if (lane == 0 && f < Rp->m) force[f] = scale[f] * lambda[f];
+    if (f >= Rp->nfree) return; /* the whole warp */
+    scatter_unknown_warp<true>(Rp, f, scale, lambda, alpha, X, lane);
+}
+
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                           double alpha, double *__restrict__ X)
 {
@@ -103,6 +159,17 @@ __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double 
     const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
     if (f >= Rp->nfree) return;
     scatter_unknown<false>(Rp, f, NULL, x, alpha, X);
+}
+
+__global__ void k_scatter_warp(const pl_ncp_cuda_rows *__restrict__ Rp,
+                               const double *__restrict__ x, double alpha, double *__restrict__ X)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
+    const int f = (int)(g >> 5), lane = (int)(g & 31);
+    if (f >= Rp->nfree) return; /* the whole warp */
+    scatter_unknown_warp<false>(Rp, f, NULL, x, alpha, X, lane);
 }
 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
@@ -166,10 +233,13 @@ extern "C" int ncp_cuda_delta(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
 }
 
 extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int nfree,
-                                const double *x, double alpha, double *X)
+                                const double *x, double alpha, double *X, int warp)
 {
     if (nfree <= 0) return 0;
-    pl_cuda_launch(k_scatter, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
+    if (warp)
+        pl_cuda_launch(k_scatter_warp, blocks(32LL * nfree), kThreads, 0, st, R, x, alpha, X);
+    else
+        pl_cuda_launch(k_scatter, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
     return (int)cudaGetLastError();
 }
 
@@ -185,11 +255,16 @@ extern "C" int ncp_cuda_delta2(struct CUstream_st *st, const pl_ncp_cuda_rows *R
 extern "C" int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                                        int mcap, int nfree, const double *scale,
                                        const double *lambda, double alpha, double *force,
-                                       double *X)
+                                       double *X, int warp)
 {
     int n = mcap > nfree ? mcap : nfree;
     if (n <= 0) return 0;
-    pl_cuda_launch(k_scatter_scaled, blocks(n), kThreads, 0, st, R, scale, lambda, alpha, force, X);
+    if (warp)
+        pl_cuda_launch(k_scatter_scaled_warp, blocks(32LL * n), kThreads, 0, st, R, scale, lambda,
+                       alpha, force, X);
+    else
+        pl_cuda_launch(k_scatter_scaled, blocks(n), kThreads, 0, st, R, scale, lambda, alpha,
+                       force, X);
     return (int)cudaGetLastError();
 }
 

@@ -29,6 +29,9 @@
  *   - a seventh, PLIANT_NCP_FUSED_CR=0 and PLIANT_NCP_PHASE_PAIRS=0 (the
  *     phase kernels one phase a launch, not two where no product comes
  *     between them), gives the second run's positions bitwise.
+ *   - an eighth, PLIANT_NCP_FUSED_CR=1 and PLIANT_NCP_SCATTER_WARP=0 (H^T
+ *     lambda a thread an unknown, not a warp), gives the third run's
+ *     positions bitwise.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -78,12 +81,14 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
                    double *captures, double *ms)
 {
     /* read by the contact solver's device path (fused 2: without the warp;
-     * 3: always a block of 512; -1: the phase kernels one a launch; one 0:
-     * the few rows' iteration as three kernels) */
+     * 3: always a block of 512; 4: the scatters a thread an unknown; -1:
+     * the phase kernels one a launch; one 0: the few rows' iteration as
+     * three kernels) */
     setenv("PLIANT_NCP_FUSED_CR", fused > 0 ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
     setenv("PLIANT_NCP_PHASE_PAIRS", fused == -1 ? "0" : "1", 1);
+    setenv("PLIANT_NCP_SCATTER_WARP", fused == 4 ? "0" : "1", 1);
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
@@ -151,6 +156,9 @@ static void check(const char *path, int steps)
     size_t ng = 0;
     double cap_g = 0, ms_g = NAN;
     double *h = run(path, 0, -1, 1, steps, &ng, &cap_g, &ms_g);
+    size_t ni = 0;
+    double cap_i = 0, ms_i = NAN;
+    double *in = run(path, 1, 4, 1, steps, &ni, &cap_i, &ms_i);
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -183,11 +191,14 @@ static void check(const char *path, int steps)
     gpu_note_line(md, what, ms_f);
     same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph", b, nb, h, ng,
               0.0);
-    free(a), free(b), free(c), free(d), free(e), free(f), free(h);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_SCATTER_WARP=1 vs =0, graph", c, nc, in, ni,
+              0.0);
+    free(a), free(b), free(c), free(d), free(e), free(f), free(h), free(in);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
     unsetenv("PLIANT_NCP_FUSED_NARROW");
     unsetenv("PLIANT_NCP_PHASE_PAIRS");
+    unsetenv("PLIANT_NCP_SCATTER_WARP");
     unsetenv("PLIANT_NCP_ONE_KERNEL");
 }
 
