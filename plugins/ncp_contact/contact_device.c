@@ -32,6 +32,13 @@ int ncpc_device_cuda_fail(const pl_ncpc_device *g, pl_error *err, int e, const c
                              cudaGetErrorString((cudaError_t)e));
 }
 
+/* A switch kept for comparisons: on unless the variable is "0". */
+static int switch_on(const char *name)
+{
+    const char *v = getenv(name);
+    return !(v && !strcmp(v, "0"));
+}
+
 pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
 {
     pl_component *dev = pl_util_device(c);
@@ -50,28 +57,24 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
     g->owner = c, g->dev = dev, g->ops = ops;
     g->stale = 1; /* made by the step's first device iterate: its data must go up */
     g->stream = ops->stream(dev);
-    const char *fz = getenv("PLIANT_NCP_FUSED_CR");
     /* on by default: on the H100 the fused update equals the phased one bitwise (gpu_graph,
      * four scenes, 100 steps) and is faster (raptor small 4.85 against 5.35 ms a step);
      * PLIANT_NCP_FUSED_CR=0 keeps the phase kernels */
-    g->fused_env = !(fz && !strcmp(fz, "0"));
+    g->fused_env = switch_on("PLIANT_NCP_FUSED_CR");
     /* 2 by default: at most 32 rows by one warp on shared copies (the cable
      * finger's one row: docs/benchmarks.md); 1: in place, 0: the block */
     const char *fw = getenv("PLIANT_NCP_FUSED_WARP");
     g->fused_warp = fw && (!strcmp(fw, "0") || !strcmp(fw, "1")) ? atoi(fw) : 2;
     /* 1 by default: a capacity of at most 128 or 256 rows updated by a block
      * of 128 or 256 threads (bitwise the 512's); 0: always 512 */
-    const char *fn = getenv("PLIANT_NCP_FUSED_NARROW");
-    g->fused_narrow = !(fn && !strcmp(fn, "0"));
+    g->fused_narrow = switch_on("PLIANT_NCP_FUSED_NARROW");
     /* on by default: the phase kernels' consecutive phases (CR's F and the
      * next E, ...) two a launch, the same results; PLIANT_NCP_PHASE_PAIRS=0
      * keeps one a launch */
-    const char *pp = getenv("PLIANT_NCP_PHASE_PAIRS");
-    g->phase_pairs = !(pp && !strcmp(pp, "0"));
+    g->phase_pairs = switch_on("PLIANT_NCP_PHASE_PAIRS");
     /* on by default: H^T x (the correction's and a matrix-free product's)
      * a warp an unknown, the same sums; PLIANT_NCP_SCATTER_WARP=0: a thread */
-    const char *sw = getenv("PLIANT_NCP_SCATTER_WARP");
-    g->scatter_warp = !(sw && !strcmp(sw, "0"));
+    g->scatter_warp = switch_on("PLIANT_NCP_SCATTER_WARP");
     const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;
@@ -81,8 +84,7 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * (ncp_cuda_iterate_few); PLIANT_NCP_ONE_KERNEL=0 keeps the three.
      * Only while the dense correction's rows fit the warp, so that a graph
      * replaying it with another step's m stays on the warp's path. */
-    const char *ok = getenv("PLIANT_NCP_ONE_KERNEL");
-    g->one_env = !(ok && !strcmp(ok, "0")) && g->dense_max <= NCP_CUDA_WARP_MAX_ROWS;
+    g->one_env = switch_on("PLIANT_NCP_ONE_KERNEL") && g->dense_max <= NCP_CUDA_WARP_MAX_ROWS;
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
@@ -420,18 +422,12 @@ int ncpc_device_iterate(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl_ctx
     return ncpc_device_lap(g, ctx, profile, st->t_cglobal, 0, err);
 }
 
-/* g->h_series made (page-locked); non-zero with err set when it cannot be. */
+/* g->h_series made (page-locked, reserve_host); non-zero with err set when
+ * it cannot be. */
 static int host_series(pl_ncpc_device *g, pl_error *err)
 {
-    if (g->h_series) return PL_OK;
-    g->h_series = malloc(SERIES_CAP * 4 * sizeof(double));
-    if (!g->h_series) return ncpc_device_fail(g, err, PL_EINTERNAL, "out of memory");
-    if (g->ops->pin && g->ops->pin(g->dev, g->h_series, SERIES_CAP * 4 * sizeof(double), err)) {
-        free(g->h_series);
-        g->h_series = NULL;
-        return err->code ? err->code : PL_EINTERNAL;
-    }
-    return PL_OK;
+    return reserve_host(g, (void **)&g->h_series, &g->h_series_cap,
+                        SERIES_CAP * 4 * sizeof(double), err);
 }
 
 /* The series' first `guess` iterations queued to g->h_series (the copy

@@ -52,7 +52,7 @@ struct pl_ncpc_device {
     int series_guess;
     /* page-locked host copies of lambda (m), lambda_all (nall), scalars */
     double *h_lambda, *h_lambda_all;
-    size_t h_cap, h_all_cap;
+    size_t h_cap, h_all_cap, h_series_cap;
     pl_ncp_cuda_scalars *h_sc;
     pl_ncp_cuda_rows R;     /* host copy; the device copy is at in_dev */
     pl_ncp_cuda_vecs V;

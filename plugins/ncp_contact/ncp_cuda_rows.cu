@@ -51,78 +51,58 @@ __global__ void k_delta2(const pl_ncp_cuda_rows *__restrict__ Rp, const double *
     row_delta2(Rp, j, x, q, 1, delta_free);
 }
 
-/* X_f = alpha H_free^T v for unknown f, v_r = x_r or, SCALED, scale_r x_r
- * (rounded, then times alpha): f's entries in increasing order, as the
- * CPU's scatter adds its rows. */
+/* Entry k of H_free^T's lists: l = alpha v_r for its row r (v_r = x_r or,
+ * SCALED, scale_r x_r, rounded, then times alpha) and its coefficients. */
 template <bool SCALED>
-__device__ __forceinline__ void scatter_unknown(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
-                                                const double *scale, const double *x,
-                                                double alpha, double *X)
+__device__ __forceinline__ void scatter_entry(const pl_ncp_cuda_rows *__restrict__ Rp, int k,
+                                              const double *scale, const double *x, double alpha,
+                                              double &l, double c[3])
 {
-    const int k0 = Rp->tptr[f], k1 = Rp->tptr[f + 1];
-    const int *tent = Rp->tent, *erow = Rp->erow;
-    const double *fcoef = Rp->fcoef;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = k0; k < k1; ++k) {
-        const int e = tent[k];
-        const int r = erow[e];
-        const double v = SCALED ? scale[r] * x[r] : x[r];
-        const double l = alpha * v;
-        if (l == 0.0) continue; /* as the CPU, which skips such rows */
-        const double *c = fcoef + 3 * (size_t)e;
-        a0 += l * c[0];
-        a1 += l * c[1];
-        a2 += l * c[2];
-    }
-    X[3 * (size_t)f] = a0;
-    X[3 * (size_t)f + 1] = a1;
-    X[3 * (size_t)f + 2] = a2;
+    const int e = Rp->tent[k];
+    const int r = Rp->erow[e];
+    const double v = SCALED ? scale[r] * x[r] : x[r];
+    const double *fc = Rp->fcoef + 3 * (size_t)e;
+    l = alpha * v, c[0] = fc[0], c[1] = fc[1], c[2] = fc[2];
 }
 
-/* scatter_unknown by the 32 lanes of a warp (all call it): each lane loads
- * one entry's row value and coefficients (a chunk of 32 entries at once,
- * one memory latency instead of a chain of dependent loads an entry: a
+/* X_f = alpha H_free^T v for unknown f: f's entries added in increasing
+ * order, as the CPU's scatter adds its rows (an entry whose l is 0 skipped,
+ * as the CPU skips such rows).  LANES = 1: one thread; LANES = 32: a warp,
+ * all of whose lanes call it: each lane loads one entry of a chunk of 32
+ * (one memory latency instead of a chain of dependent loads an entry: a
  * soft finger's vertex under many mapped contacts has tens), then every
  * lane adds the chunk's entries in order from the shuffled values, the
- * same operations as scatter_unknown's loop; lane 0 writes. */
-template <bool SCALED>
-__device__ __forceinline__ void scatter_unknown_warp(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
-                                                     const double *scale, const double *x,
-                                                     double alpha, double *X, int lane)
+ * same operations.  Lane 0 writes. */
+template <bool SCALED, int LANES>
+__device__ __forceinline__ void scatter_unknown(const pl_ncp_cuda_rows *__restrict__ Rp, int f,
+                                                const double *scale, const double *x,
+                                                double alpha, double *X, int lane)
 {
     const int k0 = Rp->tptr[f], k1 = Rp->tptr[f + 1];
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int b = k0; b < k1; b += 32) {
-        const int k = b + lane, n = k1 - b < 32 ? k1 - b : 32;
-        double l = 0.0, c0 = 0.0, c1 = 0.0, c2 = 0.0;
-        if (k < k1) {
-            const int e = Rp->tent[k];
-            const int r = Rp->erow[e];
-            const double v = SCALED ? scale[r] * x[r] : x[r];
-            const double *c = Rp->fcoef + 3 * (size_t)e;
-            l = alpha * v, c0 = c[0], c1 = c[1], c2 = c[2];
-        }
+    double a[3] = {0.0, 0.0, 0.0}, l = 0.0, c[3] = {0.0, 0.0, 0.0};
+    for (int b = k0; b < k1; b += LANES) {
+        const int n = k1 - b < LANES ? k1 - b : LANES;
+        if (b + lane < k1) scatter_entry<SCALED>(Rp, b + lane, scale, x, alpha, l, c);
         for (int i = 0; i < n; ++i) {
-            const double li = __shfl_sync(0xffffffffu, l, i);
-            const double d0 = __shfl_sync(0xffffffffu, c0, i);
-            const double d1 = __shfl_sync(0xffffffffu, c1, i);
-            const double d2 = __shfl_sync(0xffffffffu, c2, i);
-            if (li == 0.0) continue; /* as the CPU, which skips such rows */
-            a0 += li * d0;
-            a1 += li * d1;
-            a2 += li * d2;
+            double li = l, d[3] = {c[0], c[1], c[2]};
+            if constexpr (LANES > 1) {
+                li = __shfl_sync(0xffffffffu, l, i);
+                for (int t = 0; t < 3; ++t) d[t] = __shfl_sync(0xffffffffu, c[t], i);
+            }
+            if (li == 0.0) continue;
+            a[0] += li * d[0];
+            a[1] += li * d[1];
+            a[2] += li * d[2];
         }
     }
-    if (lane == 0) {
-        X[3 * (size_t)f] = a0;
-        X[3 * (size_t)f + 1] = a1;
-        X[3 * (size_t)f + 2] = a2;
-    }
+    if (lane == 0) X[3 * (size_t)f] = a[0], X[3 * (size_t)f + 1] = a[1], X[3 * (size_t)f + 2] = a[2];
 }
 
 /* X = alpha H_free^T (scale .* lambda) and force = scale .* lambda: the
  * multipliers phase (force = S lambda, ncp_cuda_step.cu) and k_scatter in
- * one launch; l = alpha (scale lambda) rounds as force then alpha force. */
+ * one launch, LANES threads an unknown (and a row's force); l = alpha
+ * (scale lambda) rounds as force then alpha force. */
+template <int LANES>
 __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
                                  const double *__restrict__ scale,
                                  const double *__restrict__ lambda, double alpha,
@@ -130,46 +110,23 @@ __global__ void k_scatter_scaled(const pl_ncp_cuda_rows *__restrict__ Rp,
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f < Rp->m) force[f] = scale[f] * lambda[f];
-    if (f >= Rp->nfree) return;
-    scatter_unknown<true>(Rp, f, scale, lambda, alpha, X);
-}
-
-/* k_scatter_scaled a warp an unknown (and a warp a row's force). */
-__global__ void k_scatter_scaled_warp(const pl_ncp_cuda_rows *__restrict__ Rp,
-                                      const double *__restrict__ scale,
-                                      const double *__restrict__ lambda, double alpha,
-                                      double *__restrict__ force, double *__restrict__ X)
-{
-    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
-    PL_CUDA_LAUNCH_DEPENDENTS();
     const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
-    const int f = (int)(g >> 5), lane = (int)(g & 31);
+    const int f = (int)(g / LANES), lane = (int)(g % LANES);
     if (lane == 0 && f < Rp->m) force[f] = scale[f] * lambda[f];
-    if (f >= Rp->nfree) return; /* the whole warp */
-    scatter_unknown_warp<true>(Rp, f, scale, lambda, alpha, X, lane);
+    if (f >= Rp->nfree) return; /* the whole warp where LANES = 32 */
+    scatter_unknown<true, LANES>(Rp, f, scale, lambda, alpha, X, lane);
 }
 
+template <int LANES>
 __global__ void k_scatter(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ x,
                           double alpha, double *__restrict__ X)
 {
     PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
     PL_CUDA_LAUNCH_DEPENDENTS();
-    const int f = (int)(blockIdx.x * (size_t)blockDim.x + threadIdx.x);
-    if (f >= Rp->nfree) return;
-    scatter_unknown<false>(Rp, f, NULL, x, alpha, X);
-}
-
-__global__ void k_scatter_warp(const pl_ncp_cuda_rows *__restrict__ Rp,
-                               const double *__restrict__ x, double alpha, double *__restrict__ X)
-{
-    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
-    PL_CUDA_LAUNCH_DEPENDENTS();
     const long long g = blockIdx.x * (long long)blockDim.x + threadIdx.x;
-    const int f = (int)(g >> 5), lane = (int)(g & 31);
-    if (f >= Rp->nfree) return; /* the whole warp */
-    scatter_unknown_warp<false>(Rp, f, NULL, x, alpha, X, lane);
+    const int f = (int)(g / LANES), lane = (int)(g % LANES);
+    if (f >= Rp->nfree) return; /* the whole warp where LANES = 32 */
+    scatter_unknown<false, LANES>(Rp, f, NULL, x, alpha, X, lane);
 }
 
 __global__ void k_gather(const pl_ncp_cuda_rows *__restrict__ Rp, const double *__restrict__ X,
@@ -237,9 +194,9 @@ extern "C" int ncp_cuda_scatter(struct CUstream_st *st, const pl_ncp_cuda_rows *
 {
     if (nfree <= 0) return 0;
     if (warp)
-        pl_cuda_launch(k_scatter_warp, blocks(32LL * nfree), kThreads, 0, st, R, x, alpha, X);
+        pl_cuda_launch(k_scatter<32>, blocks(32LL * nfree), kThreads, 0, st, R, x, alpha, X);
     else
-        pl_cuda_launch(k_scatter, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
+        pl_cuda_launch(k_scatter<1>, blocks(nfree), kThreads, 0, st, R, x, alpha, X);
     return (int)cudaGetLastError();
 }
 
@@ -260,10 +217,10 @@ extern "C" int ncp_cuda_scatter_scaled(struct CUstream_st *st, const pl_ncp_cuda
     int n = mcap > nfree ? mcap : nfree;
     if (n <= 0) return 0;
     if (warp)
-        pl_cuda_launch(k_scatter_scaled_warp, blocks(32LL * n), kThreads, 0, st, R, scale, lambda,
+        pl_cuda_launch(k_scatter_scaled<32>, blocks(32LL * n), kThreads, 0, st, R, scale, lambda,
                        alpha, force, X);
     else
-        pl_cuda_launch(k_scatter_scaled, blocks(n), kThreads, 0, st, R, scale, lambda, alpha,
+        pl_cuda_launch(k_scatter_scaled<1>, blocks(n), kThreads, 0, st, R, scale, lambda, alpha,
                        force, X);
     return (int)cudaGetLastError();
 }

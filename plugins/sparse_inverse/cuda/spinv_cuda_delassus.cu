@@ -87,7 +87,7 @@ __global__ void gather_columns(int n, int nu, const pl_spinv_cuda_rowmeta *meta,
  * made hundreds of thousands of blocks, 190 us a step. */
 constexpr int kLongEntries = 64;
 
-__device__ __forceinline__ int row_len(const int *rp, int m, int i)
+__host__ __device__ __forceinline__ int row_len(const int *rp, int m, int i)
 {
     return rp[i + 1] - rp[i] + rp[m + i + 1] - rp[m + i] + rp[2 * m + i + 1] - rp[2 * m + i];
 }
@@ -225,12 +225,10 @@ extern "C" int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st 
     return PL_OK;
 }
 
-/* Row i has more than kLongEntries entries (row_len on the host). */
+/* Row i has more than kLongEntries entries (its three components'). */
 static int is_long(const pl_spinv_cuda_rows *R, int i)
 {
-    const int *rp = R->rp, m = R->m;
-    return rp[i + 1] - rp[i] + rp[m + i + 1] - rp[m + i] + rp[2 * m + i + 1] - rp[2 * m + i] >
-           kLongEntries;
+    return row_len(R->rp, R->m, i) > kLongEntries;
 }
 
 /* The rows into d->in (pos, rp, ru, rx and the long rows' indices packed,
