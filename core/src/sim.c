@@ -231,6 +231,7 @@ static pl_sim *load(const char *xml, size_t len, const char *file, const pl_sim_
     }
     if (load_tree(s, diag) != PL_OK) goto fail;
     s->frame_timer = pl_timer_id(s->timers, "Frame");
+    pl_timer_watch(s->timers, s->frame_timer); /* spikes: the host's or the work's */
     pl_error e;
     if (export_all(s, s->data, 0, &e) != PL_OK) {
         pl_diag_add(diag, &e);

@@ -5,12 +5,26 @@
  * did not run) and, for each statistic kept by pl_stat_max, the largest value
  * given in that frame (0 when none), so that a frame's phases can be read
  * beside its contact count ("frames" in the JSON). */
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE /* RUSAGE_THREAD */
+#endif
 #include "pliant/timer.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
+
+/* What the host did to the calling thread while a watched phase ran
+ * (pl_timer_watch): a spike with as much off-CPU time is the machine's (a
+ * thread descheduled, or asleep at a wait), not more work. */
+typedef struct host_watch {
+    double cpu0;                    /* the thread's CPU time at start [s] */
+    double faults0, preempt0;       /* counters at start */
+    double off_cpu, faults, preempt; /* this frame's sums */
+} host_watch;
 
 typedef struct phase {
     char *name;
@@ -19,6 +33,7 @@ typedef struct phase {
     int ran;            /* ran in the current frame */
     double *samples;    /* per-frame sums [s] */
     int nsamples, cap;
+    host_watch *watch;  /* NULL unless pl_timer_watch asked */
 } phase;
 
 typedef struct named_values {
@@ -66,6 +81,7 @@ void pl_timers_clear(pl_timers *t)
     for (int k = 0; k < t->nphases; ++k) {
         free(t->phases[k].name);
         free(t->phases[k].samples);
+        free(t->phases[k].watch);
     }
     free_named(t->stats, t->nstats);
     free_named(t->series, t->nseries);
@@ -103,16 +119,51 @@ int pl_timer_id(pl_timers *t, const char *name)
     return t->nphases++;
 }
 
+/* The calling thread's CPU time [s], its involuntary context switches and
+ * the process's page faults (minor and major, every thread's). */
+static void host_counters(double *cpu, double *faults, double *preempt)
+{
+    struct timespec ts;
+    *cpu = clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0
+               ? (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec
+               : NAN;
+    struct rusage ru;
+    *faults = getrusage(RUSAGE_SELF, &ru) == 0 ? (double)(ru.ru_minflt + ru.ru_majflt) : NAN;
+#ifdef RUSAGE_THREAD
+    *preempt = getrusage(RUSAGE_THREAD, &ru) == 0 ? (double)ru.ru_nivcsw : NAN;
+#else
+    *preempt = NAN;
+#endif
+}
+
+void pl_timer_watch(pl_timers *t, int id)
+{
+    if (!t || id < 0 || t->phases[id].watch) return;
+    t->phases[id].watch = calloc(1, sizeof(host_watch)); /* none: not watched, no harm */
+}
+
 void pl_timer_start(pl_timers *t, int id)
 {
-    if (t && id >= 0) t->phases[id].start = pl_now();
+    if (!t || id < 0) return;
+    host_watch *w = t->phases[id].watch;
+    if (w) host_counters(&w->cpu0, &w->faults0, &w->preempt0);
+    t->phases[id].start = pl_now(); /* last: the counters' own cost is not timed */
 }
 
 void pl_timer_stop(pl_timers *t, int id)
 {
     if (!t || id < 0 || t->phases[id].start < 0) return;
-    pl_timer_add(t, id, pl_now() - t->phases[id].start);
+    double wall = pl_now() - t->phases[id].start;
+    pl_timer_add(t, id, wall);
     t->phases[id].start = -1.0;
+    host_watch *w = t->phases[id].watch;
+    if (w) {
+        double cpu, faults, preempt;
+        host_counters(&cpu, &faults, &preempt);
+        w->off_cpu += fmax(0.0, wall - (cpu - w->cpu0));
+        w->faults += faults - w->faults0;
+        w->preempt += preempt - w->preempt0;
+    }
 }
 
 void pl_timer_add(pl_timers *t, int id, double seconds)
@@ -135,11 +186,27 @@ static void frame_value(pl_timers *t, const char *name, double x)
     push_value(v, x);
 }
 
+/* A watched phase's three columns of the per-frame table. */
+static void watch_columns(pl_timers *t, phase *p)
+{
+    host_watch *w = p->watch;
+    char name[128];
+    snprintf(name, sizeof name, "%s off-CPU ms", p->name);
+    frame_value(t, name, 1e3 * w->off_cpu);
+    snprintf(name, sizeof name, "%s page faults", p->name);
+    frame_value(t, name, w->faults);
+    snprintf(name, sizeof name, "%s preemptions", p->name);
+    frame_value(t, name, w->preempt);
+    w->off_cpu = w->faults = w->preempt = 0.0;
+}
+
 void pl_timers_end_frame(pl_timers *t)
 {
     if (!t) return;
     for (int k = 0; k < t->nphases; ++k)
         frame_value(t, t->phases[k].name, t->phases[k].ran ? 1e3 * t->phases[k].frame_sum : 0.0);
+    for (int k = 0; k < t->nphases; ++k)
+        if (t->phases[k].watch) watch_columns(t, &t->phases[k]);
     for (int k = 0; k < t->nstats; ++k) {
         if (!t->stats[k].per_frame) continue;
         frame_value(t, t->stats[k].name, t->stats[k].frame);

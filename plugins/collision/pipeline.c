@@ -204,6 +204,7 @@ static int cp_reinit(pl_component *c, pl_ctx *ctx)
     pl_error err;
     if (check(p, &err)) return pl_component_error(c, ctx, PL_EINPUT, "%s", err.msg);
     p->t_detect = pl_timer_id(ctx->timers, "Detection");
+    pl_timer_watch(ctx->timers, p->t_detect); /* host detection's spikes: docs/benchmarks.md */
     return PL_OK;
 }
 

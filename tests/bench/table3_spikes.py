@@ -5,7 +5,10 @@ stay within 1.5x the median of the frames whose contact count is within 10% of i
 own.  Reads the timings files RES/<gpu|cpu>_<scene>.json (their per-frame table,
 "frames"), leaves out the first frame (allocations, the first CUDA graph) and prints,
 per run, the worst frame against its peers' median and the two phases that grew most
-in it (against their medians over the same peers).  Python 3, standard library only.
+in it (against their medians over the same peers) and, where the run recorded them
+(pl_timer_watch: every run since 2026-11-27), how much more of that frame than of
+its peers' the main thread spent off its CPU, and the page faults and preemptions it
+had.  Python 3, standard library only.
 """
 import json
 import os
@@ -13,13 +16,18 @@ import statistics
 import sys
 
 
+HOST = ("Frame off-CPU ms", "Frame page faults", "Frame preemptions")
+
+
 def per_frame(path, steps_per_frame):
-    fr = json.load(open(path))["frames"]
+    run = json.load(open(path))
+    fr = run["frames"]
     step_times = fr["Frame"]
     contacts = fr.get("contacts max", [0] * len(step_times))
+    # the phases (ms), and the host's columns of the Frame (pl_timer_watch) when recorded
     phases = {k: v for k, v in fr.items()
-              if isinstance(v, list) and len(v) == len(step_times) and k != "Frame"
-              and "max" not in k and "memory" not in k}
+              if isinstance(v, list) and len(v) == len(step_times)
+              and ((k in run["phases"] and k != "Frame") or k in HOST)}
     m = len(step_times) // steps_per_frame
 
     def frames(v):
@@ -43,9 +51,12 @@ def worst(path):
             best = (t / med, i, med)
     ratio, i, med = best
     p = peers(count, count[i])
-    grew = sorted(((v[i] - statistics.median(v[j] for j in p), k) for k, v in phases.items()),
-                  reverse=True)[:2]
-    return len(times), ratio, i + 2, times[i], med, count[i], grew, first_contact(times, count)
+    def excess(v):
+        return v[i] - statistics.median(v[j] for j in p)
+    grew = sorted(((excess(v), k) for k, v in phases.items() if k not in HOST), reverse=True)[:2]
+    host = {k: excess(phases[k]) for k in HOST if k in phases}
+    return (len(times), ratio, i + 2, times[i], med, count[i], grew, first_contact(times, count),
+            host)
 
 
 def first_contact(times, count):
@@ -64,19 +75,24 @@ def main():
         sys.exit(__doc__)
     res = sys.argv[1]
     print("| run | frames | worst / peers' median | frame | ms | peers' median ms | contacts "
-          "| grew most [ms] | first contact / next 10 (frame) |")
-    print("|---|--:|--:|--:|--:|--:|--:|---|--:|")
-    over = hitches = 0
+          "| grew most [ms] | off-CPU, faults, preemptions over the peers' | "
+          "first contact / next 10 (frame) |")
+    print("|---|--:|--:|--:|--:|--:|--:|---|---|--:|")
+    over = hitches = hosts = 0
     for f in sorted(os.listdir(res)):
         if not f.endswith(".json") or not f.startswith(("gpu_", "cpu_")):
             continue
-        n, ratio, frame, ms, med, c, grew, fc = worst(os.path.join(res, f))
+        n, ratio, frame, ms, med, c, grew, fc, host = worst(os.path.join(res, f))
         over += ratio > 1.5
-        hitches += fc is not None and fc[0] > 1.5
-        print("| %s | %d | %.2f | %d | %.2f | %.2f | %d | %s | %s |" % (
+        # the host's spike: the thread off its CPU for at least half of what the frame grew
+        hosts += ratio > 1.5 and host.get(HOST[0], 0.0) >= 0.5 * (ms - med)
+        print("| %s | %d | %.2f | %d | %.2f | %.2f | %d | %s | %s | %s |" % (
             f[:-5], n, ratio, frame, ms, med, c, ", ".join("%s +%.1f" % (k, g) for g, k in grew),
+            "%+.1f ms, %+.0f, %+.0f" % tuple(host[k] for k in HOST) if len(host) == 3 else "",
             "%.2f (%d)" % fc if fc else ""))
-    print("\n%d run(s) with a frame over 1.5x its peers' median" % over)
+        hitches += fc is not None and fc[0] > 1.5
+    print("\n%d run(s) with a frame over 1.5x its peers' median, %d of them with the thread "
+          "off its CPU for at least half the excess" % (over, hosts))
     print("%d run(s) whose first contact takes over 1.5x the 10 frames after it" % hitches)
 
 

@@ -1,12 +1,15 @@
 /* test_timer.c - the timers' per-frame table ("frames" in the timings JSON):
  * one value per frame for every phase (0 where it did not run, a phase
  * created late padded with zeros) and every pl_stat_max statistic (the largest
- * value of each frame, while the statistic itself keeps the run's maximum). */
+ * value of each frame, while the statistic itself keeps the run's maximum);
+ * a watched phase's off-CPU time and page faults (pl_timer_watch). */
+#define _POSIX_C_SOURCE 200809L
 #include <check.h>
 #include <pliant/pliant.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* The JSON of t, in a malloc'd string. */
 static char *json_of(const pl_timers *t)
@@ -65,11 +68,64 @@ START_TEST(frames_align_phases_and_frame_maxima)
 }
 END_TEST
 
+/* The two values of column `name` in the JSON js of two frames. */
+static void two_values(const char *js, const char *name, double v[2])
+{
+    char key[96];
+    snprintf(key, sizeof key, "\"%s\": [", name);
+    const char *p = strstr(js, key);
+    ck_assert_msg(p != NULL, "no column %s", name);
+    ck_assert_int_eq(sscanf(p + strlen(key), "%lf, %lf", &v[0], &v[1]), 2);
+}
+
+/* Frame 0 sleeps 30 ms inside the watched phase: off its CPU for about that
+ * long.  Frame 1 writes 32 MB of fresh memory: page faults (at least one
+ * even with 2 MB pages), and the writing thread on its CPU, so less than
+ * half the wall time off it on any machine not starved of CPU. */
+START_TEST(watch_tells_off_cpu_and_faults)
+{
+    pl_timers *t = pl_timers_create();
+    int w = pl_timer_id(t, "Watched");
+    pl_timer_watch(t, w);
+    pl_timer_start(t, w);
+    struct timespec ts = {0, 30000000L};
+    while (nanosleep(&ts, &ts) != 0) {
+    }
+    pl_timer_stop(t, w);
+    pl_timers_end_frame(t);
+    size_t bytes = (size_t)32 << 20;
+    pl_timer_start(t, w);
+    volatile char *mem = malloc(bytes);
+    ck_assert_ptr_nonnull((void *)mem);
+    for (size_t k = 0; k < bytes; k += 4096) mem[k] = (char)k;
+    pl_timer_stop(t, w);
+    free((void *)mem);
+    pl_timers_end_frame(t);
+
+    char *js = json_of(t);
+    double wall[2], off[2], faults[2], pre[2];
+    two_values(js, "Watched", wall);
+    two_values(js, "Watched off-CPU ms", off);
+    two_values(js, "Watched page faults", faults);
+    two_values(js, "Watched preemptions", pre);
+    ck_assert_msg(wall[0] >= 29.0 && off[0] >= 25.0 && off[0] <= wall[0],
+                  "sleep: wall %g ms, off-CPU %g ms", wall[0], off[0]);
+    ck_assert_msg(faults[1] >= 1.0, "32 MB written, %g page faults", faults[1]);
+    ck_assert_msg(off[1] < 0.5 * wall[1] + 1.0, "writing: wall %g ms, off-CPU %g ms", wall[1],
+                  off[1]);
+    ck_assert(pre[0] >= 0.0 && pre[1] >= 0.0);
+    ck_assert_ptr_null(strstr(js, "\"Frame off-CPU ms\"")); /* only the watched phase */
+    free(js);
+    pl_timers_free(t);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("timer");
     TCase *tc = tcase_create("frames");
     tcase_add_test(tc, frames_align_phases_and_frame_maxima);
+    tcase_add_test(tc, watch_tells_off_cpu_and_faults);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

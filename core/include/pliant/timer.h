@@ -27,6 +27,14 @@ PL_API double pl_now(void);
 /* Id of the phase `name` (created on first use); -1 on allocation failure. */
 PL_API int pl_timer_id(pl_timers *t, const char *name);
 PL_API void pl_timer_start(pl_timers *t, int id);
+/* Also records, per frame, what the host did to the thread that times phase
+ * `id`: "<name> off-CPU ms" (its wall time less the thread's CPU time: the
+ * thread descheduled, or asleep at a wait such as a passive OpenMP barrier
+ * or a blocking read-back), "<name> page faults" (the whole process's, minor
+ * and major) and "<name> preemptions" (the thread's involuntary context
+ * switches).  Three system calls at each start and stop: for phases timed a
+ * few times a step (Frame, Detection), not per iteration. */
+PL_API void pl_timer_watch(pl_timers *t, int id);
 PL_API void pl_timer_stop(pl_timers *t, int id);
 /* Adds seconds to a phase directly. */
 PL_API void pl_timer_add(pl_timers *t, int id, double seconds);
