@@ -69,8 +69,8 @@ static const pl_field FIELDS[] = {
                   "no more than a matrix-free one, 6 nnz(S) as the global solver reports it, and, on "
                   "the CPU, building W costs no more than a step's matrix-free products; with "
                   "the global step on a GPU, W is built there when the global solver can, and "
-                  "a matrix-free product's launches count as 8e6 entries; else auto keeps it "
-                  "explicit only up to 1024 rows)",
+                  "a matrix-free product counts as 3 nnz(S) + 2.1e6 entries (its launches), "
+                  "fitted on an H100; else auto keeps it explicit only up to 1024 rows)",
                   PL_FIELD_RUNTIME),
     PL_FIELD(ncp_contact_solver, max_explicit_mb, "maxExplicitMB", PL_F_DOUBLE, "256",
              "largest dense W that delassus=auto builds explicitly [MB, 2^20 bytes]", PL_FIELD_RUNTIME),

@@ -13,17 +13,20 @@
  * iterations + the linearisation and the line search); the paper's 5 x 13. */
 #define PRODUCTS_PER_STEP 65.0
 
-/* On the GPU a matrix-free product also pays its launches (scatter, S,
- * S^T, gather: a few microseconds each, even in a graph); they cost about
- * as much as reading this many entries of a dense W (H100: explicit was
- * 2.3x faster per constraint solve for the small scenes' 200-800 rows,
- * docs/benchmarks.md, fourth GPU run). */
-#define DEVICE_LAUNCH_ENTRIES 8.0e6
+/* On the GPU the two products cost, per step's product (H100, fitted on
+ * the frames of six contact scenes run both ways: docs/benchmarks.md,
+ * "W explicit or matrix-free on the GPU"): a dense W reads m^2 entries at
+ * about 2.1 TB/s (3.8 ps an entry); a matrix-free product pays its launches
+ * (scatter, S, S^T, gather: about 8 us, as much as 2.1e6 dense entries)
+ * and about 11.5 ps per entry of S, i.e. 3 dense entries per nnz(S). */
+#define DEVICE_LAUNCH_ENTRIES 2.1e6
+#define DEVICE_ENTRIES_PER_NNZ_S 3.0
 
 /* delassus=auto: explicit when the dense W fits in maxExplicitMB and one
  * dense product (m^2 multiply-adds, memory-bound) costs no more than one
- * matrix-free product (S and S^T on 3 columns: about 6 nnz(S); on a device
- * plus its launches) and, where W is built on the CPU (dev_w = 0), building
+ * matrix-free product (S and S^T on 3 columns: about 6 nnz(S) on the CPU;
+ * on a device its launches and 3 nnz(S), above) and, where W is built on
+ * the CPU (dev_w = 0), building
  * it costs no more than the step's matrix-free products.  nnz(S) is the
  * statistic the global solver records when it factors; without it the
  * memory rule decides alone.  Deterministic: no timing decides. */
@@ -32,7 +35,9 @@ static int auto_explicit(const ncp_contact_solver *s, pl_timers *timers, int m, 
     double mb = (double)m * (double)m * sizeof(double) / (1024.0 * 1024.0), nnz_s;
     if (mb > s->max_explicit_mb) return 0;
     if (pl_stat_get(timers, "nnz(S)", &nnz_s) != 0) return 1;
-    if (!((double)m * (double)m <= 6.0 * nnz_s + (dev_w ? DEVICE_LAUNCH_ENTRIES : 0.0))) return 0;
+    double free_product = dev_w ? DEVICE_ENTRIES_PER_NNZ_S * nnz_s + DEVICE_LAUNCH_ENTRIES
+                                : 6.0 * nnz_s;
+    if (!((double)m * (double)m <= free_product)) return 0;
     if (dev_w || n <= 0) return 1;
     /* the build, W = Y^T Y from the rows of Y, costs the sum over rows of
      * nnz^2: with a column of S holding nnz(S) / n entries on average, the
