@@ -75,6 +75,10 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
     /* on by default: H^T x (the correction's and a matrix-free product's)
      * a warp an unknown, the same sums; PLIANT_NCP_SCATTER_WARP=0: a thread */
     g->scatter_warp = switch_on("PLIANT_NCP_SCATTER_WARP");
+    /* on by default: a step's first (eager) iteration replays the phase
+     * kernels' update from a graph, the same launches; PLIANT_NCP_UPDATE_GRAPH=0
+     * launches them one by one (contact_device_update.c) */
+    g->update_graph_env = switch_on("PLIANT_NCP_UPDATE_GRAPH");
     const char *dc = getenv("PLIANT_NCP_DENSE_CORR");
     g->dense_max = dc && *dc ? atoi(dc) : DENSE_CORR_MAX_ROWS;
     if (g->dense_max < 0) g->dense_max = 0;
@@ -111,6 +115,7 @@ void ncpc_device_destroy(pl_ncpc_device *g)
     if (!g) return;
     pl_error err;
     g->ops->sync(g->dev, &err); /* nothing may still use the buffers */
+    if (g->update_graph) g->ops->graph_free(g->dev, g->update_graph);
     void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->U, g->sc, g->series};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; ++k) g->ops->free(g->dev, d[k]);
     free_host(g, &g->in_host);

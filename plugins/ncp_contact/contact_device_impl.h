@@ -65,6 +65,12 @@ struct pl_ncpc_device {
     int scatter_warp;       /* PLIANT_NCP_SCATTER_WARP: H^T x a warp an unknown */
     int phase_pairs;        /* PLIANT_NCP_PHASE_PAIRS: two phases a launch where no product
                                comes between them (contact_device_update.c) */
+    int update_graph_env;   /* PLIANT_NCP_UPDATE_GRAPH (on unless 0): see update_graph */
+    /* the phase kernels' constraint update with W explicit, recorded at
+     * update_epoch and replayed where an iteration runs eagerly (a step's
+     * first: contact_device_update.c); NULL: none yet */
+    void *update_graph;
+    unsigned long update_epoch;
     int one_env;            /* PLIANT_NCP_ONE_KERNEL (on unless 0): see `one` */
     int one;                /* this step's: fused by the warp, dense: ncp_cuda_iterate_few */
     int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */

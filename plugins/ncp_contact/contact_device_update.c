@@ -96,6 +96,53 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
     return rc;
 }
 
+/* The constraint update of an iteration queued eagerly (a step's first:
+ * the loop records the others) from a graph: on the phase kernels' path
+ * with W explicit that is about 40 launches whose host cost (6-10 us each on
+ * the H100's host) exceeds their run time (3-4 us each), so the GPU waited
+ * for the host.  The graph holds the same launches with the same arguments
+ * (device addresses, capacities and parameters: what graph_key keeps, the
+ * rows' sizes read on the device), so it is recorded once an epoch and
+ * replayed while the epoch stays.  Only with W explicit: a matrix-free
+ * product runs the global solver's launches, whose buffers are not this
+ * path's to key.  Not while the stream records (the loop capturing an
+ * iteration: its graph takes the launches), with graphs off or the
+ * profile's flag, or with PLIANT_NCP_UPDATE_GRAPH=0. */
+static int graph_wanted(const pl_ncpc_device *g)
+{
+    int flags = g->ops->flags ? g->ops->flags(g->dev) : 0;
+    return g->update_graph_env && g->explicit_w && !g->fused && g->ops->capture_begin &&
+           (flags & PL_DEVICE_GRAPHS) && !(flags & PL_DEVICE_PROFILE) &&
+           !ncp_cuda_capturing(g->stream);
+}
+
+static int update_from_graph(pl_ncpc_device *g, pl_ctx *ctx, const pl_system *sys, pl_error *err)
+{
+    int rc;
+    if (g->update_graph && g->update_epoch != g->epoch) { /* stale: its buffers moved */
+        if ((rc = g->ops->sync(g->dev, err))) return rc;
+        g->ops->graph_free(g->dev, g->update_graph);
+        g->update_graph = NULL;
+    }
+    if (!g->update_graph) {
+        if ((rc = g->ops->capture_begin(g->dev, err))) return rc;
+        rc = constraint_update(g, sys, err);
+        void *graph = NULL;
+        pl_error e2;
+        int rc2 = g->ops->capture_end(g->dev, &graph, rc ? &e2 : err);
+        if (rc || rc2) {
+            g->ops->graph_free(g->dev, graph);
+            return rc ? rc : rc2;
+        }
+        g->update_graph = graph;
+        g->update_epoch = g->epoch;
+    }
+    double total = 0.0; /* over every data of the timers: a test sees the path taken */
+    pl_stat_get(ctx->timers, "contact update graph replays", &total);
+    pl_stat_set(ctx->timers, "contact update graph replays", total + 1.0);
+    return g->ops->replay(g->dev, g->update_graph, err);
+}
+
 /* q_next = q_free + h2 A^-1 H^T (S lambda), force = S lambda: with few
  * rows one dense product with the step's U, else H^T (force and it, one
  * launch), the device solve and the sum. */
@@ -159,7 +206,7 @@ int ncpc_device_constrained(pl_ncpc_device *g, const pl_ncpc_device_step *st, pl
     if ((rc = ncpc_device_lap(g, ctx, profile, st->t_assembly, 0, err))) return rc;
     ncpc_device_lap(g, ctx, profile, st->t_solve, 1, err);
     if (st->stick && (rc = stick_start(g, st, err))) return rc;
-    rc = constraint_update(g, sys, err);
+    rc = graph_wanted(g) ? update_from_graph(g, ctx, sys, err) : constraint_update(g, sys, err);
     if (!rc) rc = ncpc_device_lap(g, ctx, profile, st->t_solve, 0, err);
     if (rc) return rc;
     /* q^{k+1} = q_free + h^2 A^-1 H^T (S lambda) */

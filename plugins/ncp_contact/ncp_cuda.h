@@ -105,6 +105,8 @@ int ncp_cuda_dense(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap, 
                    const double *x, double *y);
 /* out[i] = a[i] + b[i], i < n. */
 int ncp_cuda_add(struct CUstream_st *st, long n, const double *a, const double *b, double *out);
+/* Whether work queued on st is being recorded into a graph (not run). */
+int ncp_cuda_capturing(struct CUstream_st *st);
 /* sc reset for a new step: error 0, iter 0. */
 int ncp_cuda_reset(struct CUstream_st *st, pl_ncp_cuda_scalars *sc);
 

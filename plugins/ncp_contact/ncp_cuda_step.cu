@@ -38,3 +38,11 @@ extern "C" int ncp_cuda_phase_run2(struct CUstream_st *st, pl_ncp_cuda_phase pha
     k_phase<<<1, kThreads, 0, st>>>((int)phase, last, (int)phase2, last2, R, *V, *P);
     return (int)cudaGetLastError();
 }
+
+extern "C" int ncp_cuda_capturing(struct CUstream_st *st)
+{
+    cudaStreamCaptureStatus status = cudaStreamCaptureStatusNone;
+    /* an error answers "capturing": the caller then launches one by one, as before */
+    if (cudaStreamIsCapturing(st, &status) != cudaSuccess) return 1;
+    return status != cudaStreamCaptureStatusNone;
+}

@@ -32,6 +32,11 @@
  *   - an eighth, PLIANT_NCP_FUSED_CR=1 and PLIANT_NCP_SCATTER_WARP=0 (H^T
  *     lambda a thread an unknown, not a warp), gives the third run's
  *     positions bitwise.
+ *   - a ninth, with a graph, PLIANT_NCP_FUSED_CR=0 and
+ *     PLIANT_NCP_UPDATE_GRAPH=0 (a step's first iteration launches the
+ *     phase kernels one by one, not from their recorded graph), gives the
+ *     first run's positions bitwise; the first run replayed that graph
+ *     (stat "contact update graph replays" > 0), the ninth did not.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -77,19 +82,23 @@ static int first_state(pl_component *c, void *user)
 
 /* Runs `steps` steps; the first body's positions (malloc'ed, *n values),
  * the graph captures and the median step [ms]; NULL on failure. */
+static double replays; /* the last run's "contact update graph replays" */
+
 static double *run(const char *path, int graph, int fused, int one, int steps, size_t *n,
                    double *captures, double *ms)
 {
     /* read by the contact solver's device path (fused 2: without the warp;
      * 3: always a block of 512; 4: the scatters a thread an unknown; -1:
-     * the phase kernels one a launch; one 0: the few rows' iteration as
-     * three kernels) */
+     * the phase kernels one a launch; -2: the phase kernels, a step's first
+     * update launched one by one; one 0: the few rows' iteration as three
+     * kernels) */
     setenv("PLIANT_NCP_FUSED_CR", fused > 0 ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
     setenv("PLIANT_NCP_PHASE_PAIRS", fused == -1 ? "0" : "1", 1);
     setenv("PLIANT_NCP_SCATTER_WARP", fused == 4 ? "0" : "1", 1);
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
+    setenv("PLIANT_NCP_UPDATE_GRAPH", fused == -2 ? "0" : "1", 1);
     pl_sim *sim = load(path, graph);
     if (!sim) return NULL;
     double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
@@ -105,6 +114,8 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
     *ms = t ? gpu_median(t, steps) : NAN;
     *captures = 0.0;
     pl_stat_get(pl_sim_timers(sim), "device graph captures", captures);
+    replays = 0.0;
+    pl_stat_get(pl_sim_timers(sim), "contact update graph replays", &replays);
     pl_component *c = NULL;
     pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, first_state, &c);
     const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
@@ -146,6 +157,7 @@ static void check(const char *path, int steps)
     size_t ne = 0;
     double cap_e = 0, ms_e = NAN;
     double *a = run(path, 1, 0, 1, steps, &na, &cap_a, &ms_a);
+    double replays_a = replays;
     double *b = run(path, 0, 0, 1, steps, &nb, &cap_b, &ms_b);
     double *c = run(path, 1, 1, 1, steps, &nc, &cap_c, &ms_c);
     double *d = run(path, 1, 2, 1, steps, &nd, &cap_d, &ms_d);
@@ -159,6 +171,10 @@ static void check(const char *path, int steps)
     size_t ni = 0;
     double cap_i = 0, ms_i = NAN;
     double *in = run(path, 1, 4, 1, steps, &ni, &cap_i, &ms_i);
+    size_t nj = 0;
+    double cap_j = 0, ms_j = NAN;
+    double *jn = run(path, 1, -2, 1, steps, &nj, &cap_j, &ms_j);
+    double replays_j = replays;
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
     gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
     if (a && b && na == nb) {
@@ -193,13 +209,25 @@ static void check(const char *path, int steps)
               0.0);
     same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_SCATTER_WARP=1 vs =0, graph", c, nc, in, ni,
               0.0);
-    free(a), free(b), free(c), free(d), free(e), free(f), free(h), free(in);
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_UPDATE_GRAPH=1 vs =0, graph", a, na, jn, nj,
+              0.0);
+    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=0 and UPDATE_GRAPH=0", path);
+    gpu_note_line(md, what, ms_j);
+    snprintf(what, sizeof what,
+             "%s: FUSED_CR=0, update graph replayed with UPDATE_GRAPH=1 (1 - min(replays, 1)), "
+             "%g replays",
+             path, replays_a);
+    gpu_check_line(md, what, 1.0 - fmin(replays_a, 1.0), 0.0);
+    snprintf(what, sizeof what, "%s: FUSED_CR=0, update graph replays with UPDATE_GRAPH=0", path);
+    gpu_check_line(md, what, replays_j, 0.0);
+    free(a), free(b), free(c), free(d), free(e), free(f), free(h), free(in), free(jn);
     unsetenv("PLIANT_NCP_FUSED_CR");
     unsetenv("PLIANT_NCP_FUSED_WARP");
     unsetenv("PLIANT_NCP_FUSED_NARROW");
     unsetenv("PLIANT_NCP_PHASE_PAIRS");
     unsetenv("PLIANT_NCP_SCATTER_WARP");
     unsetenv("PLIANT_NCP_ONE_KERNEL");
+    unsetenv("PLIANT_NCP_UPDATE_GRAPH");
 }
 
 int main(int argc, char **argv)
