@@ -76,23 +76,35 @@ static void free_named(named_values *a, int n)
     }
 }
 
+/* Every value goes; the phases stay registered (their names, ids and
+ * watches), since components keep the ids they got at init and time into
+ * them after a clear too. */
 void pl_timers_clear(pl_timers *t)
 {
     for (int k = 0; k < t->nphases; ++k) {
-        free(t->phases[k].name);
-        free(t->phases[k].samples);
-        free(t->phases[k].watch);
+        phase *p = &t->phases[k];
+        free(p->samples);
+        p->samples = NULL;
+        p->nsamples = p->cap = 0;
+        p->frame_sum = 0.0;
+        p->ran = 0;
+        p->start = -1.0;
+        if (p->watch) memset(p->watch, 0, sizeof *p->watch);
     }
     free_named(t->stats, t->nstats);
     free_named(t->series, t->nseries);
     free_named(t->frames, t->nframe_cols);
-    t->nphases = t->nstats = t->nseries = t->nframe_cols = t->nframes = 0;
+    t->nstats = t->nseries = t->nframe_cols = t->nframes = 0;
 }
 
 void pl_timers_free(pl_timers *t)
 {
     if (!t) return;
     pl_timers_clear(t);
+    for (int k = 0; k < t->nphases; ++k) {
+        free(t->phases[k].name);
+        free(t->phases[k].watch);
+    }
     free(t->phases);
     free(t->stats);
     free(t->series);

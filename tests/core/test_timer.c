@@ -59,10 +59,15 @@ START_TEST(frames_align_phases_and_frame_maxima)
     ck_assert_ptr_null(strstr(js, "\"nnz(S)\": [")); /* set, not max: no column */
     free(js);
 
-    pl_timers_clear(t); /* a fresh table */
+    pl_timers_clear(t); /* a fresh table; the phases' ids stay valid */
+    pl_timer_add(t, frame, 0.003);
     pl_timers_end_frame(t);
+    ck_assert_int_eq(pl_timer_id(t, "Frame"), frame);
+    ck_assert_int_eq(pl_timers_samples(t, frame), 1);
+    ck_assert_int_eq(pl_stat_get(t, "contacts max", &v), -1);
     js = json_of(t);
     ck_assert_ptr_nonnull(strstr(js, "\"count\": 1"));
+    ck_assert_ptr_nonnull(strstr(js, "\"Frame\": [3]"));
     free(js);
     pl_timers_free(t);
 }

@@ -48,7 +48,9 @@
  * 5.5: device ops version 3 (pl_device_ops.loop, PL_DEVICE_LOOPS,
  * device_loop.h: an iteration loop kept on the device).
  * 5.6: device ops version 4 (pl_device_ops.scale_rows_zero and
- * residual_max_csr: two launches fewer in a device iteration). */
+ * residual_max_csr: two launches fewer in a device iteration).
+ * 5.7: pl_timer_watch (timer.h: a phase's off-CPU time, page faults and
+ * preemptions per frame). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

@@ -19,6 +19,8 @@ typedef struct pl_timers pl_timers;
 
 PL_API pl_timers *pl_timers_create(void);
 PL_API void pl_timers_free(pl_timers *t);
+/* Drops every value (samples, statistics, series, the per-frame table); the
+ * phases stay registered, so ids from pl_timer_id stay valid. */
 PL_API void pl_timers_clear(pl_timers *t);
 
 /* Monotonic wall clock in seconds. */
@@ -34,7 +36,9 @@ PL_API void pl_timer_start(pl_timers *t, int id);
  * and major) and "<name> preemptions" (the thread's involuntary context
  * switches).  Three system calls at each start and stop: for phases timed a
  * few times a step (Frame, Detection), not per iteration. */
+#if PL_ABI_TARGET_MINOR >= 7
 PL_API void pl_timer_watch(pl_timers *t, int id);
+#endif
 PL_API void pl_timer_stop(pl_timers *t, int id);
 /* Adds seconds to a phase directly. */
 PL_API void pl_timer_add(pl_timers *t, int id, double seconds);
