@@ -12,23 +12,30 @@
 
 #include "collision.h"
 
+/* The box and mean velocity in locals, min and max by comparison: fmin and
+ * fmax are calls, and stores into r every vertex made a chain through
+ * memory (a 3.3k-vertex model: about 200 us, now about 30; the same values
+ * for finite coordinates, the sums in the same order). */
 void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
                  double h, const double grav[3], pl_reach *r)
 {
     memset(r, 0, sizeof *r);
     r->groups = groups;
     r->n = n;
-    for (int k = 0; k < 3; ++k) r->box.lo[k] = INFINITY, r->box.hi[k] = -INFINITY;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double mean[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) {
             double p = x[3 * i + k], u = v ? v[3 * i + k] : 0.0;
             /* obstacles are posed at t + h, bodies given at t */
             double a = is_obstacle ? p - h * u : p;
             double b = is_obstacle ? p : p + h * u + h * h * grav[k];
-            r->box.lo[k] = fmin(r->box.lo[k], fmin(a, b));
-            r->box.hi[k] = fmax(r->box.hi[k], fmax(a, b));
-            r->v[k] += u / n;
+            double mn = a < b ? a : b, mx = a > b ? a : b;
+            lo[k] = mn < lo[k] ? mn : lo[k];
+            hi[k] = mx > hi[k] ? mx : hi[k];
+            mean[k] += u / n;
         }
+    for (int k = 0; k < 3; ++k) r->box.lo[k] = lo[k], r->box.hi[k] = hi[k], r->v[k] = mean[k];
 }
 
 /* Whether the boxes come within d of each other. */
