@@ -15,7 +15,8 @@
 /* The box and mean velocity in locals, min and max by comparison: fmin and
  * fmax are calls, and stores into r every vertex made a chain through
  * memory (a 3.3k-vertex model: about 200 us, now about 30; the same values
- * for finite coordinates, the sums in the same order). */
+ * for finite coordinates but for the sign of a zero bound, which the box
+ * tests do not see; the sums in the same order). */
 void reach_of(const double *x, const double *v, int n, int is_obstacle, unsigned groups,
                  double h, const double grav[3], pl_reach *r)
 {
