@@ -24,6 +24,7 @@ typedef struct host_watch {
     double cpu0;                    /* the thread's CPU time at start [s] */
     double faults0, preempt0;       /* counters at start */
     double off_cpu, faults, preempt; /* this frame's sums */
+    char column[3][128];            /* their columns' names in the per-frame table */
 } host_watch;
 
 typedef struct phase {
@@ -89,7 +90,7 @@ void pl_timers_clear(pl_timers *t)
         p->frame_sum = 0.0;
         p->ran = 0;
         p->start = -1.0;
-        if (p->watch) memset(p->watch, 0, sizeof *p->watch);
+        if (p->watch) p->watch->off_cpu = p->watch->faults = p->watch->preempt = 0.0;
     }
     free_named(t->stats, t->nstats);
     free_named(t->series, t->nseries);
@@ -151,7 +152,13 @@ static void host_counters(double *cpu, double *faults, double *preempt)
 void pl_timer_watch(pl_timers *t, int id)
 {
     if (!t || id < 0 || t->phases[id].watch) return;
-    t->phases[id].watch = calloc(1, sizeof(host_watch)); /* none: not watched, no harm */
+    host_watch *w = calloc(1, sizeof *w);
+    if (!w) return; /* not watched, no harm */
+    const char *name = t->phases[id].name;
+    snprintf(w->column[0], sizeof w->column[0], "%s off-CPU ms", name);
+    snprintf(w->column[1], sizeof w->column[1], "%s page faults", name);
+    snprintf(w->column[2], sizeof w->column[2], "%s preemptions", name);
+    t->phases[id].watch = w;
 }
 
 void pl_timer_start(pl_timers *t, int id)
@@ -199,16 +206,11 @@ static void frame_value(pl_timers *t, const char *name, double x)
 }
 
 /* A watched phase's three columns of the per-frame table. */
-static void watch_columns(pl_timers *t, phase *p)
+static void watch_columns(pl_timers *t, host_watch *w)
 {
-    host_watch *w = p->watch;
-    char name[128];
-    snprintf(name, sizeof name, "%s off-CPU ms", p->name);
-    frame_value(t, name, 1e3 * w->off_cpu);
-    snprintf(name, sizeof name, "%s page faults", p->name);
-    frame_value(t, name, w->faults);
-    snprintf(name, sizeof name, "%s preemptions", p->name);
-    frame_value(t, name, w->preempt);
+    frame_value(t, w->column[0], 1e3 * w->off_cpu);
+    frame_value(t, w->column[1], w->faults);
+    frame_value(t, w->column[2], w->preempt);
     w->off_cpu = w->faults = w->preempt = 0.0;
 }
 
@@ -218,7 +220,7 @@ void pl_timers_end_frame(pl_timers *t)
     for (int k = 0; k < t->nphases; ++k)
         frame_value(t, t->phases[k].name, t->phases[k].ran ? 1e3 * t->phases[k].frame_sum : 0.0);
     for (int k = 0; k < t->nphases; ++k)
-        if (t->phases[k].watch) watch_columns(t, &t->phases[k]);
+        if (t->phases[k].watch) watch_columns(t, t->phases[k].watch);
     for (int k = 0; k < t->nstats; ++k) {
         if (!t->stats[k].per_frame) continue;
         frame_value(t, t->stats[k].name, t->stats[k].frame);

@@ -80,13 +80,18 @@ static int first_state(pl_component *c, void *user)
     return 1;
 }
 
-/* Runs `steps` steps; the first body's positions (malloc'ed, *n values),
- * the graph captures and the median step [ms]; NULL on failure. */
-static double replays; /* the last run's "contact update graph replays" */
+/* One run: the first body's positions (malloc'ed, n values; NULL on
+ * failure), its graph captures, its replays of the update graph and its
+ * median step [ms]. */
+typedef struct run_result {
+    double *x;
+    size_t n;
+    double captures, replays, ms;
+} run_result;
 
-static double *run(const char *path, int graph, int fused, int one, int steps, size_t *n,
-                   double *captures, double *ms)
+static run_result run(const char *path, int graph, int fused, int one, int steps)
 {
+    run_result r = {NULL, 0, 0.0, 0.0, NAN};
     /* read by the contact solver's device path (fused 2: without the warp;
      * 3: always a block of 512; 4: the scatters a thread an unknown; -1:
      * the phase kernels one a launch; -2: the phase kernels, a step's first
@@ -100,8 +105,8 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     setenv("PLIANT_NCP_UPDATE_GRAPH", fused == -2 ? "0" : "1", 1);
     pl_sim *sim = load(path, graph);
-    if (!sim) return NULL;
-    double *t = malloc(sizeof(double) * (size_t)steps), *x = NULL;
+    if (!sim) return r;
+    double *t = malloc(sizeof(double) * (size_t)steps);
     pl_error err;
     for (int k = 0; t && k < steps; ++k) {
         double t0 = pl_now();
@@ -111,23 +116,21 @@ static double *run(const char *path, int graph, int fused, int one, int steps, s
         }
         t[k] = 1e3 * (pl_now() - t0);
     }
-    *ms = t ? gpu_median(t, steps) : NAN;
-    *captures = 0.0;
-    pl_stat_get(pl_sim_timers(sim), "device graph captures", captures);
-    replays = 0.0;
-    pl_stat_get(pl_sim_timers(sim), "contact update graph replays", &replays);
+    r.ms = t ? gpu_median(t, steps) : NAN;
+    pl_stat_get(pl_sim_timers(sim), "device graph captures", &r.captures);
+    pl_stat_get(pl_sim_timers(sim), "contact update graph replays", &r.replays);
     pl_component *c = NULL;
     pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, first_state, &c);
     const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
     if (!ops) goto done;
     pl_buffer p = ops->positions(c, pl_sim_data(sim));
-    *n = p.rows * 3;
-    x = malloc(*n * sizeof(double));
-    if (x) memcpy(x, p.data, *n * sizeof(double));
+    r.n = p.rows * 3;
+    r.x = malloc(r.n * sizeof(double));
+    if (r.x) memcpy(r.x, p.data, r.n * sizeof(double));
 done:
     free(t);
     pl_sim_free(sim);
-    return x;
+    return r;
 }
 
 static double rel(const double *a, const double *b, size_t n)
@@ -137,97 +140,80 @@ static double rel(const double *a, const double *b, size_t n)
     return n ? (r > 0 ? sqrt(d / r) : sqrt(d)) : 0.0;
 }
 
-/* The check line "PATH: LABEL (relative[; bitwise])": x against y. */
-static void same_line(const char *path, const char *label, const double *x, size_t nx,
-                      const double *y, size_t ny, double tol)
+/* The check line "PATH: LABEL (relative[; bitwise])": x's positions against y's. */
+static void same_line(const char *path, const char *label, const run_result *x,
+                      const run_result *y, double tol)
 {
     char what[256];
     snprintf(what, sizeof what, "%s: %s (relative%s)", path, label, tol == 0.0 ? "; bitwise" : "");
-    gpu_check_line(md, what, x && y && nx == ny ? rel(x, y, ny) : INFINITY, tol);
+    gpu_check_line(md, what, x->x && y->x && x->n == y->n ? rel(x->x, y->x, y->n) : INFINITY, tol);
 }
+
+/* The note line "PATH: LABEL" with value v. */
+static void note(const char *path, const char *label, double v)
+{
+    char what[256];
+    snprintf(what, sizeof what, "%s: %s", path, label);
+    gpu_note_line(md, what, v);
+}
+
+/* The runs of check(), by what they set. */
+enum { GRAPH, NO_GRAPH, FUSED, FUSED_BLOCK, THREE_KERNELS, WIDE, ONE_PHASE, SCATTER_THREAD,
+       NO_UPDATE_GRAPH, NRUNS };
 
 static void check(const char *path, int steps)
 {
+    /* graph, fused (see run), one kernel */
+    static const int how[NRUNS][3] = {{1, 0, 1}, {0, 0, 1}, {1, 1, 1},  {1, 2, 1}, {1, 1, 0},
+                                      {1, 3, 1}, {0, -1, 1}, {1, 4, 1}, {1, -2, 1}};
+    run_result r[NRUNS];
+    for (int k = 0; k < NRUNS; ++k) r[k] = run(path, how[k][0], how[k][1], how[k][2], steps);
+    const run_result *a = &r[GRAPH], *b = &r[NO_GRAPH], *c = &r[FUSED];
     char what[256];
-    size_t na = 0, nb = 0;
-    size_t nc = 0;
-    size_t nd = 0;
-    double cap_a = 0, cap_b = 0, cap_c = 0, cap_d = 0, ms_a = NAN, ms_b = NAN, ms_c = NAN;
-    double ms_d = NAN;
-    size_t ne = 0;
-    double cap_e = 0, ms_e = NAN;
-    double *a = run(path, 1, 0, 1, steps, &na, &cap_a, &ms_a);
-    double replays_a = replays;
-    double *b = run(path, 0, 0, 1, steps, &nb, &cap_b, &ms_b);
-    double *c = run(path, 1, 1, 1, steps, &nc, &cap_c, &ms_c);
-    double *d = run(path, 1, 2, 1, steps, &nd, &cap_d, &ms_d);
-    double *e = run(path, 1, 1, 0, steps, &ne, &cap_e, &ms_e);
-    size_t nf = 0;
-    double cap_f = 0, ms_f = NAN;
-    double *f = run(path, 1, 3, 1, steps, &nf, &cap_f, &ms_f);
-    size_t ng = 0;
-    double cap_g = 0, ms_g = NAN;
-    double *h = run(path, 0, -1, 1, steps, &ng, &cap_g, &ms_g);
-    size_t ni = 0;
-    double cap_i = 0, ms_i = NAN;
-    double *in = run(path, 1, 4, 1, steps, &ni, &cap_i, &ms_i);
-    size_t nj = 0;
-    double cap_j = 0, ms_j = NAN;
-    double *jn = run(path, 1, -2, 1, steps, &nj, &cap_j, &ms_j);
-    double replays_j = replays;
     snprintf(what, sizeof what, "%s: %d steps ran with and without a graph", path, steps);
-    gpu_check_line(md, what, a && b && na == nb ? 0.0 : INFINITY, 0.0);
-    if (a && b && na == nb) {
+    gpu_check_line(md, what, a->x && b->x && a->n == b->n ? 0.0 : INFINITY, 0.0);
+    if (a->x && b->x && a->n == b->n) {
         snprintf(what, sizeof what, "%s: graph captures in %d steps (<= %g)", path, steps,
                  MAX_CAPTURES);
-        gpu_check_line(md, what, cap_a, MAX_CAPTURES);
+        gpu_check_line(md, what, a->captures, MAX_CAPTURES);
         snprintf(what, sizeof what, "%s: a graph was captured (1 - min(captures, 1))", path);
-        gpu_check_line(md, what, 1.0 - fmin(cap_a, 1.0), 0.0);
+        gpu_check_line(md, what, 1.0 - fmin(a->captures, 1.0), 0.0);
         snprintf(what, sizeof what, "%s: positions, graph vs no graph (relative)", path);
-        gpu_check_line(md, what, rel(a, b, na), 1e-12);
-        snprintf(what, sizeof what, "%s: median step ms with a graph", path);
-        gpu_note_line(md, what, ms_a);
-        snprintf(what, sizeof what, "%s: median step ms without a graph", path);
-        gpu_note_line(md, what, ms_b);
+        gpu_check_line(md, what, rel(a->x, b->x, a->n), 1e-12);
+        note(path, "median step ms with a graph", a->ms);
+        note(path, "median step ms without a graph", b->ms);
     }
-    same_line(path, "PLIANT_NCP_FUSED_CR=1 with a graph vs no graph", c, nc, b, nb, 1e-12);
-    snprintf(what, sizeof what, "%s: median step ms, graph and PLIANT_NCP_FUSED_CR=1", path);
-    gpu_note_line(md, what, ms_c);
-    snprintf(what, sizeof what, "%s: graph captures with PLIANT_NCP_FUSED_CR=1", path);
-    gpu_note_line(md, what, cap_c);
-    same_line(path, "PLIANT_NCP_FUSED_CR=1 PLIANT_NCP_FUSED_WARP=0 with a graph vs no graph", d,
-              nd, b, nb, 1e-12);
-    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_ONE_KERNEL=1 vs =0, graph", c, nc, e, ne,
+    same_line(path, "PLIANT_NCP_FUSED_CR=1 with a graph vs no graph", c, b, 1e-12);
+    note(path, "median step ms, graph and PLIANT_NCP_FUSED_CR=1", c->ms);
+    note(path, "graph captures with PLIANT_NCP_FUSED_CR=1", c->captures);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1 PLIANT_NCP_FUSED_WARP=0 with a graph vs no graph",
+              &r[FUSED_BLOCK], b, 1e-12);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_ONE_KERNEL=1 vs =0, graph", c,
+              &r[THREE_KERNELS], 0.0);
+    note(path, "median step ms, graph, FUSED_CR=1 and ONE_KERNEL=0", r[THREE_KERNELS].ms);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_FUSED_NARROW=1 vs =0, graph", c, &r[WIDE],
               0.0);
-    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and ONE_KERNEL=0", path);
-    gpu_note_line(md, what, ms_e);
-    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_FUSED_NARROW=1 vs =0, graph", c, nc, f, nf,
-              0.0);
-    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=1 and FUSED_NARROW=0", path);
-    gpu_note_line(md, what, ms_f);
-    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph", b, nb, h, ng,
-              0.0);
-    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_SCATTER_WARP=1 vs =0, graph", c, nc, in, ni,
-              0.0);
-    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_UPDATE_GRAPH=1 vs =0, graph", a, na, jn, nj,
-              0.0);
-    snprintf(what, sizeof what, "%s: median step ms, graph, FUSED_CR=0 and UPDATE_GRAPH=0", path);
-    gpu_note_line(md, what, ms_j);
+    note(path, "median step ms, graph, FUSED_CR=1 and FUSED_NARROW=0", r[WIDE].ms);
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_PHASE_PAIRS=1 vs =0, no graph", b,
+              &r[ONE_PHASE], 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_NCP_SCATTER_WARP=1 vs =0, graph", c,
+              &r[SCATTER_THREAD], 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_UPDATE_GRAPH=1 vs =0, graph", a,
+              &r[NO_UPDATE_GRAPH], 0.0);
+    note(path, "median step ms, graph, FUSED_CR=0 and UPDATE_GRAPH=0", r[NO_UPDATE_GRAPH].ms);
     snprintf(what, sizeof what,
              "%s: FUSED_CR=0, update graph replayed with UPDATE_GRAPH=1 (1 - min(replays, 1)), "
              "%g replays",
-             path, replays_a);
-    gpu_check_line(md, what, 1.0 - fmin(replays_a, 1.0), 0.0);
+             path, a->replays);
+    gpu_check_line(md, what, 1.0 - fmin(a->replays, 1.0), 0.0);
     snprintf(what, sizeof what, "%s: FUSED_CR=0, update graph replays with UPDATE_GRAPH=0", path);
-    gpu_check_line(md, what, replays_j, 0.0);
-    free(a), free(b), free(c), free(d), free(e), free(f), free(h), free(in), free(jn);
-    unsetenv("PLIANT_NCP_FUSED_CR");
-    unsetenv("PLIANT_NCP_FUSED_WARP");
-    unsetenv("PLIANT_NCP_FUSED_NARROW");
-    unsetenv("PLIANT_NCP_PHASE_PAIRS");
-    unsetenv("PLIANT_NCP_SCATTER_WARP");
-    unsetenv("PLIANT_NCP_ONE_KERNEL");
-    unsetenv("PLIANT_NCP_UPDATE_GRAPH");
+    gpu_check_line(md, what, r[NO_UPDATE_GRAPH].replays, 0.0);
+    for (int k = 0; k < NRUNS; ++k) free(r[k].x);
+    static const char *const env[] = {"PLIANT_NCP_FUSED_CR",     "PLIANT_NCP_FUSED_WARP",
+                                      "PLIANT_NCP_FUSED_NARROW", "PLIANT_NCP_PHASE_PAIRS",
+                                      "PLIANT_NCP_SCATTER_WARP", "PLIANT_NCP_ONE_KERNEL",
+                                      "PLIANT_NCP_UPDATE_GRAPH"};
+    for (size_t k = 0; k < sizeof env / sizeof env[0]; ++k) unsetenv(env[k]);
 }
 
 int main(int argc, char **argv)
