@@ -10,10 +10,36 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int cmp_int(const void *a, const void *b)
+/* Sorts a row's pattern ascending.  row_pattern lists it as a few
+ * ascending runs (an etree path climbs to larger indices, one piece per
+ * nonzero of the row), so a natural merge sort takes about log2(runs)
+ * passes with inline comparisons: qsort's log2(len) passes through a
+ * comparison function were a quarter of the CPU raptor's time
+ * (docs/benchmarks.md, "Y's patterns merged").  The entries are distinct,
+ * so the result is qsort's.  tmp holds len ints. */
+static void sort_runs(int *a, int len, int *tmp)
 {
-    int x = *(const int *)a, y = *(const int *)b;
-    return (x > y) - (x < y);
+    int *src = a, *dst = tmp;
+    for (;;) {
+        int j = 1;
+        while (j < len && src[j - 1] < src[j]) ++j;
+        if (j >= len) break; /* one run: sorted */
+        for (int i = 0; i < len;) { /* merge [i, j) and [j, k), the next two runs */
+            int k = j < len ? j + 1 : j;
+            while (k < len && src[k - 1] < src[k]) ++k;
+            int x = i, y = j, o = i;
+            while (x < j && y < k) dst[o++] = src[x] < src[y] ? src[x++] : src[y++];
+            while (x < j) dst[o++] = src[x++];
+            while (y < k) dst[o++] = src[y++];
+            i = k;
+            j = i + 1;
+            while (j < len && src[j - 1] < src[j]) ++j;
+        }
+        int *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != a) memcpy(a, src, (size_t)len * sizeof *a);
 }
 
 /* Pattern of column r into list (unsorted); mark is all zero before and after. */
@@ -142,12 +168,13 @@ int sparse_inverse_apply_inverse_to_rows(pl_sparse_inverse *s, const pl_csr *H, 
         {
             size_t tid = (size_t)omp_get_thread_num();
             char *mk = mark + tid * (size_t)n;
+            int *tmp = list + tid * (size_t)n;
             double *wt = w + tid * (size_t)n;
 #pragma omp for schedule(dynamic, 8)
             for (int r = 0; r < m; ++r) {
                 int *pat = Y->i + Y->p[r];
                 int len = row_pattern(s, H, r, mk, pat);
-                qsort(pat, (size_t)len, sizeof *pat, cmp_int);
+                sort_runs(pat, len, tmp);
                 if (direct) row_values_direct(s, H, r, pat, len, wt);
                 else row_values_sparse(s, H, r, wt);
                 double *yx = Y->x + Y->p[r];
