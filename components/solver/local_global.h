@@ -17,6 +17,9 @@ typedef struct lg_device {
     pl_csr A_fp;               /* rows of A_fp (nfree x n), device arrays */
     int fp_nnz;                /* its entries (0: nothing prescribed) */
     pl_csr A_f;                /* [A_ff A_fp] (nfree x n): forceTolerance only */
+    int *term_branch;          /* nterms (host): the device branch of each local term's
+                                  project (its state's), NULL: all on the main stream */
+    int nbranch;               /* the branches used (states; 0 without term_branch) */
 } lg_device;
 
 /* One data's device vectors (float64, n x 3 unless said) and graph, in the

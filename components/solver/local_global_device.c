@@ -184,6 +184,60 @@ int pl_lg_csc_rows(const pl_csc *const *M, const int *const *cols, int nm, int n
     return PL_OK;
 }
 
+/* The local terms of different states write different rows of rhs, so
+ * their projects may run side by side (device ops version 5): a branch a
+ * state, the terms of one state in one branch in their order, so that
+ * every value is the one-stream run's, bitwise (a soft gripper's fingers
+ * and body: each local step is a kernel of a few us that leaves the GPU
+ * mostly idle).  Nothing to do with fewer than two states, without branch
+ * or with PLIANT_DEVICE_BRANCHES=0 (a diagnostic). */
+static int plan_branches(const pl_dynamics *d, lg_device *g, pl_error *err)
+{
+    const char *env = getenv("PLIANT_DEVICE_BRANCHES");
+    if (g->ops->version < 5 || !g->ops->branch || (env && !strcmp(env, "0")) || d->nterms < 2)
+        return PL_OK;
+    int *br = malloc(sizeof(int) * (size_t)d->nterms), states = 0;
+    if (!br) return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
+    for (int t = 0; t < d->nterms; ++t) {
+        const pl_local_term_ops *ot = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        br[t] = 0;
+        for (int u = 0; u < t && !br[t]; ++u) {
+            const pl_local_term_ops *ou = pl_component_role(d->terms[u], PL_ROLE_LOCAL_TERM);
+            if (ou->state(d->terms[u]) == ot->state(d->terms[t])) br[t] = br[u];
+        }
+        if (!br[t]) br[t] = states++ % PL_DEVICE_BRANCHES + 1;
+    }
+    if (states < 2) {
+        free(br);
+        return PL_OK;
+    }
+    g->term_branch = br;
+    g->nbranch = states < PL_DEVICE_BRANCHES ? states : PL_DEVICE_BRANCHES;
+    return PL_OK;
+}
+
+/* Queues every local term's project (on their branches, closed again before
+ * returning, errors included). */
+static int project_terms(const local_global_solver *s, const lg_device_ws *g, pl_ctx *ctx,
+                         const pl_buffer *qb, pl_buffer *rb, pl_error *err)
+{
+    const pl_dynamics *d = &s->dyn;
+    const int *br = s->gpu.term_branch;
+    int rc = PL_OK;
+    for (int t = 0; !rc && t < d->nterms; ++t) {
+        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
+        if (br) rc = g->ops->branch(g->dev, br[t], err);
+        if (!rc) rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, qb, rb, err);
+    }
+    if (br) {
+        pl_stat_max(ctx->timers, "device local-step branches", s->gpu.nbranch);
+        pl_error e2;
+        int rc2 = g->ops->branch(g->dev, 0, rc ? &e2 : err);
+        if (!rc) rc = rc2;
+    }
+    return rc;
+}
+
 /* The model's arrays on the device. */
 static int allocate(local_global_solver *s, pl_error *err)
 {
@@ -215,6 +269,7 @@ static int allocate(local_global_solver *s, pl_error *err)
     pl_csr_free(&R);
     if (!rc) rc = g->ops->sync(g->dev, err); /* the host arrays above may go */
     if (!rc) rc = pl_lg_device_residual_setup(s, err);
+    if (!rc) rc = plan_branches(d, g, err);
     return rc;
 }
 
@@ -316,6 +371,7 @@ void pl_lg_device_free(local_global_solver *s)
     void *bufs[] = {g->mass, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     pl_lg_device_residual_free(g);
+    free(g->term_branch);
     memset(g, 0, sizeof *g);
 }
 
@@ -360,10 +416,7 @@ int pl_lg_device_iteration(const local_global_solver *s, lg_device_ws *g, pl_ctx
         rc = o->zero(dev, g->change, g->scalars * sizeof(double), err);
         if (!rc) rc = o->scale_rows(dev, d->n, m->mass, g->sn, g->rhs, err);
     }
-    for (int t = 0; !rc && t < d->nterms; ++t) {
-        const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
-        rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, &qb, &rb, err);
-    }
+    if (!rc) rc = project_terms(s, g, ctx, &qb, &rb, err);
     if (profile && !rc) rc = phase_end(g, ctx, s->t_local, err);
     if (rc || d->nfree == 0) return rc;
     if (profile) pl_timer_start(ctx->timers, s->t_assembly);

@@ -21,6 +21,9 @@ typedef struct cuda_device {
      * kept outside the component (a step that allocates a data's device
      * buffers must not change the model: test_cable_two_data) */
     long *live;
+    /* the side streams of pl_device_ops.branch and which one is current
+     * (CUDA builds; made by open, outside the component for the same reason) */
+    struct cuda_branches *branches;
 } cuda_device;
 
 /* The backend.  open: selects the GPU and creates the stream (idempotent:

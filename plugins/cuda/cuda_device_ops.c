@@ -3,6 +3,7 @@
  * queued on the component's stream, and CUDA graphs captured from it
  * (thread-local capture mode: other threads may keep using CUDA). */
 #include <stdint.h>
+#include <stdlib.h>
 
 #include <cuda_runtime_api.h>
 
@@ -11,7 +12,27 @@
 #include "cuda_loop.h"
 
 #define DEV(c) ((cuda_device *)(c))
-#define STREAM(c) ((cudaStream_t)DEV(c)->stream)
+#define STREAM(c) current_stream(c)
+
+/* pl_device_ops.branch's state: side streams made on first use (blocking,
+ * as the main one: a term's first project uploads its elements with
+ * cudaMemcpy on the legacy default stream), an event on the main stream that opens the branches,
+ * one a side stream that closes it, and which streams the open branches
+ * have joined. */
+struct cuda_branches {
+    cudaStream_t side[PL_DEVICE_BRANCHES + 1]; /* [k], k >= 1 */
+    cudaEvent_t done[PL_DEVICE_BRANCHES + 1];
+    cudaEvent_t fork;
+    int cur;    /* 0: the main stream */
+    int forked; /* fork recorded since the last branch(c, 0) */
+    unsigned joined; /* bit k: side k waits for fork */
+};
+
+static cudaStream_t current_stream(const pl_component *c)
+{
+    const struct cuda_branches *b = DEV(c)->branches;
+    return b && b->cur > 0 ? b->side[b->cur] : (cudaStream_t)DEV(c)->stream;
+}
 
 /* Fills err from a failed CUDA call about c; returns PL_EINTERNAL. */
 static int cuda_fail(const pl_component *c, pl_error *err, cudaError_t e, const char *what)
@@ -60,6 +81,8 @@ int cuda_device_open(cuda_device *d, pl_ctx *ctx)
                                   cudaGetErrorString(e));
     d->absent = 0;
     d->loops = cuda_loop_supported();
+    if (!d->branches && !(d->branches = calloc(1, sizeof *d->branches)))
+        return pl_component_error(c, ctx, PL_EINTERNAL, "out of memory");
     if (first)
         pl_log_info("%s: CUDA device %d, %s, %d SMs, %.1f GiB, compute capability %d.%d%s%s", c->name,
                     d->index, prop.name, prop.multiProcessorCount,
@@ -70,6 +93,16 @@ int cuda_device_open(cuda_device *d, pl_ctx *ctx)
 
 void cuda_device_close(cuda_device *d)
 {
+    struct cuda_branches *b = d->branches;
+    if (b) {
+        for (int k = 1; k <= PL_DEVICE_BRANCHES; ++k) {
+            if (b->side[k]) cudaStreamSynchronize(b->side[k]), cudaStreamDestroy(b->side[k]);
+            if (b->done[k]) cudaEventDestroy(b->done[k]);
+        }
+        if (b->fork) cudaEventDestroy(b->fork);
+        free(b);
+        d->branches = NULL;
+    }
     if (!d->stream) return;
     cudaStreamSynchronize((cudaStream_t)d->stream);
     cudaStreamDestroy((cudaStream_t)d->stream);
@@ -86,7 +119,44 @@ static int dev_flags(const pl_component *c)
 
 static void *dev_stream(const pl_component *c)
 {
-    return ((const cuda_device *)c)->stream;
+    return current_stream(c);
+}
+
+/* Opens branch k (>= 1): its side stream waits for the main stream's work
+ * queued so far (one fork event for all the branches opened together);
+ * k = 0 closes them: the main stream waits for each one's work. */
+static int dev_branch(pl_component *c, int k, pl_error *err)
+{
+    struct cuda_branches *b = DEV(c)->branches;
+    cudaStream_t main = (cudaStream_t)DEV(c)->stream;
+    if (!b || k < 0 || k > PL_DEVICE_BRANCHES)
+        return pl_component_fail(c, err, PL_EINPUT, "branch %d: 0 .. %d, on an open device", k,
+                                 PL_DEVICE_BRANCHES);
+    if (k == 0) {
+        b->cur = 0;
+        for (int j = 1; j <= PL_DEVICE_BRANCHES; ++j)
+            if (b->joined & (1u << j)) {
+                CK(c, cudaEventRecord(b->done[j], b->side[j]), "cudaEventRecord (branch)");
+                CK(c, cudaStreamWaitEvent(main, b->done[j], 0), "cudaStreamWaitEvent (join)");
+            }
+        b->joined = 0, b->forked = 0;
+        return PL_OK;
+    }
+    if (!b->side[k]) {
+        CK(c, cudaStreamCreate(&b->side[k]), "cudaStreamCreate");
+        CK(c, cudaEventCreateWithFlags(&b->done[k], cudaEventDisableTiming), "cudaEventCreate");
+    }
+    if (!b->fork) CK(c, cudaEventCreateWithFlags(&b->fork, cudaEventDisableTiming), "cudaEventCreate");
+    if (!b->forked) {
+        CK(c, cudaEventRecord(b->fork, main), "cudaEventRecord (fork)");
+        b->forked = 1;
+    }
+    if (!(b->joined & (1u << k))) {
+        CK(c, cudaStreamWaitEvent(b->side[k], b->fork, 0), "cudaStreamWaitEvent (fork)");
+        b->joined |= 1u << k;
+    }
+    b->cur = k;
+    return PL_OK;
 }
 
 static void *dev_alloc(pl_component *c, size_t bytes, pl_error *err)
@@ -298,4 +368,5 @@ const pl_device_ops pl_cuda_device_ops = {
     .gather_sub_csr = dev_gather_sub_csr,
     .scale_rows_zero = dev_scale_rows_zero,
     .residual_max_csr = dev_residual_max_csr,
+    .branch = dev_branch,
 };

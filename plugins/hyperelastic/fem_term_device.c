@@ -22,7 +22,9 @@
 typedef struct hyper_fem_gpu {
     pl_hyper_cuda *g;
     pl_hyper_cuda_grad *grad;  /* the gradient's device data, made on first use */
-    struct CUstream_st *stream;
+    pl_component *dev;         /* the device service: its current stream at each call (a
+                                  branch's during the local step: local_global_device.c) */
+    const pl_device_ops *ops;
     double *dual;              /* device n x 3d (ADMM materials), or NULL */
     size_t dual_bytes;
     int fresh;                 /* the device copy holds this step's duals */
@@ -49,7 +51,7 @@ static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
                                  "this node or above");
     hyper_fem_gpu *gpu = calloc(1, sizeof *gpu);
     if (!gpu) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    gpu->stream = ops->stream(dev);
+    gpu->dev = dev, gpu->ops = ops;
     pl_error e;
     gpu->g = hyper_cuda_create(&f->el, &e);
     if (!gpu->g) {
@@ -67,6 +69,11 @@ static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
     }
     *out = gpu;
     return PL_OK;
+}
+
+static struct CUstream_st *stream_of(const hyper_fem_gpu *gpu)
+{
+    return gpu->ops->stream(gpu->dev);
 }
 
 /* d's device copy (NULL if none was made). */
@@ -107,7 +114,7 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
             pl_data_resize_slot(d, f->dual_slot, gpu->dual_bytes) != 0)
             return pl_component_fail(&f->base, err, PL_EINTERNAL, "out of memory (duals)");
         cudaError_t ce = cudaMemcpyAsync(gpu->dual, pl_data_slot(d, f->dual_slot), gpu->dual_bytes,
-                                         cudaMemcpyHostToDevice, gpu->stream);
+                                         cudaMemcpyHostToDevice, stream_of(gpu));
         if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the device");
     }
     gpu->fresh = 1;
@@ -119,7 +126,7 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
     gpu->relax_ready = 1;
     pl_error e;
     if (hyper_cuda_project_relaxed(gpu->g, offset, h2, q->data, gpu->dual, relax, alpha, rhs->data,
-                                   PL_HYPER_CUDA_GATHER, gpu->stream, &e) != PL_OK)
+                                   PL_HYPER_CUDA_GATHER, stream_of(gpu), &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
 }
@@ -138,7 +145,7 @@ int hyper_fem_gradient_device(const hyper_fem *f, pl_data *d, int offset, const 
     pl_error_clear(&e);
     if (!gpu->grad && !(gpu->grad = hyper_cuda_grad_create(&f->el, &e)))
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
-    if (hyper_cuda_grad_add(gpu->grad, offset, q->data, grad->data, gpu->stream, &e) != PL_OK)
+    if (hyper_cuda_grad_add(gpu->grad, offset, q->data, grad->data, stream_of(gpu), &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
 }
@@ -150,7 +157,7 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     gpu->used = 0;
     if (gpu->dual && gpu->fresh) {
         cudaError_t ce = cudaMemcpyAsync(pl_data_slot(d, f->dual_slot), gpu->dual, gpu->dual_bytes,
-                                         cudaMemcpyDeviceToHost, gpu->stream);
+                                         cudaMemcpyDeviceToHost, stream_of(gpu));
         if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the host");
     }
     gpu->fresh = 0;
@@ -159,7 +166,7 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     /* the step's counts join the host's (fem_term.c publishes them); one
      * copy and one wait for the stream, the duals' copy included */
     hyper_term_ws *w = pl_data_workspace(d, &f->base);
-    if (hyper_cuda_step_stats(gpu->g, gpu->stream, stats, w ? &w->prox : NULL, &e) != PL_OK)
+    if (hyper_cuda_step_stats(gpu->g, stream_of(gpu), stats, w ? &w->prox : NULL, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
                                  "local step on the device, step %ld: %s", d->step, e.msg);
     if (stats[1] > 0)
@@ -178,7 +185,7 @@ void hyper_fem_device_begin_step(const hyper_fem *f, pl_data *d)
      * step's kernels (or its graph) on the same stream.  An error here
      * (a broken context) shows again at the next CUDA call, which reports. */
     pl_error e;
-    (void)hyper_cuda_begin_step((*slot)->g, (*slot)->stream, &e);
+    (void)hyper_cuda_begin_step((*slot)->g, stream_of(*slot), &e);
 }
 
 void hyper_fem_device_free(hyper_fem_gpu **slot)

@@ -8,7 +8,8 @@
 
 struct hyper_stencil_gpu {
     pl_stencil_cuda *g;
-    struct CUstream_st *stream;
+    pl_component *dev; /* the device service: its current stream at each call (a branch's) */
+    const pl_device_ops *ops;
     const pl_data *fresh; /* whose targets the device copy holds this step, or NULL */
 };
 
@@ -37,7 +38,7 @@ static int prepare(const pl_component *c, const pl_hyper_stencils *s, hyper_sten
                                  "this node or above");
     hyper_stencil_gpu *g = calloc(1, sizeof *g);
     if (!g) return pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
-    g->stream = ops->stream(dev);
+    g->dev = dev, g->ops = ops;
     pl_error e;
     g->g = stencil_cuda_create(s, &e);
     if (!g->g) {
@@ -60,14 +61,14 @@ int hyper_stencil_project_device(const pl_component *c, const pl_hyper_stencils 
     if (s->kind == PL_HYPER_STENCIL_FIXED && !targets) return PL_OK;
     if ((rc = prepare(c, s, gpu, err))) return rc;
     hyper_stencil_gpu *g = *gpu;
+    struct CUstream_st *stream = g->ops->stream(g->dev);
     pl_error e;
     if (targets && g->fresh != d) {
-        if (stencil_cuda_set_targets(g->g, targets, g->stream, &e) != PL_OK)
+        if (stencil_cuda_set_targets(g->g, targets, stream, &e) != PL_OK)
             return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         g->fresh = d;
     }
-    if (stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, g->stream,
-                                &e) != PL_OK)
+    if (stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, stream, &e) != PL_OK)
         return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
 }

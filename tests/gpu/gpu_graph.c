@@ -37,6 +37,12 @@
  *     phase kernels one by one, not from their recorded graph), gives the
  *     first run's positions bitwise; the first run replayed that graph
  *     (stat "contact update graph replays" > 0), the ninth did not.
+ *   - a tenth, PLIANT_NCP_FUSED_CR=1 and PLIANT_DEVICE_BRANCHES=0 (the
+ *     local terms' projects one after the other on the main stream, not
+ *     each state's on its own branch), gives the third run's positions of
+ *     every body bitwise; the third run used a branch a body where the
+ *     scene has several (stat "device local-step branches"), the tenth
+ *     none.
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -74,29 +80,41 @@ static pl_sim *load(const char *path, int graph)
     return sim;
 }
 
-static int first_state(pl_component *c, void *user)
-{
-    *(pl_component **)user = c;
-    return 1;
-}
-
-/* One run: the first body's positions (malloc'ed, n values; NULL on
- * failure), its graph captures, its replays of the update graph and its
- * median step [ms]. */
+/* One run: every body's positions, one after the other (malloc'ed, n
+ * values; NULL on failure), its graph captures, its replays of the update
+ * graph, its local-step branches and its median step [ms]. */
 typedef struct run_result {
     double *x;
     size_t n;
-    double captures, replays, ms;
+    double captures, replays, branches, ms;
 } run_result;
+
+typedef struct positions_of {
+    run_result *r;
+    const pl_data *d;
+} positions_of;
+
+static int append_state(pl_component *c, void *user)
+{
+    positions_of *po = user;
+    const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
+    pl_buffer p = ops->positions(c, po->d);
+    size_t add = p.rows * 3;
+    double *x = realloc(po->r->x, (po->r->n + add + 1) * sizeof(double));
+    if (!x) return 1;
+    memcpy(x + po->r->n, p.data, add * sizeof(double));
+    po->r->x = x, po->r->n += add;
+    return 0;
+}
 
 static run_result run(const char *path, int graph, int fused, int one, int steps)
 {
-    run_result r = {NULL, 0, 0.0, 0.0, NAN};
+    run_result r = {NULL, 0, 0.0, 0.0, 0.0, NAN};
     /* read by the contact solver's device path (fused 2: without the warp;
      * 3: always a block of 512; 4: the scatters a thread an unknown; -1:
      * the phase kernels one a launch; -2: the phase kernels, a step's first
-     * update launched one by one; one 0: the few rows' iteration as three
-     * kernels) */
+     * update launched one by one; 5: fused, the local terms on the main
+     * stream; one 0: the few rows' iteration as three kernels) */
     setenv("PLIANT_NCP_FUSED_CR", fused > 0 ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
@@ -104,6 +122,7 @@ static run_result run(const char *path, int graph, int fused, int one, int steps
     setenv("PLIANT_NCP_SCATTER_WARP", fused == 4 ? "0" : "1", 1);
     setenv("PLIANT_NCP_ONE_KERNEL", one ? "1" : "0", 1);
     setenv("PLIANT_NCP_UPDATE_GRAPH", fused == -2 ? "0" : "1", 1);
+    setenv("PLIANT_DEVICE_BRANCHES", fused == 5 ? "0" : "1", 1); /* read at load */
     pl_sim *sim = load(path, graph);
     if (!sim) return r;
     double *t = malloc(sizeof(double) * (size_t)steps);
@@ -119,14 +138,12 @@ static run_result run(const char *path, int graph, int fused, int one, int steps
     r.ms = t ? gpu_median(t, steps) : NAN;
     pl_stat_get(pl_sim_timers(sim), "device graph captures", &r.captures);
     pl_stat_get(pl_sim_timers(sim), "contact update graph replays", &r.replays);
-    pl_component *c = NULL;
-    pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, first_state, &c);
-    const pl_state_ops *ops = c ? pl_component_role(c, PL_ROLE_STATE) : NULL;
-    if (!ops) goto done;
-    pl_buffer p = ops->positions(c, pl_sim_data(sim));
-    r.n = p.rows * 3;
-    r.x = malloc(r.n * sizeof(double));
-    if (r.x) memcpy(r.x, p.data, r.n * sizeof(double));
+    pl_stat_get(pl_sim_timers(sim), "device local-step branches", &r.branches);
+    positions_of po = {&r, pl_sim_data(sim)};
+    if (pl_node_visit_role(pl_sim_model(sim)->root, PL_ROLE_STATE, append_state, &po) || !r.n) {
+        free(r.x);
+        r.x = NULL, r.n = 0;
+    }
 done:
     free(t);
     pl_sim_free(sim);
@@ -159,13 +176,14 @@ static void note(const char *path, const char *label, double v)
 
 /* The runs of check(), by what they set. */
 enum { GRAPH, NO_GRAPH, FUSED, FUSED_BLOCK, THREE_KERNELS, WIDE, ONE_PHASE, SCATTER_THREAD,
-       NO_UPDATE_GRAPH, NRUNS };
+       NO_UPDATE_GRAPH, NO_BRANCHES, NRUNS };
 
 static void check(const char *path, int steps)
 {
     /* graph, fused (see run), one kernel */
     static const int how[NRUNS][3] = {{1, 0, 1}, {0, 0, 1}, {1, 1, 1},  {1, 2, 1}, {1, 1, 0},
-                                      {1, 3, 1}, {0, -1, 1}, {1, 4, 1}, {1, -2, 1}};
+                                      {1, 3, 1}, {0, -1, 1}, {1, 4, 1}, {1, -2, 1},
+                                      {1, 5, 1}};
     run_result r[NRUNS];
     for (int k = 0; k < NRUNS; ++k) r[k] = run(path, how[k][0], how[k][1], how[k][2], steps);
     const run_result *a = &r[GRAPH], *b = &r[NO_GRAPH], *c = &r[FUSED];
@@ -208,11 +226,20 @@ static void check(const char *path, int steps)
     gpu_check_line(md, what, 1.0 - fmin(a->replays, 1.0), 0.0);
     snprintf(what, sizeof what, "%s: FUSED_CR=0, update graph replays with UPDATE_GRAPH=0", path);
     gpu_check_line(md, what, r[NO_UPDATE_GRAPH].replays, 0.0);
+    same_line(path, "PLIANT_NCP_FUSED_CR=1, PLIANT_DEVICE_BRANCHES=1 vs =0, graph", c,
+              &r[NO_BRANCHES], 0.0);
+    note(path, "median step ms, graph, FUSED_CR=1 and DEVICE_BRANCHES=0", r[NO_BRANCHES].ms);
+    snprintf(what, sizeof what, "%s: local-step branches used with DEVICE_BRANCHES=0", path);
+    gpu_check_line(md, what, r[NO_BRANCHES].branches, 0.0);
+    if (strstr(path, "grabbing_raptor")) { /* three bodies: a branch each */
+        snprintf(what, sizeof what, "%s: 3 - local-step branches with DEVICE_BRANCHES=1", path);
+        gpu_check_line(md, what, fabs(3.0 - c->branches), 0.0);
+    }
     for (int k = 0; k < NRUNS; ++k) free(r[k].x);
     static const char *const env[] = {"PLIANT_NCP_FUSED_CR",     "PLIANT_NCP_FUSED_WARP",
                                       "PLIANT_NCP_FUSED_NARROW", "PLIANT_NCP_PHASE_PAIRS",
                                       "PLIANT_NCP_SCATTER_WARP", "PLIANT_NCP_ONE_KERNEL",
-                                      "PLIANT_NCP_UPDATE_GRAPH"};
+                                      "PLIANT_NCP_UPDATE_GRAPH", "PLIANT_DEVICE_BRANCHES"};
     for (size_t k = 0; k < sizeof env / sizeof env[0]; ++k) unsetenv(env[k]);
 }
 

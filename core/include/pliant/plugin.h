@@ -50,7 +50,10 @@
  * 5.6: device ops version 4 (pl_device_ops.scale_rows_zero and
  * residual_max_csr: two launches fewer in a device iteration).
  * 5.7: pl_timer_watch (timer.h: a phase's off-CPU time, page faults and
- * preemptions per frame). */
+ * preemptions per frame).
+ * 5.8: device ops version 5 (pl_device_ops.branch, PL_DEVICE_BRANCHES:
+ * independent work, such as the local steps of different bodies, queued
+ * side by side). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

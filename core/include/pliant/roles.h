@@ -292,10 +292,17 @@ typedef struct pl_animation_loop_ops {
 /* ---- pl_device: a compute device, its memory and its stream -------------- */
 /* Device memory is addressed by plain pointers (inside pl_buffer descriptors
  * with location PL_DEVICE).  Every member queues its work on the device's
- * one stream, in call order, and returns without waiting unless it says so;
- * other components queue their own kernels on stream().  The vector kernels
- * work on float64 n x 3 row-major blocks (a row = a vertex's xyz). */
-#if PL_ABI_TARGET_MINOR >= 6
+ * current stream (its one main stream unless a branch is open: version 5),
+ * in call order, and returns without waiting unless it says so; other
+ * components queue their own kernels on stream(), asked for at each call.
+ * The vector kernels work on float64 n x 3 row-major blocks (a row = a
+ * vertex's xyz). */
+#if PL_ABI_TARGET_MINOR >= 8
+#include "device_loop.h"
+/* 2: residual_max; 3: loop, gather_sub_csr; 4: scale_rows_zero, residual_max_csr;
+ * 5: branch */
+#define PL_DEVICE_OPS_VERSION 5
+#elif PL_ABI_TARGET_MINOR >= 6
 #include "device_loop.h"
 /* 2: residual_max; 3: loop, gather_sub_csr; 4: scale_rows_zero, residual_max_csr */
 #define PL_DEVICE_OPS_VERSION 4
@@ -409,7 +416,24 @@ typedef struct pl_device_ops {
                             const double *x, const double *y, const double *g, const double *b,
                             const pl_csr *A, double *out, pl_error *err);
 #endif
+#if PL_ABI_TARGET_MINOR >= 8
+    /* version 5, optional (NULL: one stream).  branch(c, k), k = 1 ..
+     * PL_DEVICE_BRANCHES: the work queued next (on stream(), which now
+     * returns branch k's stream, and by the members above) starts after all
+     * work queued before on the main stream, and may run beside the other
+     * branches' work.  branch(c, 0): back on the main stream, whose next work
+     * waits for the work of every branch opened since the last branch(c, 0).
+     * Inside a capture (capture_begin, loop) they become the graph's
+     * parallel edges.  The caller gives branches work on disjoint memory
+     * (the local terms of different states: local_global_device.c) and
+     * closes them with branch(c, 0) before it captures, replays, copies to
+     * the host or waits. */
+    int (*branch)(pl_component *c, int k, pl_error *err);
+#endif
 } pl_device_ops;
+#if PL_ABI_TARGET_MINOR >= 8
+#define PL_DEVICE_BRANCHES 8
+#endif
 
 #if PL_ABI_TARGET_MINOR >= 2
 /* ---- pl_visual: what a component shows (viewer, exporters); ABI 5.2 ---- */
