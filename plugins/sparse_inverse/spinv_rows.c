@@ -14,7 +14,7 @@
  * ascending runs (an etree path climbs to larger indices, one piece per
  * nonzero of the row), so a natural merge sort takes about log2(runs)
  * passes with inline comparisons: qsort's log2(len) passes through a
- * comparison function were a quarter of the CPU raptor's time
+ * comparison function were 16% of a CPU raptor run's samples
  * (docs/benchmarks.md, "Y's patterns merged").  The entries are distinct,
  * so the result is qsort's.  tmp holds len ints. */
 static void sort_runs(int *a, int len, int *tmp)
