@@ -227,7 +227,8 @@ static int project_terms(const local_global_solver *s, const lg_device_ws *g, pl
     for (int t = 0; !rc && t < d->nterms; ++t) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[t], PL_ROLE_LOCAL_TERM);
         if (br) rc = g->ops->branch(g->dev, br[t], err);
-        if (!rc) rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, qb, rb, err);
+        if (!rc)
+            rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, qb, rb, err);
     }
     if (br) {
         pl_stat_max(ctx->timers, "device local-step branches", s->gpu.nbranch);

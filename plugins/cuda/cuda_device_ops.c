@@ -16,9 +16,9 @@
 
 /* pl_device_ops.branch's state: side streams made on first use (blocking,
  * as the main one: a term's first project uploads its elements with
- * cudaMemcpy on the legacy default stream), an event on the main stream that opens the branches,
- * one a side stream that closes it, and which streams the open branches
- * have joined. */
+ * cudaMemcpy on the legacy default stream), an event on the main stream
+ * that opens the branches, one a side stream that closes it, and which
+ * side streams the open branches have joined. */
 struct cuda_branches {
     cudaStream_t side[PL_DEVICE_BRANCHES + 1]; /* [k], k >= 1 */
     cudaEvent_t done[PL_DEVICE_BRANCHES + 1];
@@ -146,7 +146,8 @@ static int dev_branch(pl_component *c, int k, pl_error *err)
         CK(c, cudaStreamCreate(&b->side[k]), "cudaStreamCreate");
         CK(c, cudaEventCreateWithFlags(&b->done[k], cudaEventDisableTiming), "cudaEventCreate");
     }
-    if (!b->fork) CK(c, cudaEventCreateWithFlags(&b->fork, cudaEventDisableTiming), "cudaEventCreate");
+    if (!b->fork)
+        CK(c, cudaEventCreateWithFlags(&b->fork, cudaEventDisableTiming), "cudaEventCreate");
     if (!b->forked) {
         CK(c, cudaEventRecord(b->fork, main), "cudaEventRecord (fork)");
         b->forked = 1;

@@ -68,7 +68,8 @@ int hyper_stencil_project_device(const pl_component *c, const pl_hyper_stencils 
             return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
         g->fresh = d;
     }
-    if (stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, stream, &e) != PL_OK)
+    if (stencil_cuda_project(g->g, offset, h2, q->data, targets != NULL, rhs->data, stream, &e) !=
+        PL_OK)
         return pl_component_fail(c, err, e.code ? e.code : PL_EINTERNAL, "%s", e.msg);
     return PL_OK;
 }
