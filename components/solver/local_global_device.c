@@ -231,7 +231,6 @@ static int project_terms(const local_global_solver *s, const lg_device_ws *g, pl
             rc = ops->project(d->terms[t], ctx->data, d->term_offset[t], d->h * d->h, qb, rb, err);
     }
     if (br) {
-        pl_stat_max(ctx->timers, "device local-step branches", s->gpu.nbranch);
         pl_error e2;
         int rc2 = g->ops->branch(g->dev, 0, rc ? &e2 : err);
         if (!rc) rc = rc2;
@@ -482,6 +481,8 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     }
     rc = pl_lg_device_graphs_begin_step(s, g, flags, err);
     if (rc) return rc;
+    if (s->gpu.term_branch) /* a statistic of the step, not of each queued iteration */
+        pl_stat_max(ctx->timers, "device local-step branches", s->gpu.nbranch);
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));

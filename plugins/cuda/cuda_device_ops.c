@@ -23,9 +23,8 @@ struct cuda_branches {
     cudaStream_t side[PL_DEVICE_BRANCHES + 1]; /* [k], k >= 1 */
     cudaEvent_t done[PL_DEVICE_BRANCHES + 1];
     cudaEvent_t fork;
-    int cur;    /* 0: the main stream */
-    int forked; /* fork recorded since the last branch(c, 0) */
-    unsigned joined; /* bit k: side k waits for fork */
+    int cur;         /* 0: the main stream */
+    unsigned joined; /* bit k: side k waits for fork (none: fork not recorded yet) */
 };
 
 static cudaStream_t current_stream(const pl_component *c)
@@ -139,7 +138,7 @@ static int dev_branch(pl_component *c, int k, pl_error *err)
                 CK(c, cudaEventRecord(b->done[j], b->side[j]), "cudaEventRecord (branch)");
                 CK(c, cudaStreamWaitEvent(main, b->done[j], 0), "cudaStreamWaitEvent (join)");
             }
-        b->joined = 0, b->forked = 0;
+        b->joined = 0;
         return PL_OK;
     }
     if (!b->side[k]) {
@@ -148,10 +147,7 @@ static int dev_branch(pl_component *c, int k, pl_error *err)
     }
     if (!b->fork)
         CK(c, cudaEventCreateWithFlags(&b->fork, cudaEventDisableTiming), "cudaEventCreate");
-    if (!b->forked) {
-        CK(c, cudaEventRecord(b->fork, main), "cudaEventRecord (fork)");
-        b->forked = 1;
-    }
+    if (!b->joined) CK(c, cudaEventRecord(b->fork, main), "cudaEventRecord (fork)");
     if (!(b->joined & (1u << k))) {
         CK(c, cudaStreamWaitEvent(b->side[k], b->fork, 0), "cudaStreamWaitEvent (fork)");
         b->joined |= 1u << k;

@@ -17,23 +17,25 @@
  * comparison function were 16% of a CPU raptor run's samples
  * (docs/benchmarks.md, "Y's patterns merged").  The entries are distinct,
  * so the result is qsort's.  tmp holds len ints. */
+/* The end of the ascending run of a[0 .. len) that starts at i < len. */
+static int run_end(const int *a, int i, int len)
+{
+    int j = i + 1;
+    while (j < len && a[j - 1] < a[j]) ++j;
+    return j;
+}
+
 static void sort_runs(int *a, int len, int *tmp)
 {
     int *src = a, *dst = tmp;
-    for (;;) {
-        int j = 1;
-        while (j < len && src[j - 1] < src[j]) ++j;
-        if (j >= len) break; /* one run: sorted */
+    while (len > 0 && run_end(src, 0, len) < len) { /* more than one run: a pass */
         for (int i = 0; i < len;) { /* merge [i, j) and [j, k), the next two runs */
-            int k = j < len ? j + 1 : j;
-            while (k < len && src[k - 1] < src[k]) ++k;
+            int j = run_end(src, i, len), k = j < len ? run_end(src, j, len) : j;
             int x = i, y = j, o = i;
             while (x < j && y < k) dst[o++] = src[x] < src[y] ? src[x++] : src[y++];
             while (x < j) dst[o++] = src[x++];
             while (y < k) dst[o++] = src[y++];
             i = k;
-            j = i + 1;
-            while (j < len && src[j - 1] < src[j]) ++j;
         }
         int *t = src;
         src = dst;
