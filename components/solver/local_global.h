@@ -80,6 +80,9 @@ typedef struct local_global_solver {
     int nconstraints;
     int ready;
     int t_local, t_global, t_assembly, t_residual;
+    int t_rows;                /* "Rows": every constraint's build_rows (Detection inside) */
+    int t_queue;               /* "Device queue": the host queueing the step's iterations */
+    int t_wait;                /* "Device wait": the host blocked on the step's positions */
     lg_device gpu;
 } local_global_solver;
 

@@ -490,8 +490,13 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
     int done = 0;
     double residual = NAN;
+    pl_timer_start(ctx->timers, s->t_queue);
     if (!rc) rc = pl_lg_device_iterate(s, ws, ctx, scale, &done, &residual, err);
+    pl_timer_stop(ctx->timers, s->t_queue);
+    /* the copy waits for the queued iterations: the time the host idles */
+    pl_timer_start(ctx->timers, s->t_wait);
     if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+    pl_timer_stop(ctx->timers, s->t_wait);
     if (rc) return rc;
     for (int f = 0; f < d->nfree; ++f) {
         const double *x = &w->q[3 * d->free_vertex[f]];

@@ -188,7 +188,10 @@ static int lg_reinit(pl_component *c, pl_ctx *ctx)
     s->t_assembly = pl_timer_id(ctx->timers, "Assembly");
     s->t_global = pl_timer_id(ctx->timers, "Global");
     s->t_residual = pl_timer_id(ctx->timers, "Residual");
+    s->t_rows = s->nconstraints ? pl_timer_id(ctx->timers, "Rows") : -1;
     if ((rc = pl_lg_device_setup(s, ctx))) return rc;
+    s->t_queue = s->gpu.dev ? pl_timer_id(ctx->timers, "Device queue") : -1;
+    s->t_wait = s->gpu.dev ? pl_timer_id(ctx->timers, "Device wait") : -1;
     /* computeResidual: 0 auto, 1 on, 2 off */
     s->report_residual = s->compute_residual == 1 ||
                          (s->compute_residual == 0 && !s->gpu.dev &&
@@ -243,11 +246,13 @@ int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx
     const pl_dynamics *d = &s->dyn;
     pl_rows_clear(&ws->rows);
     pl_buffer qt = pl_buffer_host_f64(ws->w.q_t, (size_t)d->n, 3);
+    pl_timer_start(ctx->timers, s->t_rows);
     for (int k = 0; k < s->nconstraints; ++k) {
         const pl_constraint_ops *ops = pl_component_role(s->constraints[k], PL_ROLE_CONSTRAINT);
         int rc = ops->build_rows(s->constraints[k], ctx, &d->sys, &qt, &ws->rows, err);
         if (rc) return -rc;
     }
+    pl_timer_stop(ctx->timers, s->t_rows);
     if (ws->rows.n == 0) return 0;
     const pl_contact_solver_ops *cs = pl_component_role(s->contact, PL_ROLE_CONTACT_SOLVER);
     int rc = cs->begin(s->contact, ctx, &d->sys, &ws->rows, &qt, err);

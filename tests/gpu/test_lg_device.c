@@ -213,6 +213,12 @@ START_TEST(tolerance_energy_and_profiling_agree)
     pl_timers *t = pl_sim_timers(sim);
     ck_assert_int_eq(pl_timers_samples(t, pl_timer_id(t, "Local")), 6);
     ck_assert_int_eq(pl_timers_samples(t, pl_timer_id(t, "Global")), 6);
+    /* the host's part of a device step: queueing, then waiting, inside the frame */
+    int queue = pl_timer_id(t, "Device queue"), wait = pl_timer_id(t, "Device wait");
+    ck_assert_int_eq(pl_timers_samples(t, queue), 6);
+    ck_assert_int_eq(pl_timers_samples(t, wait), 6);
+    ck_assert_double_le(pl_timers_total_ms(t, queue) + pl_timers_total_ms(t, wait),
+                        pl_timers_total_ms(t, pl_timer_id(t, "Frame")));
     pl_sim_free(sim);
     pl_registry_free(r);
 }

@@ -208,6 +208,15 @@ START_TEST(table_3_timers_and_statistics)
     double parts = pl_timers_total_ms(tm, pl_timer_id(tm, "Constraint solve")) +
                    pl_timers_total_ms(tm, pl_timer_id(tm, "Correction"));
     ck_assert_double_le(parts, cg);
+    /* the rows are timed each step, inside the frame, apart from Schur (the
+     * contact solver's begin, after them); a CPU run has no device phases */
+    int rows = pl_timer_id(tm, "Rows"), frame = pl_timer_id(tm, "Frame");
+    ck_assert_int_eq(pl_timers_samples(tm, rows), 10);
+    ck_assert_double_gt(pl_timers_total_ms(tm, rows), 0.0);
+    ck_assert_double_le(pl_timers_total_ms(tm, rows) +
+                            pl_timers_total_ms(tm, pl_timer_id(tm, "Schur")),
+                        pl_timers_total_ms(tm, frame));
+    ck_assert_int_eq(pl_timers_samples(tm, pl_timer_id(tm, "Device wait")), 0);
     double v;
     ck_assert_int_eq(pl_stat_get(tm, "contacts max", &v), 0);
     ck_assert_double_eq(v, 16);
