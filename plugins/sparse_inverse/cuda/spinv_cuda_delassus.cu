@@ -59,15 +59,16 @@ int grow_host(void **p, size_t *cap, size_t bytes, pl_error *err)
     return PL_OK;
 }
 
-/* Y(i, u) = S(i, pos[u]) (column-major, n x nu, float64). */
+/* Y(i, u) = S(i, pos[u]) (column-major, n x nup, float64); the columns
+ * u >= nu (the order's padding, syrk_order) are zero. */
 template <typename T>
-__global__ void gather_columns(int n, int nu, const pl_spinv_cuda_rowmeta *meta, const T *val,
-                               const int *pos, double *Y)
+__global__ void gather_columns(int n, int nu, int nup, const pl_spinv_cuda_rowmeta *meta,
+                               const T *val, const int *pos, double *Y)
 {
-    size_t total = (size_t)n * (size_t)nu;
+    size_t total = (size_t)n * (size_t)nup;
     for (size_t t = blockIdx.x * (size_t)blockDim.x + threadIdx.x; t < total;
          t += (size_t)gridDim.x * blockDim.x) {
-        int i = (int)(t % (size_t)n), u = (int)(t / (size_t)n), c = pos[u];
+        int i = (int)(t % (size_t)n), u = (int)(t / (size_t)n), c = u < nu ? pos[u] : -1;
         pl_spinv_cuda_rowmeta r = meta[i];
         /* columns f0 .. e are stored (zero past the diagonal) */
         Y[t] = c >= r.f0 && c <= r.e ? (double)val[r.vbase + c] : 0.0;
@@ -195,6 +196,26 @@ static int delassus_state(pl_spinv_cuda *g, pl_error *err)
     return PL_OK;
 }
 
+/* The SYRK's order for nu unknowns: nu rounded up to a multiple of 32, of
+ * an eighth of the power of two below it past 256 (zero columns of Y).
+ * cuBLAS plans a SYRK on the host for each new shape: the contacts' nu
+ * changes nearly every step, and the small raptor's steps spent about 110
+ * us of host time in cublasDsyrk before its kernel started (a gap in the
+ * GPU's timeline); a few orders keep its plans (docs/benchmarks.md, "The
+ * Delassus SYRK's order").  PLIANT_SPINV_SYRK_PAD=0: nu itself. */
+static int syrk_order(int nu)
+{
+    static int pad = -1;
+    if (pad < 0) {
+        const char *e = getenv("PLIANT_SPINV_SYRK_PAD");
+        pad = !(e && !strcmp(e, "0"));
+    }
+    if (!pad || nu <= 0) return nu;
+    int q = 32;
+    while (q * 16 <= nu) q *= 2; /* nu >= 512: q = 64, >= 1024: 128, ... */
+    return (nu + q - 1) / q * q;
+}
+
 /* SYRKs of this solver's inner size n and a few orders nu (cuBLAS picks its
  * kernel by size, and each is loaded on its first use) and an empty
  * assemble_w: what the first real calls would load is loaded here. */
@@ -204,7 +225,7 @@ extern "C" int spinv_cuda_delassus_prepare(pl_spinv_cuda *g, struct CUstream_st 
     if (rc || g->dl->prepared) return rc;
     struct spinv_delassus *d = g->dl;
     cudaStream_t st = stream;
-    const int orders[] = {12, 96};
+    const int orders[] = {syrk_order(12), syrk_order(96)};
     int n = g->n > 0 ? g->n : 1, top = orders[1];
     rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * top, err);
     if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)top * top, err);
@@ -283,27 +304,28 @@ extern "C" int spinv_cuda_delassus(pl_spinv_cuda *g, const pl_spinv_cuda_rows *R
     if (!W) { /* the diagonal alone, along the etree paths (spinv_cuda_wdiag.cu) */
         if ((rc = spinv_cuda_launch_wdiag(g, &A, d->diag, st, err))) return rc;
     } else {
-        rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * (size_t)(nu > 0 ? nu : 1), err);
-        if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)nu * (size_t)(nu > 0 ? nu : 1), err);
+        const int nup = syrk_order(nu); /* G's order and leading dimension */
+        rc = grow((void **)&d->Y, &d->Y_cap, sizeof(double) * (size_t)n * (size_t)(nup > 0 ? nup : 1), err);
+        if (!rc) rc = grow((void **)&d->G, &d->G_cap, sizeof(double) * (size_t)nup * (size_t)(nup > 0 ? nup : 1), err);
         if (rc) return rc;
-        size_t ny = (size_t)n * (size_t)nu;
+        size_t ny = (size_t)n * (size_t)nup;
         if (g->prec == PL_F32)
-            gather_columns<float><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const float *)g->val, A.pos, d->Y);
+            gather_columns<float><<<blocks_for(ny), 256, 0, st>>>(n, nu, nup, g->meta, (const float *)g->val, A.pos, d->Y);
         else
-            gather_columns<double><<<blocks_for(ny), 256, 0, st>>>(n, nu, g->meta, (const double *)g->val, A.pos, d->Y);
+            gather_columns<double><<<blocks_for(ny), 256, 0, st>>>(n, nu, nup, g->meta, (const double *)g->val, A.pos, d->Y);
         SPINV_CK(cudaGetLastError(), "Delassus: gather columns");
         cublasStatus_t s = cublasSetStream(d->blas, st);
         const double one = 1.0, zero = 0.0;
-        /* G = Y^T Y, lower triangle (column-major nu x nu) */
+        /* G = Y^T Y, lower triangle (column-major nup x nup) */
         if (s == CUBLAS_STATUS_SUCCESS)
-            s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, nu, n, &one, d->Y, n, &zero, d->G, nu);
+            s = cublasDsyrk(d->blas, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, nup, n, &one, d->Y, n, &zero, d->G, nup);
         if (s != CUBLAS_STATUS_SUCCESS) return blas_fail(err, s, "Delassus: SYRK");
         size_t mm = (size_t)m * (size_t)m;
-        assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nu, A.rp, A.ru, A.rx, d->G, W, d->diag);
+        assemble_w<<<blocks_for(mm), 256, 0, st>>>(m, nup, A.rp, A.ru, A.rx, d->G, W, d->diag);
         SPINV_CK(cudaGetLastError(), "Delassus: assemble W");
         if (A.nl > 0) {
             assemble_w_long<<<(unsigned)A.nl * (unsigned)m, kLongThreads, 0, st>>>(
-                m, nu, A.longr, A.rp, A.ru, A.rx, d->G, W, d->diag);
+                m, nup, A.longr, A.rp, A.ru, A.rx, d->G, W, d->diag);
             SPINV_CK(cudaGetLastError(), "Delassus: assemble W (long rows)");
         }
     }
