@@ -1,8 +1,9 @@
 /* bvh.c - a bounding-volume hierarchy of axis-aligned boxes: built once by
  * median splits of the primitive centres (deterministic quickselect with
- * ties broken by index), refitted bottom-up every step, queried with an
- * explicit stack (hits returned in increasing primitive order).  Children
- * are stored after their parent, two by two. */
+ * ties broken by index), refitted bottom-up every step (a large tree by
+ * the threads, a subtree each), queried with an explicit stack (hits
+ * returned in increasing primitive order).  Children are stored after
+ * their parent, two by two. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -164,19 +165,70 @@ int bvh_build(pl_bvh *b, const pl_aabb *prims, int n)
     return PL_OK;
 }
 
+/* Node's box from its primitives or its children's boxes. */
+static void refit_one(pl_bvh *b, const pl_aabb *prims, int node)
+{
+    pl_aabb *r = &b->box[node];
+    box_empty(r);
+    if (b->left[node] < 0) {
+        for (int i = b->start[node]; i < b->start[node] + b->count[node]; ++i)
+            box_union(r, &prims[b->order[i]]);
+    } else {
+        box_union(r, &b->box[b->left[node]]);
+        box_union(r, &b->box[b->left[node] + 1]);
+    }
+}
+
+/* The subtree of node, children first. */
+static void refit_subtree(pl_bvh *b, const pl_aabb *prims, int node)
+{
+    if (b->left[node] >= 0) {
+        refit_subtree(b, prims, b->left[node]);
+        refit_subtree(b, prims, b->left[node] + 1);
+    }
+    refit_one(b, prims, node);
+}
+
+/* The nodes depth levels below node (or leaves above that level) into
+ * roots; returns their count. */
+static int frontier(const pl_bvh *b, int node, int depth, int *roots, int n)
+{
+    if (depth == 0 || b->left[node] < 0) {
+        roots[n] = node;
+        return n + 1;
+    }
+    n = frontier(b, b->left[node], depth - 1, roots, n);
+    return frontier(b, b->left[node] + 1, depth - 1, roots, n);
+}
+
+/* The nodes above the frontier, children first. */
+static void refit_top(pl_bvh *b, const pl_aabb *prims, int node, int depth)
+{
+    if (depth == 0 || b->left[node] < 0) return; /* a frontier node: done */
+    refit_top(b, prims, b->left[node], depth - 1);
+    refit_top(b, prims, b->left[node] + 1, depth - 1);
+    refit_one(b, prims, node);
+}
+
+/* A tree of more primitives than COLL_PAR_MIN is refitted by the threads,
+ * a subtree each (64 of them; smaller trees cost less than waking the
+ * team: with 4096 the small raptor's detection lost 0.2 ms a step on the
+ * 16-core host); min and max are exact, so the boxes are the serial
+ * refit's whatever the order. */
+#define BVH_PAR_MIN COLL_PAR_MIN
+#define BVH_PAR_DEPTH 6
+
 void bvh_refit(pl_bvh *b, const pl_aabb *prims)
 {
-    for (int node = b->nnodes - 1; node >= 0; --node) {
-        pl_aabb *r = &b->box[node];
-        box_empty(r);
-        if (b->left[node] < 0) {
-            for (int i = b->start[node]; i < b->start[node] + b->count[node]; ++i)
-                box_union(r, &prims[b->order[i]]);
-        } else {
-            box_union(r, &b->box[b->left[node]]);
-            box_union(r, &b->box[b->left[node] + 1]);
-        }
+    if (b->nprims > BVH_PAR_MIN) {
+        int roots[1 << BVH_PAR_DEPTH];
+        int n = frontier(b, 0, BVH_PAR_DEPTH, roots, 0);
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int k = 0; k < n; ++k) refit_subtree(b, prims, roots[k]);
+        refit_top(b, prims, 0, BVH_PAR_DEPTH);
+        return;
     }
+    for (int node = b->nnodes - 1; node >= 0; --node) refit_one(b, prims, node);
 }
 
 static int cmp_int(const void *a, const void *b)

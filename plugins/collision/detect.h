@@ -204,8 +204,10 @@ void proximities_free(pl_proximities *p);
 typedef struct pl_side_hints {
     int n, cap;          /* entries, slots (a power of two) */
     unsigned long long *key;
-    pl_proximity *keyed; /* per slot: the proximity (for exact key comparison) */
-    pl_proximity *vf;    /* the vertex-face ones, sorted by models and vertex */
+    int *keyed;          /* per slot: its proximity in items (for exact key comparison) */
+    pl_proximity *items; /* the proximities given, copied once */
+    int nitems, capitems;
+    struct pl_side_vf *vf; /* the vertex-face ones, sorted by models and vertex */
     int nvf, capvf;
 } pl_side_hints;
 

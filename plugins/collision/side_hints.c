@@ -1,10 +1,18 @@
 /* side_hints.c - the previous step's proximities (normals, sides), looked up
- * by their models and vertices (open addressing, linear probing), so that
- * contacts with thin two-sided meshes keep their side while they last. */
+ * by their models and vertices (open addressing, linear probing, the slots
+ * holding indices into one copy of the proximities), so that contacts with
+ * thin two-sided meshes keep their side while they last. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "detect.h"
+
+/* A vertex-face proximity's sort key: models, vertex, triangle, then its
+ * place among the items given (a total order: the same hints whatever the
+ * sort).  Sorting these, not the proximities, moves a few words each. */
+struct pl_side_vf {
+    int model_a, model_b, vertex, b[3], item;
+};
 
 void side_hints_init(pl_side_hints *h) { memset(h, 0, sizeof *h); }
 
@@ -12,6 +20,7 @@ void side_hints_free(pl_side_hints *h)
 {
     free(h->key);
     free(h->keyed);
+    free(h->items);
     free(h->vf);
     side_hints_init(h);
 }
@@ -50,46 +59,51 @@ static unsigned long long hash(const int id[10])
     return x | 1ull; /* 0 marks an empty slot */
 }
 
-static int same(const pl_proximity *p, const pl_proximity *q)
+/* Whether p's identity is id (ident's). */
+static int same_id(const pl_proximity *p, const int id[10])
 {
-    int a[10], b[10];
+    int a[10];
     ident(p, a);
-    ident(q, b);
-    return memcmp(a, b, sizeof a) == 0;
+    return memcmp(a, id, sizeof a) == 0;
 }
 
-/* Vertex-face proximities ordered by (model_a, model_b, vertex). */
-static int cmp_vertex(const pl_proximity *x, const pl_proximity *y)
+/* Keys ordered by (model_a, model_b, vertex); the _vf order adds the
+ * triangle and the item (deterministic). */
+static int cmp_vertex(const struct pl_side_vf *x, int model_a, int model_b, int vertex)
 {
-    if (x->model_a != y->model_a) return x->model_a < y->model_a ? -1 : 1;
-    if (x->model_b != y->model_b) return x->model_b < y->model_b ? -1 : 1;
-    return (x->a[0] > y->a[0]) - (x->a[0] < y->a[0]);
+    if (x->model_a != model_a) return x->model_a < model_a ? -1 : 1;
+    if (x->model_b != model_b) return x->model_b < model_b ? -1 : 1;
+    return (x->vertex > vertex) - (x->vertex < vertex);
 }
 
 static int cmp_vf(const void *x, const void *y)
 {
-    int c = cmp_vertex(x, y);
+    const struct pl_side_vf *p = x, *q = y;
+    int c = cmp_vertex(p, q->model_a, q->model_b, q->vertex);
     if (c) return c;
-    /* ties: a fixed order of the triangles (deterministic) */
-    const pl_proximity *p = x, *q = y;
     for (int k = 0; k < 3; ++k)
         if (p->b[k] != q->b[k]) return p->b[k] < q->b[k] ? -1 : 1;
-    return 0;
+    return (p->item > q->item) - (p->item < q->item);
 }
 
-static int build_vf(pl_side_hints *h, const pl_proximity *items, int n)
+static int build_vf(pl_side_hints *h)
 {
-    int m = 0;
+    const pl_proximity *items = h->items;
+    int n = h->nitems, m = 0;
     for (int k = 0; k < n; ++k) m += items[k].kind == PL_PROX_VERTEX_FACE;
     if (m > h->capvf) {
-        pl_proximity *vf = realloc(h->vf, (size_t)m * sizeof *vf);
+        struct pl_side_vf *vf = realloc(h->vf, (size_t)m * sizeof *vf);
         if (!vf) return PL_EINTERNAL;
         h->vf = vf;
         h->capvf = m;
     }
     h->nvf = 0;
     for (int k = 0; k < n; ++k)
-        if (items[k].kind == PL_PROX_VERTEX_FACE) h->vf[h->nvf++] = items[k];
+        if (items[k].kind == PL_PROX_VERTEX_FACE) {
+            const pl_proximity *p = &items[k];
+            h->vf[h->nvf++] = (struct pl_side_vf){p->model_a, p->model_b, p->a[0],
+                                                  {p->b[0], p->b[1], p->b[2]}, k};
+        }
     if (h->nvf > 1) qsort(h->vf, (size_t)h->nvf, sizeof *h->vf, cmp_vf);
     return PL_OK;
 }
@@ -108,16 +122,18 @@ const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proxim
     int lo = 0, hi = h->nvf; /* first record not below p's vertex */
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (cmp_vertex(&h->vf[mid], p) < 0)
+        if (cmp_vertex(&h->vf[mid], p->model_a, p->model_b, p->a[0]) < 0)
             lo = mid + 1;
         else
             hi = mid;
     }
     const pl_proximity *best = NULL;
     int shared = 0;
-    for (int k = lo; k < h->nvf && cmp_vertex(&h->vf[k], p) == 0; ++k) {
-        int s = shared_vertices(h->vf[k].b, p->b);
-        if (s > shared && s < 3 && h->vf[k].side != 0) best = &h->vf[k], shared = s;
+    for (int k = lo; k < h->nvf && cmp_vertex(&h->vf[k], p->model_a, p->model_b, p->a[0]) == 0;
+         ++k) {
+        const pl_proximity *q = &h->items[h->vf[k].item];
+        int s = shared_vertices(q->b, p->b);
+        if (s > shared && s < 3 && q->side != 0) best = q, shared = s;
     }
     return best;
 }
@@ -127,29 +143,38 @@ int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
     int cap = 64;
     while (cap < 2 * n) cap *= 2;
     if (cap != h->cap) {
-        side_hints_free(h);
+        free(h->key);
+        free(h->keyed);
         h->key = malloc((size_t)cap * sizeof *h->key);
         h->keyed = malloc((size_t)cap * sizeof *h->keyed);
-        if (!h->key || !h->keyed) {
+        h->cap = h->key && h->keyed ? cap : 0;
+        if (!h->cap) {
             side_hints_free(h);
             return PL_EINTERNAL;
         }
-        h->cap = cap;
     }
+    if (n > h->capitems) {
+        pl_proximity *it = realloc(h->items, (size_t)n * sizeof *it);
+        if (!it) return PL_EINTERNAL;
+        h->items = it;
+        h->capitems = n;
+    }
+    if (n > 0) memcpy(h->items, items, (size_t)n * sizeof *items);
+    h->nitems = n;
     memset(h->key, 0, (size_t)cap * sizeof *h->key);
     h->n = 0;
     for (int k = 0; k < n; ++k) {
         int id[10];
-        ident(&items[k], id);
+        ident(&h->items[k], id);
         unsigned long long x = hash(id);
         size_t s = (size_t)x & (size_t)(cap - 1);
-        while (h->key[s] != 0 && !(h->key[s] == x && same(&h->keyed[s], &items[k])))
+        while (h->key[s] != 0 && !(h->key[s] == x && same_id(&h->items[h->keyed[s]], id)))
             s = (s + 1) & (size_t)(cap - 1);
         if (h->key[s] == 0) h->n++;
         h->key[s] = x;
-        h->keyed[s] = items[k];
+        h->keyed[s] = k; /* a repeated identity: the last one given */
     }
-    return build_vf(h, items, n);
+    return build_vf(h);
 }
 
 const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *p)
@@ -160,7 +185,7 @@ const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *
     unsigned long long x = hash(id);
     size_t s = (size_t)x & (size_t)(h->cap - 1);
     while (h->key[s] != 0) {
-        if (h->key[s] == x && same(&h->keyed[s], p)) return &h->keyed[s];
+        if (h->key[s] == x && same_id(&h->items[h->keyed[s]], id)) return &h->items[h->keyed[s]];
         s = (s + 1) & (size_t)(h->cap - 1);
     }
     return NULL;

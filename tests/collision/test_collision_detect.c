@@ -9,10 +9,18 @@
  *    every interior edge-edge pair closer than it with a sharp edge (here
  *    every sheet's boundary) has an edge-edge proximity, and nothing
  *    farther is reported (static).
+ *  - the threads change nothing: a few edges over a fine sheet (an
+ *    obstacle's edges under a cloth: thousands of candidates, measured by
+ *    the threads in chunks) and the fine sheet's vertices (a pass shared by
+ *    chunks) give with 4 threads the one thread's list, item by item in the
+ *    same order, and brute force's set.
  * Which side a contact pushes to: test_collision_push.c; the sides kept at
  * thin sheets' borders: test_collision_sides.c. */
 #include <check.h>
 #include <math.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -217,6 +225,42 @@ START_TEST(test_static_detection_is_complete)
 }
 END_TEST
 
+START_TEST(test_threads_give_the_serial_lists)
+{
+#ifdef _OPENMP
+    unsigned seed = 77u;
+    const double alarm = 0.08;
+    sheet_pair sp; /* a: 3 x 3 vertices (16 edges), b: fine, 2 cm below, moving through */
+    sheet_make_ck(&sp.a, 3, 0.0, 0.02, 0.0, 0.0, &seed);
+    sheet_make_ck(&sp.b, 60, -0.02, 0.02, 0.03, 0.01, &seed);
+    sheet_pair_mesh(&sp, PL_SIDES_TWO, alarm);
+    pl_proximities p[2] = {{0}, {0}}, q = {0};
+    pl_detect_counts counts[2] = {{0}, {0}};
+    int saved = omp_get_max_threads();
+    for (int k = 0; k < 2; ++k) {
+        omp_set_num_threads(k ? 4 : 1);
+        pl_detect_params prm = detect_defaults(alarm);
+        prm.counts = &counts[k];
+        ck_assert_int_eq(detect_pair(&sp.ma, 0, &sp.mb, 1, &prm, &p[k]), PL_OK);
+    }
+    omp_set_num_threads(saved);
+    ck_assert_int_ge(counts[0].candidates, 2048); /* the edges' pass is measured wide */
+    ck_assert(counts[1].candidates == counts[0].candidates);
+    ck_assert_int_gt(p[0].n, 100);
+    ck_assert_int_eq(p[1].n, p[0].n);
+    for (int k = 0; k < p[0].n; ++k) /* the same order, bitwise */
+        ck_assert(memcmp(&p[0].items[k], &p[1].items[k], sizeof p[0].items[k]) == 0);
+    pl_detect_params prm = detect_defaults(alarm);
+    ck_assert_int_eq(detect_pair_brute(&sp.ma, 0, &sp.mb, 1, &prm, &q), PL_OK);
+    expect_same(&p[1], &q);
+    proximities_free(&p[0]);
+    proximities_free(&p[1]);
+    proximities_free(&q);
+    sheet_pair_free(&sp);
+#endif
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_detect");
@@ -224,6 +268,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_bvh_detection_equals_brute_force);
     tcase_add_test(tc, test_static_detection_is_complete);
+    tcase_add_test(tc, test_threads_give_the_serial_lists);
     suite_add_tcase(s, tc);
     return s;
 }
