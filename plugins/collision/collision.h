@@ -222,6 +222,23 @@ int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_conta
                            const pl_contact_side *b, const double n[3], double mu,
                            double contact_distance, double t1[3], double t2[3]);
 
+/* collision_emit_pair in two halves, so that threads can prepare contacts
+ * and one thread append their rows in order: collision_pair_prepare merges
+ * the sides, orders the entries and makes the tangents and the three rows'
+ * right-hand sides (0, or -2 when no entry is left); collision_pair_append
+ * appends the prepared rows (the normal row's index, or -1). */
+typedef struct pl_pair_rows {
+    int n;
+    int vertex[2 * PL_CONTACT_SIDE_MAX];
+    double coef[2 * PL_CONTACT_SIDE_MAX];
+    double normal[3], t1[3], t2[3];
+    double d[3]; /* the normal row's, then the two friction rows' */
+} pl_pair_rows;
+int collision_pair_prepare(pl_pair_rows *pr, const pl_contact_side *a, const pl_contact_side *b,
+                           const double n[3], double contact_distance);
+int collision_pair_append(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
+                          double mu);
+
 /* Fills lambda and force of the contacts from the multipliers of their rows
  * (3 per contact in emission order, lambda[0..3 ncontacts-1]). */
 void collision_contact_forces(pl_obstacle_contact *c, int ncontacts, const double *lambda);

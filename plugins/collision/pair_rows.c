@@ -6,12 +6,9 @@
 
 #include "collision.h"
 
-/* The merged coefficient of every vertex: +w on side a, -w on side b. */
-typedef struct merged {
-    int n;
-    int vertex[2 * PL_CONTACT_SIDE_MAX];
-    double coef[2 * PL_CONTACT_SIDE_MAX];
-} merged;
+/* The merged coefficient of every vertex (+w on side a, -w on side b): a
+ * prepared pair's first three members. */
+typedef pl_pair_rows merged;
 
 static void merge_side(merged *m, const pl_contact_side *s, double sign)
 {
@@ -64,32 +61,51 @@ static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, c
     return r;
 }
 
-int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
-                           const pl_contact_side *b, const double n[3], double mu,
-                           double contact_distance, double t1[3], double t2[3])
+int collision_pair_prepare(pl_pair_rows *pr, const pl_contact_side *a, const pl_contact_side *b,
+                           const double n[3], double contact_distance)
 {
-    merged m = {0};
-    merge_side(&m, a, 1.0);
-    merge_side(&m, b, -1.0);
+    pr->n = 0;
+    merge_side(pr, a, 1.0);
+    merge_side(pr, b, -1.0);
     double total = 0.0;
-    for (int k = 0; k < m.n; ++k) total += fabs(m.coef[k]);
+    for (int k = 0; k < pr->n; ++k) total += fabs(pr->coef[k]);
     if (!(total > 1e-12)) return -2;
-    sort_merged(&m);
-    contact_tangents(n, t1, t2);
+    sort_merged(pr);
+    contact_tangents(n, pr->t1, pr->t2);
     double fx[3], fv[3];
     for (int k = 0; k < 3; ++k) {
+        pr->normal[k] = n[k];
         fx[k] = b->fixed[k] - a->fixed[k];
         fv[k] = b->fixed_v[k] - a->fixed_v[k];
     }
-    int rn = add_row(rows, owner, PL_ROW_NORMAL, &m, n, contact_distance + dot3(n, fx));
+    pr->d[0] = contact_distance + dot3(n, fx);
+    pr->d[1] = dot3(pr->t1, fv);
+    pr->d[2] = dot3(pr->t2, fv);
+    return 0;
+}
+
+int collision_pair_append(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
+                          double mu)
+{
+    int rn = add_row(rows, owner, PL_ROW_NORMAL, pr, pr->normal, pr->d[0]);
     if (rn < 0) return -1;
-    int r1 = add_row(rows, owner, PL_ROW_FRICTION, &m, t1, dot3(t1, fv));
+    int r1 = add_row(rows, owner, PL_ROW_FRICTION, pr, pr->t1, pr->d[1]);
     if (r1 < 0) return -1;
-    int r2 = add_row(rows, owner, PL_ROW_FRICTION, &m, t2, dot3(t2, fv));
+    int r2 = add_row(rows, owner, PL_ROW_FRICTION, pr, pr->t2, pr->d[2]);
     if (r2 < 0) return -1;
     rows->mu[rn] = mu;
     rows->pair[rn] = r1;
     rows->pair[r1] = rn;
     rows->pair[r2] = rn;
     return rn;
+}
+
+int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_contact_side *a,
+                           const pl_contact_side *b, const double n[3], double mu,
+                           double contact_distance, double t1[3], double t2[3])
+{
+    pl_pair_rows pr;
+    if (collision_pair_prepare(&pr, a, b, n, contact_distance)) return -2;
+    for (int k = 0; k < 3; ++k) t1[k] = pr.t1[k], t2[k] = pr.t2[k];
+    return collision_pair_append(rows, owner, &pr, mu);
 }

@@ -148,6 +148,7 @@ static void cp_workspace_free(const pl_component *c, void *ws)
     proximities_free(&w->prox);
     side_hints_free(&w->hints);
     free(w->prev);
+    free(w->emit);
     free(w->work);
     coll_detect_ws_free(w);
 }

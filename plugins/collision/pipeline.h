@@ -56,6 +56,8 @@ typedef struct coll_ws {
     int capprev;
     coll_contact_record *work;
     int nwork, capwork;
+    struct emit_item *emit;        /* the contacts prepared for emission (pipeline_step.c) */
+    int capemit;
     struct coll_dev *dev;          /* device detection (pipeline_device.c), NULL: host */
     int dev_state;                 /* 0 not yet chosen, 1 device, 2 by the rule, -1 host */
     int dev_step;                  /* this step's pairs went through the device */

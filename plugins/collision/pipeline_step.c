@@ -310,42 +310,79 @@ static coll_contact_record *push_record(coll_ws *w)
     return r;
 }
 
+/* A contact prepared by a thread (emit_prepare) for the ordered append. */
+typedef struct emit_item {
+    pl_pair_rows pr;
+    double pa[3], pb[3];
+    int status; /* 0 rows, -2 nothing movable, 1 too many DOFs, 2 a vertex outside (bad) */
+    int bad_model, bad_vertex;
+} emit_item;
+
+/* Contact k's sides and rows, prepared without touching anything shared. */
+static void emit_prepare(const collision_pipeline *p, const coll_ws *w, const pl_system *sys,
+                         int k, emit_item *e)
+{
+    const pl_proximity *x = &w->prox.items[k];
+    const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
+    pl_contact_side sa, sb;
+    e->status = 0;
+    if (make_side(ma, x->na, x->a, x->wa, &sa, e->pa) || make_side(mb, x->nb, x->b, x->wb, &sb, e->pb)) {
+        e->status = 1;
+        return;
+    }
+    const pl_contact_side *side[2] = {&sa, &sb};
+    for (int s = 0; s < 2; ++s)
+        for (int a = 0; a < side[s]->n; ++a)
+            if (side[s]->vertex[a] >= sys->nverts) {
+                e->status = 2, e->bad_model = s ? x->model_b : x->model_a;
+                e->bad_vertex = side[s]->vertex[a];
+                return;
+            }
+    e->status = collision_pair_prepare(&e->pr, &sa, &sb, x->normal, p->contact);
+}
+
+/* Contacts emitted by one thread below this many (waking the team costs
+ * more than preparing them). */
+#define EMIT_PAR_MIN 2048
+
+/* The contacts' rows and records: prepared by the threads, then appended
+ * in the contacts' order by this one (the rows are the serial loop's). */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
                        pl_rows *rows, pl_error *err)
 {
-    for (int k = 0; k < w->prox.n; ++k) {
+    int n = w->prox.n;
+    if (n > w->capemit) {
+        emit_item *e = realloc(w->emit, (size_t)n * sizeof *e);
+        if (!e) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        w->emit = e;
+        w->capemit = n;
+    }
+    emit_item *items = w->emit;
+#pragma omp parallel for schedule(dynamic, 64) if (n > EMIT_PAR_MIN)
+    for (int k = 0; k < n; ++k) emit_prepare(p, w, sys, k, &items[k]);
+    for (int k = 0; k < n; ++k) {
         const pl_proximity *x = &w->prox.items[k];
-        const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
-        pl_contact_side sa, sb;
-        double pa[3], pb[3];
-        if (make_side(ma, x->na, x->a, x->wa, &sa, pa) || make_side(mb, x->nb, x->b, x->wb, &sb, pb))
+        const emit_item *e = &items[k];
+        if (e->status == 1)
             return pl_component_fail(&p->base, err, PL_EINTERNAL,
                                      "a contact touches more than %d DOFs", PL_CONTACT_SIDE_MAX);
-        for (int a = 0; a < sa.n; ++a)
-            if (sa.vertex[a] >= sys->nverts)
-                return pl_component_fail(&p->base, err, PL_EINTERNAL,
-                                         "collision model '%s' maps to vertex %d outside the "
-                                         "system (%d vertices)",
-                                         ma->c->name, sa.vertex[a], sys->nverts);
-        for (int a = 0; a < sb.n; ++a)
-            if (sb.vertex[a] >= sys->nverts)
-                return pl_component_fail(&p->base, err, PL_EINTERNAL,
-                                         "collision model '%s' maps to vertex %d outside the "
-                                         "system (%d vertices)",
-                                         mb->c->name, sb.vertex[a], sys->nverts);
-        double t1[3], t2[3];
+        if (e->status == 2)
+            return pl_component_fail(&p->base, err, PL_EINTERNAL,
+                                     "collision model '%s' maps to vertex %d outside the "
+                                     "system (%d vertices)",
+                                     w->models[e->bad_model].c->name, e->bad_vertex, sys->nverts);
+        if (e->status == -2) continue; /* nothing movable */
+        const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
         double mu = pair_mu(p, ma->g.mu, mb->g.mu);
-        int rn = collision_emit_pair(rows, &p->base, &sa, &sb, x->normal, mu,
-                                        p->contact, t1, t2);
-        if (rn == -2) continue; /* nothing movable */
-        if (rn < 0) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+        if (collision_pair_append(rows, &p->base, &e->pr, mu) < 0)
+            return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         coll_contact_record *r = push_record(w);
         if (!r) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
         r->prox = *x;
-        memcpy(r->point_a, pa, sizeof pa);
-        memcpy(r->point_b, pb, sizeof pb);
-        memcpy(r->t1, t1, sizeof t1);
-        memcpy(r->t2, t2, sizeof t2);
+        memcpy(r->point_a, e->pa, sizeof e->pa);
+        memcpy(r->point_b, e->pb, sizeof e->pb);
+        memcpy(r->t1, e->pr.t1, sizeof e->pr.t1);
+        memcpy(r->t2, e->pr.t2, sizeof e->pr.t2);
     }
     return PL_OK;
 }

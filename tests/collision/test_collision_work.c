@@ -12,7 +12,11 @@
  *    from a candidate pair (the counter counts); no second pass (no third
  *    body strikes either model: "detection margin max [mm]" = 0);
  *  - PLIANT_DETECT (where the candidates are made, pipeline_device.c):
- *    host and auto agree with the default, anything else is bad input. */
+ *    host and auto agree with the default, anything else is bad input;
+ *  - the threads change no row: a fine cloth (60 x 60 vertices) resting
+ *    within alarm over a quad makes 3600 contacts, prepared by the threads
+ *    (coll_pipeline_emit), and 4 threads give the 1 thread's rows entry by
+ *    entry. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -20,6 +24,9 @@
 #include <string.h>
 
 #include "coll_test_util.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static const double H = 0.01;
 
@@ -166,6 +173,64 @@ START_TEST(test_detect_policy_unknown_is_bad_input)
 }
 END_TEST
 
+/* The rows of the fine cloth over the quad with `threads` threads. */
+static void cloth_rows(int threads, pl_rows *rows)
+{
+    const char *xml =
+        "<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+        "<RequiredPlugin name=\"collision\"/>\n"
+        "<NewtonSolver/>\n"
+        "<CollisionPipeline name=\"pipeline\" alarmDistance=\"0.01\" contactDistance=\"0.001\"/>\n"
+        "<Node name=\"floor\"><MeshObstacle name=\"quad\" "
+        "position=\"-1 0 -1  1 0 -1  1 0 1  -1 0 1\" triangles=\"0 2 1  0 3 2\"/></Node>\n"
+        "<Node name=\"cloth\">\n"
+        "<RegularGridTriangles name=\"grid\" min=\"-0.5 0.004 -0.5\" max=\"0.5 0.004 0.5\" "
+        "n=\"60 1 60\"/>\n"
+        "<MechanicalObject name=\"dofs\" src=\"@grid\"/>\n"
+        "<DiagonalMass massDensity=\"1000\" thickness=\"0.001\"/>\n"
+        "<SurfaceCollisionModel name=\"surface\"/>\n"
+        "</Node></Node>\n";
+#ifdef _OPENMP
+    int saved = omp_get_max_threads();
+    omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+    pl_sim *sim = ct_load(xml, NULL, 0);
+    int n;
+    double *q = ct_positions(sim, "cloth/dofs", &n);
+    ct_system sys;
+    ct_system_make(&sys, n, H, NULL);
+    pl_error err;
+    ck_assert_int_eq(ct_build_rows(sim, "pipeline", &sys.sys, q, n, rows, &err), PL_OK);
+    ct_system_free(&sys);
+    pl_sim_free(sim);
+#ifdef _OPENMP
+    omp_set_num_threads(saved);
+#endif
+}
+
+START_TEST(test_threads_emit_the_serial_rows)
+{
+    pl_rows r1, r4;
+    pl_rows_init(&r1);
+    pl_rows_init(&r4);
+    cloth_rows(1, &r1);
+    cloth_rows(4, &r4);
+    ck_assert_int_eq(r1.n, 3 * 60 * 60); /* every vertex: a normal and two friction rows */
+    ck_assert_int_eq(r4.n, r1.n);
+    ck_assert_int_eq(r4.nent, r1.nent);
+    ck_assert(!memcmp(r4.start, r1.start, sizeof(int) * (size_t)(r1.n + 1)));
+    ck_assert(!memcmp(r4.vertex, r1.vertex, sizeof(int) * (size_t)r1.nent));
+    ck_assert(!memcmp(r4.coef, r1.coef, 3 * sizeof(double) * (size_t)r1.nent));
+    ck_assert(!memcmp(r4.d, r1.d, sizeof(double) * (size_t)r1.n));
+    ck_assert(!memcmp(r4.pair, r1.pair, sizeof(int) * (size_t)r1.n));
+    ck_assert(!memcmp(r4.mu, r1.mu, sizeof(double) * (size_t)r1.n));
+    pl_rows_free(&r1);
+    pl_rows_free(&r4);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_work");
@@ -175,6 +240,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_spinning_body_near_counts_its_candidates);
     tcase_add_test(tc, test_detect_policy_host_and_auto_agree);
     tcase_add_test(tc, test_detect_policy_unknown_is_bad_input);
+    tcase_add_test(tc, test_threads_emit_the_serial_rows);
     suite_add_tcase(s, tc);
     return s;
 }
