@@ -252,6 +252,36 @@ static double find_contact(const coll_obstacle *o, const posed *ps,
     return n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2]);
 }
 
+/* Whether none of a model's points can come within d of the posed shape in
+ * this step, so that its points need no test (a floor far below a cloth:
+ * ten thousand shape_query and shape_sweep calls a step for nothing).
+ * Every point's position and predicted path lie in its reach box (reach_of:
+ * x and x + h v + h^2 g), and the shape stays farther than d from that box:
+ * a plane by its exact distance to the box's nearest corner, the other
+ * shapes by the distance of the box's centre less its half-diagonal (phi
+ * is a distance).  Only for a shape at rest over the step, where a point's
+ * path relative to it is its own; d gets a relative 1e-9 of slack so that
+ * rounding never culls a point find_contact would keep. */
+static int model_clear(const posed *ps, const pl_aabb *box, double d)
+{
+    static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int k = 0; k < 9; ++k)
+        if (ps->R[k] != I[k]) return 0;
+    if (ps->tr[0] != 0.0 || ps->tr[1] != 0.0 || ps->tr[2] != 0.0) return 0;
+    double c[3], half[3];
+    for (int k = 0; k < 3; ++k) {
+        if (!isfinite(box->lo[k]) || !isfinite(box->hi[k])) return 0;
+        c[k] = 0.5 * (box->lo[k] + box->hi[k]);
+        half[k] = 0.5 * (box->hi[k] - box->lo[k]);
+    }
+    double phi = shape_query(&ps->s, c, NULL, NULL), reach = 0.0;
+    if (ps->s.kind == PL_SHAPE_PLANE) /* the normal is the local z axis: R's third column */
+        reach = fabs(ps->s.R[2]) * half[0] + fabs(ps->s.R[5]) * half[1] + fabs(ps->s.R[8]) * half[2];
+    else
+        reach = sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]);
+    return phi - reach > d * (1.0 + 1e-9) + 1e-12;
+}
+
 /* Contacts of one collision model's points against the posed shape. */
 static int model_contacts(const coll_obstacle *o, coll_obstacle_ws *ws, int k,
                           const pl_collision_geometry *g, const posed *ps, const pl_motion *m,
@@ -332,6 +362,7 @@ static int ob_build_rows(const pl_component *c, pl_ctx *ctx, const pl_system *sy
         if (g->is_obstacle || (groups & g->groups)) continue;
         pl_node_gravity(o->models[k]->node, ps.g);
         ps.margin = sys->h * hit_speed(ws->reach, o->nmodels, k, -1, o->alarm_distance);
+        if (model_clear(&ps, &ws->reach[k].box, o->alarm_distance + ps.margin)) continue;
         int rc = model_contacts(o, ws, k, g, &ps, &m, sys, rows, err);
         if (rc) return rc;
     }

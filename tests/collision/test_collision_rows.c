@@ -12,7 +12,11 @@
  *  - prescribed vertices get no contact, groups opt out, a model's own mu
  *    wins, a cloth's every vertex collides;
  *  - multipliers handed back become the exported forces
- *    lambda_n n + lambda_t1 t1 + lambda_t2 t2, per obstacle. */
+ *    lambda_n n + lambda_t1 t1 + lambda_t2 t2, per obstacle;
+ *  - a model whose box stays clear of a shape is skipped whole, and one
+ *    whose nearest corner comes within alarm is not: an oblique plane 0.9
+ *    alarm from the body's corner gives that corner's contact, at 1.1
+ *    alarm none; a sphere likewise. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -202,6 +206,40 @@ START_TEST(test_moving_plane_posed_at_end_of_step)
 }
 END_TEST
 
+/* An oblique plane (normal (1 1 1)) at distance f alarm from the body's
+ * corner (0, 0.01, 0), and a sphere at that distance from the corner
+ * opposite it (0.2, 0.1, 0.1) along the diagonal: the contacts
+ * check_obstacle expects (the corner's, or none). */
+static void near_corner(double f, int expect)
+{
+    const double alarm = 0.01, d = f * alarm, r3 = sqrt(3.0);
+    const double n[3] = {1 / r3, 1 / r3, 1 / r3}, c0[3] = {0, 0.01, 0}, c1[3] = {0.2, 0.1, 0.1};
+    double p0[3], cs[3];
+    for (int k = 0; k < 3; ++k) p0[k] = c0[k] - d * n[k], cs[k] = c1[k] + (d + 0.05) * n[k];
+    char obstacles[512];
+    snprintf(obstacles, sizeof obstacles,
+             "<PlaneObstacle name=\"slab\" point=\"%.17g %.17g %.17g\" normal=\"1 1 1\" "
+             "alarmDistance=\"%g\" contactDistance=\"0.001\"/>\n"
+             "<SphereObstacle name=\"ball\" center=\"%.17g %.17g %.17g\" radius=\"0.05\" "
+             "alarmDistance=\"%g\" contactDistance=\"0.001\"/>",
+             p0[0], p0[1], p0[2], alarm, cs[0], cs[1], cs[2], alarm);
+    pl_sim *sim = load_scene(obstacles, "<SurfaceCollisionModel/>");
+    pl_shape s;
+    pl_error err;
+    ck_assert_int_eq(shape_plane(&s, p0, n, &err), PL_OK);
+    ck_assert_int_eq(check_obstacle(sim, "slab", &s, NULL, alarm, 0.001, 0.0, 0), expect);
+    ck_assert_int_eq(shape_sphere(&s, cs, 0.05, &err), PL_OK);
+    ck_assert_int_eq(check_obstacle(sim, "ball", &s, NULL, alarm, 0.001, 0.0, 0), expect);
+    pl_sim_free(sim);
+}
+
+START_TEST(test_clear_models_skipped_near_ones_kept)
+{
+    near_corner(0.9, 1);
+    near_corner(1.1, 0);
+}
+END_TEST
+
 START_TEST(test_every_shape_rows)
 {
     const char *obstacles =
@@ -372,6 +410,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_tilted_plane_rows);
     tcase_add_test(tc, test_moving_plane_posed_at_end_of_step);
+    tcase_add_test(tc, test_clear_models_skipped_near_ones_kept);
     tcase_add_test(tc, test_every_shape_rows);
     tcase_add_test(tc, test_prescribed_groups_and_model_mu);
     tcase_add_test(tc, test_cloth_every_vertex);
