@@ -232,6 +232,20 @@ static int *items_near(const pass *ps, int *n)
  * candidates in all is measured wide (run_wide). */
 #define WIDE_MIN 2048
 
+/* Appends the chunks' outputs in chunk order: chunk[3 ch] is the thread
+ * that ran chunk ch, chunk[3 ch + 1 .. + 2] its range in that thread's
+ * output.  PL_OK or PL_EINTERNAL. */
+static int merge_chunks(pl_proximities *out, const work *w, const int *chunk, int nchunks)
+{
+    int rc = PL_OK;
+    for (int ch = 0; ch < nchunks && rc == PL_OK; ++ch) {
+        const int *c = &chunk[3 * ch];
+        for (int k = c[1]; k < c[2] && rc == PL_OK; ++k)
+            rc = coll_prox_push(out, &w[c[0]].out.items[k]);
+    }
+    return rc;
+}
+
 /* An edge pass of few items with many candidates each (an obstacle's
  * edges under a cloth: 18 edges, hundreds of the cloth's each, 1.6 ms a
  * step on one thread for sharp_corner.xml): the items' lists are made
@@ -278,11 +292,7 @@ static int run_wide(const pass *ps, const int *todo, int n, pl_proximities *out)
     }
     for (int t = 0; w && t < nw; ++t)
         if (w[t].fail) rc = PL_EINTERNAL;
-    for (int ch = 0; ch < nchunks && rc == PL_OK; ++ch) {
-        const int *c = &chunk[3 * ch];
-        for (int k = c[1]; k < c[2] && rc == PL_OK; ++k)
-            rc = coll_prox_push(out, &w[c[0]].out.items[k]);
-    }
+    if (rc == PL_OK) rc = merge_chunks(out, w, chunk, nchunks);
     for (int t = 0; w && t < nw; ++t) proximities_free(&w[t].out);
     free(w);
     free(chunk);
@@ -351,11 +361,7 @@ static int run_pass(const pass *ps, pl_proximities *out)
         if (ps->prm->counts) ps->prm->counts->candidates += w[t].candidates;
         if (w[t].fail) rc = PL_EINTERNAL;
     }
-    for (int ch = 0; ch < nchunks && rc == PL_OK; ++ch) {
-        const int *c = &chunk[3 * ch];
-        for (int k = c[1]; k < c[2] && rc == PL_OK; ++k)
-            rc = coll_prox_push(out, &w[c[0]].out.items[k]);
-    }
+    if (rc == PL_OK) rc = merge_chunks(out, w, chunk, nchunks);
     for (int t = 0; t < nw; ++t) {
         proximities_free(&w[t].out);
         ivec_free(&w[t].q);
