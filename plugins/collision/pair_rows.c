@@ -6,11 +6,9 @@
 
 #include "collision.h"
 
-/* The merged coefficient of every vertex (+w on side a, -w on side b): a
- * prepared pair's first three members. */
-typedef pl_pair_rows merged;
-
-static void merge_side(merged *m, const pl_contact_side *s, double sign)
+/* Adds side s's entries to the merged coefficients of m's vertices (+w on
+ * side a, -w on side b). */
+static void merge_side(pl_pair_rows *m, const pl_contact_side *s, double sign)
 {
     for (int a = 0; a < s->n; ++a) {
         int k = 0;
@@ -25,7 +23,7 @@ static void merge_side(merged *m, const pl_contact_side *s, double sign)
 
 /* Largest |coefficient| first (ties: lower vertex): a row's first entry is
  * its dominant vertex, which is what warm starts key on. */
-static void sort_merged(merged *m)
+static void sort_merged(pl_pair_rows *m)
 {
     for (int i = 1; i < m->n; ++i) {
         int v = m->vertex[i];
@@ -47,7 +45,7 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, const merged *m,
+static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, const pl_pair_rows *m,
                    const double c[3], double d)
 {
     int r = pl_rows_begin(rows, kind, owner);

@@ -310,12 +310,16 @@ static coll_contact_record *push_record(coll_ws *w)
     return r;
 }
 
+/* What emit_prepare found for a contact. */
+enum { EMIT_ROWS = 0, EMIT_NONE = -2 /* nothing movable (collision_pair_prepare) */,
+       EMIT_TOO_MANY = 1 /* more DOFs than a side holds */, EMIT_OUTSIDE = 2 /* a bad vertex */ };
+
 /* A contact prepared by a thread (emit_prepare) for the ordered append. */
 typedef struct emit_item {
     pl_pair_rows pr;
     double pa[3], pb[3];
-    int status; /* 0 rows, -2 nothing movable, 1 too many DOFs, 2 a vertex outside (bad) */
-    int bad_model, bad_vertex;
+    int status;                /* EMIT_* */
+    int bad_model, bad_vertex; /* EMIT_OUTSIDE's */
 } emit_item;
 
 /* Contact k's sides and rows, prepared without touching anything shared. */
@@ -325,16 +329,16 @@ static void emit_prepare(const collision_pipeline *p, const coll_ws *w, const pl
     const pl_proximity *x = &w->prox.items[k];
     const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
     pl_contact_side sa, sb;
-    e->status = 0;
+    e->status = EMIT_ROWS;
     if (make_side(ma, x->na, x->a, x->wa, &sa, e->pa) || make_side(mb, x->nb, x->b, x->wb, &sb, e->pb)) {
-        e->status = 1;
+        e->status = EMIT_TOO_MANY;
         return;
     }
     const pl_contact_side *side[2] = {&sa, &sb};
     for (int s = 0; s < 2; ++s)
         for (int a = 0; a < side[s]->n; ++a)
             if (side[s]->vertex[a] >= sys->nverts) {
-                e->status = 2, e->bad_model = s ? x->model_b : x->model_a;
+                e->status = EMIT_OUTSIDE, e->bad_model = s ? x->model_b : x->model_a;
                 e->bad_vertex = side[s]->vertex[a];
                 return;
             }
@@ -363,15 +367,15 @@ int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system 
     for (int k = 0; k < n; ++k) {
         const pl_proximity *x = &w->prox.items[k];
         const emit_item *e = &items[k];
-        if (e->status == 1)
+        if (e->status == EMIT_TOO_MANY)
             return pl_component_fail(&p->base, err, PL_EINTERNAL,
                                      "a contact touches more than %d DOFs", PL_CONTACT_SIDE_MAX);
-        if (e->status == 2)
+        if (e->status == EMIT_OUTSIDE)
             return pl_component_fail(&p->base, err, PL_EINTERNAL,
                                      "collision model '%s' maps to vertex %d outside the "
                                      "system (%d vertices)",
                                      w->models[e->bad_model].c->name, e->bad_vertex, sys->nverts);
-        if (e->status == -2) continue; /* nothing movable */
+        if (e->status == EMIT_NONE) continue;
         const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
         double mu = pair_mu(p, ma->g.mu, mb->g.mu);
         if (collision_pair_append(rows, &p->base, &e->pr, mu) < 0)

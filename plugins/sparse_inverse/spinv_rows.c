@@ -10,13 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Sorts a row's pattern ascending.  row_pattern lists it as a few
- * ascending runs (an etree path climbs to larger indices, one piece per
- * nonzero of the row), so a natural merge sort takes about log2(runs)
- * passes with inline comparisons: qsort's log2(len) passes through a
- * comparison function were 16% of a CPU raptor run's samples
- * (docs/benchmarks.md, "Y's patterns merged").  The entries are distinct,
- * so the result is qsort's.  tmp holds len ints. */
 /* The end of the ascending run of a[0 .. len) that starts at i < len. */
 static int run_end(const int *a, int i, int len)
 {
@@ -25,17 +18,26 @@ static int run_end(const int *a, int i, int len)
     return j;
 }
 
+/* Sorts a row's pattern ascending.  row_pattern lists it as a few
+ * ascending runs (an etree path climbs to larger indices, one piece per
+ * nonzero of the row), so a natural merge sort takes about log2(runs)
+ * passes with inline comparisons: qsort's log2(len) passes through a
+ * comparison function were 16% of a CPU raptor run's samples
+ * (docs/benchmarks.md, "Y's patterns merged").  The entries are distinct,
+ * so the result is qsort's.  tmp holds len ints.  Each run is scanned once
+ * a pass: a merge's second run end is where the next merge starts. */
 static void sort_runs(int *a, int len, int *tmp)
 {
     int *src = a, *dst = tmp;
-    while (len > 0 && run_end(src, 0, len) < len) { /* more than one run: a pass */
+    for (int j; len > 0 && (j = run_end(src, 0, len)) < len;) { /* more than one run: a pass */
         for (int i = 0; i < len;) { /* merge [i, j) and [j, k), the next two runs */
-            int j = run_end(src, i, len), k = j < len ? run_end(src, j, len) : j;
+            int k = j < len ? run_end(src, j, len) : j;
             int x = i, y = j, o = i;
             while (x < j && y < k) dst[o++] = src[x] < src[y] ? src[x++] : src[y++];
             while (x < j) dst[o++] = src[x++];
             while (y < k) dst[o++] = src[y++];
             i = k;
+            if (i < len) j = run_end(src, i, len);
         }
         int *t = src;
         src = dst;
