@@ -5,6 +5,7 @@
 #include "pliant/util.h"
 
 #include <cuda_runtime_api.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +21,8 @@ enum { SERIES_CAP = 1024 };
  * kernel (2 us): a gain while the step iterates more than about m / 1.3
  * times.  PLIANT_NCP_DENSE_CORR=0: off (the comparison, tests), =N: N rows. */
 enum { DENSE_CORR_MAX_ROWS = 8, DENSE_CORR_CAP = 64 };
+/* The least capacity of rows whose CR loop runs over many blocks. */
+enum { GRID_MIN_ROWS = 4096 };
 
 int ncpc_device_fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
 {
@@ -89,10 +92,17 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * Only while the dense correction's rows fit the warp, so that a graph
      * replaying it with another step's m stays on the warp's path. */
     g->one_env = switch_on("PLIANT_NCP_ONE_KERNEL") && g->dense_max <= NCP_CUDA_WARP_MAX_ROWS;
+    /* CR over many blocks from GRID_MIN_ROWS rows of capacity (a single
+     * block's phase kernel is the cheaper below: docs/benchmarks.md);
+     * PLIANT_NCP_GRID_MIN=N sets the least capacity, 0 turns it off */
+    const char *gm = getenv("PLIANT_NCP_GRID_MIN");
+    g->grid_min = gm && *gm ? atoi(gm) : GRID_MIN_ROWS;
+    if (g->grid_min <= 0) g->grid_min = INT_MAX;
     g->sc = ops->alloc(dev, sizeof *g->sc, err);
     g->series = g->sc ? ops->alloc(dev, SERIES_CAP * 4 * sizeof(double), err) : NULL;
+    g->part = g->series ? ops->alloc(dev, NCP_CUDA_GRID_PART * sizeof(double), err) : NULL;
     g->h_sc = calloc(1, sizeof *g->h_sc);
-    if (!g->sc || !g->series || !g->h_sc ||
+    if (!g->sc || !g->series || !g->part || !g->h_sc ||
         (ops->pin && ops->pin(dev, g->h_sc, sizeof *g->h_sc, err) != PL_OK)) {
         if (!g->h_sc) pl_component_fail(c, err, PL_EINTERNAL, "out of memory");
         free(g->h_sc);
@@ -116,7 +126,7 @@ void ncpc_device_destroy(pl_ncpc_device *g)
     pl_error err;
     g->ops->sync(g->dev, &err); /* nothing may still use the buffers */
     if (g->update_graph) g->ops->graph_free(g->dev, g->update_graph);
-    void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->U, g->sc, g->series};
+    void *d[] = {g->in_dev, g->work, g->W, g->X, g->q_free, g->corr, g->U, g->sc, g->series, g->part};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; ++k) g->ops->free(g->dev, d[k]);
     free_host(g, &g->in_host);
     free_host(g, (void **)&g->h_lambda);
@@ -254,6 +264,7 @@ static int work_vectors(pl_ncpc_device *g, int nall, pl_error *err)
     g->V.lambda_all = w + 22 * mc;
     g->V.is_clamped = (int *)(w + 22 * mc + na);
     g->V.series = g->series, g->V.series_cap = SERIES_CAP, g->V.sc = g->sc;
+    g->V.part = g->part;
     return PL_OK;
 }
 
@@ -267,7 +278,7 @@ static void check_key(pl_ncpc_device *g, int nfree)
     k.corr = g->corr, k.U = g->dense ? g->U : NULL;
     k.mcap = g->mcap, k.nallcap = g->nallcap, k.nfree = nfree, k.active = g->R.m > 0;
     k.jacobian = g->jacobian, k.explicit_w = g->explicit_w, k.fused = g->fused, k.dense = g->dense;
-    k.one = g->one;
+    k.one = g->one, k.grid = g->grid;
     memcpy(&k.P, &g->P, sizeof k.P);
     /* unique over the process: a device path made again (a rebuilt
      * workspace) never repeats an epoch a loop's graph was captured at */
@@ -368,6 +379,7 @@ static int upload(pl_ncpc_device *g, const pl_ncpc_device_step *st, const pl_sys
     g->fused = g->fused_env && g->explicit_w && g->mcap <= NCP_CUDA_FUSED_MAX_ROWS;
     g->dense = m > 0 && m <= g->dense_max && nf > 0;
     g->one = g->one_env && g->fused && g->fused_warp == 2 && g->dense;
+    g->grid = !g->fused && g->mcap >= g->grid_min;
     if (g->dense && (rc = dense_columns(g, sys, m, err))) return rc;
     int e = ncp_cuda_reset(g->stream, g->sc);
     if (e) return ncpc_device_cuda_fail(g, err, e, "reset");

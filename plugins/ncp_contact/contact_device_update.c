@@ -47,6 +47,58 @@ static int phases(pl_ncpc_device *g, pl_ncp_cuda_phase p, int last, pl_ncp_cuda_
     return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
 }
 
+/* The grid's launches (ncp_cuda_grid.cu) return a CUDA error. */
+static int grid_rc(pl_ncpc_device *g, int e, pl_error *err)
+{
+    return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
+}
+
+/* [LIN (lin),] A: a block's phase kernel, or the grid's for many rows. */
+static int step_a(pl_ncpc_device *g, int lin, pl_error *err)
+{
+    if (g->grid) return grid_rc(g, ncp_cuda_grid_a(g->stream, lin, g->in_dev, g->mcap, &g->V, &g->P), err);
+    return lin ? phases(g, PL_NCP_PHASE_LIN, 0, PL_NCP_PHASE_A, 0, err) : phase(g, PL_NCP_PHASE_A, 0, err);
+}
+
+/* Phase p, then q unless q < 0 (B or the one-assignment phases). */
+static int step_rows(pl_ncpc_device *g, pl_ncp_cuda_phase p, int q, pl_error *err)
+{
+    if (g->grid)
+        return grid_rc(g, ncp_cuda_grid_rows(g->stream, p, q, g->in_dev, g->mcap, &g->V, &g->P), err);
+    return q < 0 ? phase(g, p, 0, err) : phases(g, p, 0, (pl_ncp_cuda_phase)q, 0, err);
+}
+
+/* Phase C. */
+static int step_c(pl_ncpc_device *g, pl_error *err)
+{
+    if (g->grid) return grid_rc(g, ncp_cuda_grid_c(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
+    return phase(g, PL_NCP_PHASE_C, 0, err);
+}
+
+/* CR's D and E_1 (first) or F_t and E_t+1 between two products. */
+static int step_cr(pl_ncpc_device *g, int first, int last, pl_error *err)
+{
+    if (g->grid)
+        return grid_rc(g, ncp_cuda_cr_grid(g->stream, first, last, g->in_dev, g->mcap, &g->V, &g->P),
+                       err);
+    return phases(g, first ? PL_NCP_PHASE_D : PL_NCP_PHASE_F, 0, PL_NCP_PHASE_E, last, err);
+}
+
+/* G, then UPDATE (no line search: no product between them). */
+static int step_g_update(pl_ncpc_device *g, pl_error *err)
+{
+    if (!g->grid) return phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_UPDATE, 0, err);
+    int rc = step_rows(g, PL_NCP_PHASE_G, -1, err);
+    return rc ? rc : grid_rc(g, ncp_cuda_grid_update(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
+}
+
+/* UPDATE after the line search's product. */
+static int step_update(pl_ncpc_device *g, pl_error *err)
+{
+    if (g->grid) return grid_rc(g, ncp_cuda_grid_update(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
+    return phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+}
+
 /* The constraint update: dlambda (CR), step length, lambda, projection. */
 static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *err)
 {
@@ -57,42 +109,43 @@ static int constraint_update(pl_ncpc_device *g, const pl_system *sys, pl_error *
                                       g->fused_warp, g->fused_narrow ? g->mcap : 0);
         return e ? ncpc_device_cuda_fail(g, err, e, "constraint update") : PL_OK;
     }
-    /* the sequence (phases with no product between them go in pairs):
+    /* the sequence (phases with no product between them go in pairs; over
+     * a grid of blocks for many rows, `grid`):
      *   [W lambda, LIN,] A, W, B, W, C, W, D, E_1, then for t < maxit - 1:
      *   W, F_t, E_t+1 (E_t's last = t == maxit - 1); G,
      *   line search: [LAMBDA, W, LS0,] DLAMBDA, W; UPDATE */
     if (!g->jacobian) { /* linearise at delta_free + h^2 W lambda */
         rc = product(g, sys, V->lambda, V->tmp2, err);
-        if (!rc) rc = phases(g, PL_NCP_PHASE_LIN, 0, PL_NCP_PHASE_A, 0, err);
+        if (!rc) rc = step_a(g, 1, err);
     } else {
-        rc = phase(g, PL_NCP_PHASE_A, 0, err);
+        rc = step_a(g, 0, err);
     }
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_B, 0, err);
+    if (!rc) rc = step_rows(g, PL_NCP_PHASE_B, -1, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_C, 0, err);
+    if (!rc) rc = step_c(g, err);
     if (!rc) rc = product(g, sys, V->tmp, V->tmp2, err);
     if (!rc) {
         if (maxit > 1)
-            rc = phases(g, PL_NCP_PHASE_D, 0, PL_NCP_PHASE_E, maxit == 2, err);
+            rc = step_cr(g, 1, maxit == 2, err);
         else
             rc = phase(g, PL_NCP_PHASE_D, 0, err);
     }
     for (int t = 1; !rc && t < maxit - 1; ++t) { /* E_t ran; not the last */
         rc = product(g, sys, V->tmp, V->tmp2, err);
-        if (!rc) rc = phases(g, PL_NCP_PHASE_F, 0, PL_NCP_PHASE_E, t + 1 == maxit - 1, err);
+        if (!rc) rc = step_cr(g, 0, t + 1 == maxit - 1, err);
     }
     if (rc) return rc;
-    if (!g->P.line_search) return phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_UPDATE, 0, err);
+    if (!g->P.line_search) return step_g_update(g, err);
     if (g->jacobian) {
-        rc = phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_LAMBDA, 0, err);
+        rc = step_rows(g, PL_NCP_PHASE_G, PL_NCP_PHASE_LAMBDA, err);
         if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
-        if (!rc) rc = phases(g, PL_NCP_PHASE_LS0, 0, PL_NCP_PHASE_DLAMBDA, 0, err);
+        if (!rc) rc = step_rows(g, PL_NCP_PHASE_LS0, PL_NCP_PHASE_DLAMBDA, err);
     } else {
-        rc = phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_DLAMBDA, 0, err);
+        rc = step_rows(g, PL_NCP_PHASE_G, PL_NCP_PHASE_DLAMBDA, err);
     }
     if (!rc) rc = product(g, sys, V->force, V->tmp2, err);
-    if (!rc) rc = phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+    if (!rc) rc = step_update(g, err);
     return rc;
 }
 

@@ -67,6 +67,7 @@ typedef struct pl_ncp_cuda_vecs {
     double *series;         /* series_cap x 4: phi norm, CR products, CR residual, step length */
     int series_cap;
     pl_ncp_cuda_scalars *sc;
+    double *part;           /* NCP_CUDA_GRID_PART: the grid kernels' partial sums */
 } pl_ncp_cuda_vecs;
 
 typedef struct pl_ncp_cuda_params {
@@ -157,6 +158,34 @@ int ncp_cuda_phase_run2(struct CUstream_st *st, pl_ncp_cuda_phase phase, int las
 int ncp_cuda_update_fused(struct CUstream_st *st, const pl_ncp_cuda_rows *R,
                           const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P, const double *W,
                           int jacobian, int warp, int mcap);
+/* ---- the phases over many blocks (ncp_cuda_grid.cu) ------------------- */
+/* For many rows, the phases above over a grid of ncp_cuda_grid_blocks(mcap)
+ * blocks, a kernel ending wherever a reduction (or a contact's read of rows
+ * other blocks write) is needed, the partial sums in V->part
+ * (NCP_CUDA_GRID_PART doubles).  The phases' results up to the order of
+ * their sums (fixed by the grid: deterministic); sc->phin is written by
+ * the update (the series), not by A. */
+#define NCP_CUDA_GRID_MAX_BLOCKS 512
+#define NCP_CUDA_GRID_PART (10 * NCP_CUDA_GRID_MAX_BLOCKS + 2)
+int ncp_cuda_grid_blocks(int mcap);
+/* [LIN (lin),] A. */
+int ncp_cuda_grid_a(struct CUstream_st *st, int lin, const pl_ncp_cuda_rows *R, int mcap,
+                    const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P);
+/* B, or the one-assignment phases p then q (q = -1: none): LIN, G, LAMBDA,
+ * LS0, DLAMBDA. */
+int ncp_cuda_grid_rows(struct CUstream_st *st, pl_ncp_cuda_phase p, int q,
+                       const pl_ncp_cuda_rows *R, int mcap, const pl_ncp_cuda_vecs *V,
+                       const pl_ncp_cuda_params *P);
+/* C. */
+int ncp_cuda_grid_c(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                    const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P);
+/* CR's D and E_1 (first) or F_t and E_t+1 (last: as for phase E). */
+int ncp_cuda_cr_grid(struct CUstream_st *st, int first, int last, const pl_ncp_cuda_rows *R,
+                     int mcap, const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P);
+/* UPDATE (with or without the line search, as P says). */
+int ncp_cuda_grid_update(struct CUstream_st *st, const pl_ncp_cuda_rows *R, int mcap,
+                         const pl_ncp_cuda_vecs *V, const pl_ncp_cuda_params *P);
+
 /* A few rows' whole constrained iteration in one launch (W explicit, the
  * dense correction's U made, R->m <= NCP_CUDA_WARP_MAX_ROWS rows): the
  * row values as ncp_cuda_delta2 (jacobian: delta at q, delta_free at

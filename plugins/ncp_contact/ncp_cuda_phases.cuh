@@ -138,41 +138,175 @@ template <int NT> __device__ double dot(int m, const double *a, const double *b,
     return block_reduce<NT>(s, 0, rd);
 }
 
+/* The bodies of the phases' loops, one row (or contact) each: the
+ * block's loops below and the grid's kernels (ncp_cuda_grid.cu) run the
+ * same code. */
+
+/* evaluate_rows (ncp_step.c) for row j: phi, omega, e (not friction rows). */
+__device__ __forceinline__ void eval_row(int j, const pl_ncp_cuda_rows &R,
+                                         const pl_ncp_cuda_vecs &V, const pl_ncp_cuda_params &P)
+{
+    const int k = R.kind[j];
+    const double d = V.delta[j], l = V.lambda[j];
+    if (k == PL_ROW_BILATERAL) {
+        ncp_bilateral(d, l, R.compliance[j], &V.phi[j], &V.omega[j], &V.e[j]);
+    } else if (k == PL_ROW_NORMAL) {
+        ncp_normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
+    } else if (k == PL_ROW_BOUNDED) {
+        ncp_bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
+    }
+}
+
+/* evaluate_rows for contact c: its friction rows' phi, omega, e. */
+__device__ __forceinline__ void eval_contact(int c, const pl_ncp_cuda_rows &R,
+                                             const pl_ncp_cuda_vecs &V,
+                                             const pl_ncp_cuda_params &P)
+{
+    const int *ct = R.contact + 3 * c;
+    int nt = 0, t[2];
+    double y[2], lf[2], phi[2], om, e;
+    for (int i = 1; i <= 2; ++i)
+        if (ct[i] >= 0) {
+            t[nt] = ct[i];
+            y[nt] = V.delta[ct[i]];
+            lf[nt] = V.lambda[ct[i]];
+            ++nt;
+        }
+    if (nt == 0) return;
+    ncp_friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
+    for (int i = 0; i < nt; ++i) {
+        V.phi[t[i]] = phi[i];
+        V.omega[t[i]] = om;
+        V.e[t[i]] = e;
+    }
+}
+
+/* Phase A after evaluate, row j: S, the clamped flag, tmp = S lambda;
+ * returns |phi_j|. */
+__device__ __forceinline__ double row_a(int j, const pl_ncp_cuda_rows &R,
+                                        const pl_ncp_cuda_vecs &V, const pl_ncp_cuda_params &P)
+{
+    int c;
+    double s;
+    if (P.full_force) {
+        s = 1.0;
+        c = !(V.omega[j] > PL_NCP_OMEGA_CLAMP);
+    } else {
+        s = R.kind[j] == PL_ROW_BOUNDED ? 1.0 : V.omega[j];
+        c = s != V.omega[j];
+    }
+    V.scale[j] = s;
+    V.is_clamped[j] = c;
+    V.tmp[j] = s * V.lambda[j];
+    return fabs(V.phi[j]);
+}
+
+/* Phase B, row j. */
+__device__ __forceinline__ void row_b(int j, const pl_ncp_cuda_vecs &V, double h2)
+{
+    double p = V.delta[j] - V.delta_free[j] - h2 * V.tmp2[j];
+    double rhs = -V.phi[j] + V.omega[j] * p;
+    const int c = V.is_clamped[j];
+    V.dlambda[j] = 0.0;
+    V.clamped[j] = c ? rhs / V.e[j] : 0.0;
+    V.tmp[j] = c ? V.scale[j] * V.clamped[j] : 0.0;
+    V.rhs[j] = c ? 0.0 : rhs;
+}
+
+/* Phase C, row j: CR's operator, scaling and start; returns rhs_j^2. */
+__device__ __forceinline__ double row_c(int j, const pl_ncp_cuda_rows &R,
+                                        const pl_ncp_cuda_vecs &V, const pl_ncp_cuda_params &P,
+                                        double h2)
+{
+    const int c = V.is_clamped[j];
+    double rhs = V.rhs[j];
+    if (!c) rhs -= h2 * V.omega[j] * V.tmp2[j];
+    if (P.full_force) {
+        V.op_omega[j] = c ? 0.0 : 1.0;
+        V.op_e[j] = c ? V.e[j] : V.e[j] / V.omega[j];
+        if (!c) rhs /= V.omega[j];
+    } else {
+        V.op_omega[j] = V.omega[j];
+        V.op_e[j] = V.e[j];
+    }
+    /* Jacobi scaling (ncp_step): S A S, rhs S, dlambda = S y */
+    const double d = h2 * V.op_omega[j] * V.op_omega[j] * R.wdiag[j] + V.op_e[j];
+    const double sj = P.cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
+    V.cr_s[j] = sj;
+    V.op_omega[j] *= sj;
+    V.op_e[j] *= sj * sj;
+    rhs *= sj;
+    V.rhs[j] = rhs;
+    V.cr_r[j] = rhs; /* zero initial guess: r = b */
+    V.tmp[j] = V.op_omega[j] * rhs;
+    return rhs * rhs;
+}
+
+/* The merit's part of a row that is not friction: its residual. */
+__device__ __forceinline__ double merit_row(int j, const pl_ncp_cuda_rows &R, const double *d0,
+                                            const double *dd, const double *l0, const double *dl,
+                                            double a)
+{
+    return ncp_row_residual(R.kind[j], d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j],
+                            R.r[j], R.lo[j], R.hi[j]);
+}
+
+/* The merit's part of contact c: its friction residual squared (0 without
+ * friction rows: *has = 0). */
+__device__ __forceinline__ double merit_contact(int c, const pl_ncp_cuda_rows &R,
+                                                const pl_ncp_cuda_params &P, const double *d0,
+                                                const double *dd, const double *l0,
+                                                const double *dl, double a, int *has)
+{
+    const int *ct = R.contact + 3 * c;
+    int nt = 0;
+    double y[2], lf[2];
+    for (int i = 1; i <= 2; ++i)
+        if (ct[i] >= 0) {
+            y[nt] = d0[ct[i]] + a * dd[ct[i]];
+            lf[nt] = l0[ct[i]] + a * dl[ct[i]];
+            ++nt;
+        }
+    *has = nt > 0;
+    if (nt == 0) return 0.0;
+    const double rho = P.h * R.r[ct[1] >= 0 ? ct[1] : ct[2]];
+    double cone, fric;
+    ncp_friction_residual(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho, &cone, &fric);
+    return ncp_friction_residual2(rho, cone, fric);
+}
+
+/* The phases that are one assignment a row (LIN, G, LAMBDA, LS0,
+ * DLAMBDA), and UPDATE's ddelta (ls1 = h^2 tmp2: PL_NCP_PHASE_UPDATE). */
+__device__ __forceinline__ void row_assign(int phase, int j, const pl_ncp_cuda_vecs &V, double h2)
+{
+    switch (phase) {
+    case PL_NCP_PHASE_LIN: V.delta[j] = V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j]; break;
+    case PL_NCP_PHASE_G: V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j]; break;
+    case PL_NCP_PHASE_LAMBDA: V.force[j] = V.scale[j] * V.lambda[j]; break;
+    case PL_NCP_PHASE_LS0: V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j]; break;
+    case PL_NCP_PHASE_DLAMBDA: V.force[j] = V.scale[j] * V.dlambda[j]; break;
+    case PL_NCP_PHASE_UPDATE: V.ls1[j] = h2 * V.tmp2[j]; break;
+    default: break;
+    }
+}
+
+/* lambda_j += step dlambda_j, projected as a row. */
+__device__ __forceinline__ void update_row(int j, const pl_ncp_cuda_rows &R,
+                                           const pl_ncp_cuda_vecs &V, const pl_ncp_cuda_params &P,
+                                           double step)
+{
+    double l = V.lambda[j] + step * V.dlambda[j];
+    if (P.project) l = ncp_project_row(R.kind[j], l, R.lo[j], R.hi[j]);
+    V.lambda[j] = l;
+}
+
 /* evaluate_rows (ncp_step.c): phi, omega, e of every row; friction per contact. */
 template <int NT>
 __device__ void evaluate(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                          const pl_ncp_cuda_params &P)
 {
-    for (int j = threadIdx.x; j < R.m; j += NT) {
-        const int k = R.kind[j];
-        const double d = V.delta[j], l = V.lambda[j];
-        if (k == PL_ROW_BILATERAL) {
-            ncp_bilateral(d, l, R.compliance[j], &V.phi[j], &V.omega[j], &V.e[j]);
-        } else if (k == PL_ROW_NORMAL) {
-            ncp_normal(P.fn, d, l, R.r[j], P.fb_eps, &V.phi[j], &V.omega[j], &V.e[j]);
-        } else if (k == PL_ROW_BOUNDED) {
-            ncp_bounded(d, l, R.lo[j], R.hi[j], R.r[j], &V.phi[j], &V.omega[j], &V.e[j]);
-        }
-    }
-    for (int c = threadIdx.x; c < R.nc; c += NT) {
-        const int *ct = R.contact + 3 * c;
-        int nt = 0, t[2];
-        double y[2], lf[2], phi[2], om, e;
-        for (int i = 1; i <= 2; ++i)
-            if (ct[i] >= 0) {
-                t[nt] = ct[i];
-                y[nt] = V.delta[ct[i]];
-                lf[nt] = V.lambda[ct[i]];
-                ++nt;
-            }
-        if (nt == 0) continue;
-        ncp_friction(P.fn, nt, y, lf, V.lambda[ct[0]], R.mu[ct[0]], P.h * R.r[t[0]], phi, &om, &e);
-        for (int i = 0; i < nt; ++i) {
-            V.phi[t[i]] = phi[i];
-            V.omega[t[i]] = om;
-            V.e[t[i]] = e;
-        }
-    }
+    for (int j = threadIdx.x; j < R.m; j += NT) eval_row(j, R, V, P);
+    for (int c = threadIdx.x; c < R.nc; c += NT) eval_contact(c, R, V, P);
 }
 
 /* The residual's 2-norm at (delta0 + a ddelta, lambda + a dlambda). */
@@ -182,27 +316,14 @@ __device__ double merit(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_params &P, 
 {
     double ss = 0.0;
     for (int j = threadIdx.x; j < R.m; j += NT) {
-        const int k = R.kind[j];
-        if (k == PL_ROW_FRICTION) continue;
-        const double v = ncp_row_residual(k, d0[j] + a * dd[j], l0[j] + a * dl[j], R.compliance[j],
-                                          R.r[j], R.lo[j], R.hi[j]);
+        if (R.kind[j] == PL_ROW_FRICTION) continue;
+        const double v = merit_row(j, R, d0, dd, l0, dl, a);
         ss += v * v;
     }
     for (int c = threadIdx.x; c < R.nc; c += NT) {
-        const int *ct = R.contact + 3 * c;
-        int nt = 0;
-        double y[2], lf[2];
-        for (int i = 1; i <= 2; ++i)
-            if (ct[i] >= 0) {
-                y[nt] = d0[ct[i]] + a * dd[ct[i]];
-                lf[nt] = l0[ct[i]] + a * dl[ct[i]];
-                ++nt;
-            }
-        if (nt == 0) continue;
-        const double rho = P.h * R.r[ct[1] >= 0 ? ct[1] : ct[2]];
-        double cone, fric;
-        ncp_friction_residual(nt, y, lf, l0[ct[0]] + a * dl[ct[0]], R.mu[ct[0]], rho, &cone, &fric);
-        ss += ncp_friction_residual2(rho, cone, fric);
+        int has;
+        const double v = merit_contact(c, R, P, d0, dd, l0, dl, a, &has);
+        if (has) ss += v;
     }
     return sqrt(block_reduce<NT>(ss, 0, rd));
 }
@@ -213,11 +334,7 @@ __device__ void update(const pl_ncp_cuda_rows &R, const pl_ncp_cuda_vecs &V,
                        const pl_ncp_cuda_params &P, double alpha)
 {
     const double step = P.damping * alpha;
-    for (int j = threadIdx.x; j < R.m; j += NT) {
-        double l = V.lambda[j] + step * V.dlambda[j];
-        if (P.project) l = ncp_project_row(R.kind[j], l, R.lo[j], R.hi[j]);
-        V.lambda[j] = l;
-    }
+    for (int j = threadIdx.x; j < R.m; j += NT) update_row(j, R, V, P, step);
     sync_nt<NT>();
     if (P.project)
         for (int c = threadIdx.x; c < R.nc; c += NT) {
@@ -300,69 +417,27 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
     const double h2 = P.h * P.h;
     switch (phase) {
     case PL_NCP_PHASE_LIN:
-        for (int j = threadIdx.x; j < m; j += NT)
-            V.delta[j] = V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
+    case PL_NCP_PHASE_G:
+    case PL_NCP_PHASE_LAMBDA:
+    case PL_NCP_PHASE_LS0:
+    case PL_NCP_PHASE_DLAMBDA:
+        for (int j = threadIdx.x; j < m; j += NT) row_assign(phase, j, V, h2);
         break;
     case PL_NCP_PHASE_A: {
         evaluate<NT>(R, V, P);
         sync_nt<NT>();
         double phin = 0.0;
-        for (int j = threadIdx.x; j < m; j += NT) {
-            int c;
-            double s;
-            if (P.full_force) {
-                s = 1.0;
-                c = !(V.omega[j] > PL_NCP_OMEGA_CLAMP);
-            } else {
-                s = R.kind[j] == PL_ROW_BOUNDED ? 1.0 : V.omega[j];
-                c = s != V.omega[j];
-            }
-            V.scale[j] = s;
-            V.is_clamped[j] = c;
-            V.tmp[j] = s * V.lambda[j];
-            phin = fmax(phin, fabs(V.phi[j]));
-        }
+        for (int j = threadIdx.x; j < m; j += NT) phin = fmax(phin, row_a(j, R, V, P));
         phin = block_reduce<NT>(phin, 1, rd);
         if (t0) sc->phin = phin;
         break;
     }
     case PL_NCP_PHASE_B:
-        for (int j = threadIdx.x; j < m; j += NT) {
-            double p = V.delta[j] - V.delta_free[j] - h2 * V.tmp2[j];
-            double rhs = -V.phi[j] + V.omega[j] * p;
-            const int c = V.is_clamped[j];
-            V.dlambda[j] = 0.0;
-            V.clamped[j] = c ? rhs / V.e[j] : 0.0;
-            V.tmp[j] = c ? V.scale[j] * V.clamped[j] : 0.0;
-            V.rhs[j] = c ? 0.0 : rhs;
-        }
+        for (int j = threadIdx.x; j < m; j += NT) row_b(j, V, h2);
         break;
     case PL_NCP_PHASE_C: {
         double ss = 0.0;
-        for (int j = threadIdx.x; j < m; j += NT) {
-            const int c = V.is_clamped[j];
-            double rhs = V.rhs[j];
-            if (!c) rhs -= h2 * V.omega[j] * V.tmp2[j];
-            if (P.full_force) {
-                V.op_omega[j] = c ? 0.0 : 1.0;
-                V.op_e[j] = c ? V.e[j] : V.e[j] / V.omega[j];
-                if (!c) rhs /= V.omega[j];
-            } else {
-                V.op_omega[j] = V.omega[j];
-                V.op_e[j] = V.e[j];
-            }
-            /* Jacobi scaling (ncp_step): S A S, rhs S, dlambda = S y */
-            const double d = h2 * V.op_omega[j] * V.op_omega[j] * R.wdiag[j] + V.op_e[j];
-            const double sj = P.cr_jacobi && d > 0.0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
-            V.cr_s[j] = sj;
-            V.op_omega[j] *= sj;
-            V.op_e[j] *= sj * sj;
-            rhs *= sj;
-            V.rhs[j] = rhs;
-            V.cr_r[j] = rhs; /* zero initial guess: r = b */
-            V.tmp[j] = V.op_omega[j] * rhs;
-            ss += rhs * rhs;
-        }
+        for (int j = threadIdx.x; j < m; j += NT) ss += row_c(j, R, V, P, h2);
         const double bnorm = sqrt(block_reduce<NT>(ss, 0, rd));
         if (t0) {
             sc->bnorm = sc->rnorm = bnorm;
@@ -391,25 +466,11 @@ __device__ void run_phase(int phase, const pl_ncp_cuda_rows &R, const pl_ncp_cud
     case PL_NCP_PHASE_F:
         cr_f<NT>(R, V, P, rd);
         break;
-    case PL_NCP_PHASE_G:
-        for (int j = threadIdx.x; j < m; j += NT)
-            V.dlambda[j] = V.cr_s[j] * V.dlambda[j] + V.clamped[j];
-        break;
-    case PL_NCP_PHASE_LAMBDA:
-        for (int j = threadIdx.x; j < m; j += NT) V.force[j] = V.scale[j] * V.lambda[j];
-        break;
-    case PL_NCP_PHASE_LS0:
-        for (int j = threadIdx.x; j < m; j += NT)
-            V.ls0[j] = V.delta_free[j] + h2 * V.tmp2[j];
-        break;
-    case PL_NCP_PHASE_DLAMBDA:
-        for (int j = threadIdx.x; j < m; j += NT) V.force[j] = V.scale[j] * V.dlambda[j];
-        break;
     case PL_NCP_PHASE_UPDATE: {
         double alpha = 1.0;
         if (P.line_search) {
             /* ncp_line_search: ddelta = h^2 W S dlambda, then halvings */
-            for (int j = threadIdx.x; j < m; j += NT) V.ls1[j] = h2 * V.tmp2[j];
+            for (int j = threadIdx.x; j < m; j += NT) row_assign(PL_NCP_PHASE_UPDATE, j, V, h2);
             sync_nt<NT>();
             const double m0 = merit<NT>(R, P, V.ls0, V.ls1, V.lambda, V.dlambda, 0.0, rd);
             int bad = !isfinite(m0);

@@ -43,6 +43,11 @@
  *     every body bitwise; the third run used a branch a body where the
  *     scene has several (stat "device local-step branches"), the tenth
  *     none.
+ *   - an eleventh and a twelfth, PLIANT_NCP_FUSED_CR=0 and
+ *     PLIANT_NCP_GRID_MIN=1 (CR's loop over a grid of blocks whatever the
+ *     rows, ncp_cuda_grid.cu) without and with a graph: the second run's
+ *     positions up to the order of CR's sums (relative GRID_TOL), and the
+ *     two grid runs bitwise the same (the grid's sums are deterministic).
  * Notes: the median wall time of a step of each run.
  * Exit status: 0, 1 when a check failed, 77 without a GPU. */
 #include <math.h>
@@ -56,6 +61,9 @@
 
 #define PROG "gpu_graph"
 #define MAX_CAPTURES 12.0
+/* the grid's CR against the block's: the same arithmetic, its sums in
+ * another order (round-off, carried through 100 steps of contact) */
+#define GRID_TOL 1e-9
 
 static FILE *md;
 
@@ -109,13 +117,16 @@ static int append_state(pl_component *c, void *user)
 
 static run_result run(const char *path, int graph, int fused, int one, int steps)
 {
+    /* 6: the phase kernels with CR over a grid of blocks */
+    if (fused == 6) setenv("PLIANT_NCP_GRID_MIN", "1", 1);
+    else unsetenv("PLIANT_NCP_GRID_MIN");
     run_result r = {NULL, 0, 0.0, 0.0, 0.0, NAN};
     /* read by the contact solver's device path (fused 2: without the warp;
      * 3: always a block of 512; 4: the scatters a thread an unknown; -1:
      * the phase kernels one a launch; -2: the phase kernels, a step's first
      * update launched one by one; 5: fused, the local terms on the main
      * stream; one 0: the few rows' iteration as three kernels) */
-    setenv("PLIANT_NCP_FUSED_CR", fused > 0 ? "1" : "0", 1);
+    setenv("PLIANT_NCP_FUSED_CR", fused > 0 && fused != 6 ? "1" : "0", 1);
     setenv("PLIANT_NCP_FUSED_WARP", fused == 2 ? "0" : "2", 1);
     setenv("PLIANT_NCP_FUSED_NARROW", fused == 3 ? "0" : "1", 1);
     setenv("PLIANT_NCP_PHASE_PAIRS", fused == -1 ? "0" : "1", 1);
@@ -176,14 +187,14 @@ static void note(const char *path, const char *label, double v)
 
 /* The runs of check(), by what they set. */
 enum { GRAPH, NO_GRAPH, FUSED, FUSED_BLOCK, THREE_KERNELS, WIDE, ONE_PHASE, SCATTER_THREAD,
-       NO_UPDATE_GRAPH, NO_BRANCHES, NRUNS };
+       NO_UPDATE_GRAPH, NO_BRANCHES, GRID, GRID_GRAPH, NRUNS };
 
 static void check(const char *path, int steps)
 {
     /* graph, fused (see run), one kernel */
     static const int how[NRUNS][3] = {{1, 0, 1}, {0, 0, 1}, {1, 1, 1},  {1, 2, 1}, {1, 1, 0},
                                       {1, 3, 1}, {0, -1, 1}, {1, 4, 1}, {1, -2, 1},
-                                      {1, 5, 1}};
+                                      {1, 5, 1}, {0, 6, 1}, {1, 6, 1}};
     run_result r[NRUNS];
     for (int k = 0; k < NRUNS; ++k) r[k] = run(path, how[k][0], how[k][1], how[k][2], steps);
     const run_result *a = &r[GRAPH], *b = &r[NO_GRAPH], *c = &r[FUSED];
@@ -235,11 +246,17 @@ static void check(const char *path, int steps)
         snprintf(what, sizeof what, "%s: 3 - local-step branches with DEVICE_BRANCHES=1", path);
         gpu_check_line(md, what, fabs(3.0 - c->branches), 0.0);
     }
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_GRID_MIN=1 vs unset, no graph", &r[GRID], b,
+              GRID_TOL);
+    same_line(path, "PLIANT_NCP_FUSED_CR=0, PLIANT_NCP_GRID_MIN=1, graph vs no graph",
+              &r[GRID_GRAPH], &r[GRID], 0.0);
+    note(path, "median step ms, graph, FUSED_CR=0 and GRID_MIN=1", r[GRID_GRAPH].ms);
     for (int k = 0; k < NRUNS; ++k) free(r[k].x);
     static const char *const env[] = {"PLIANT_NCP_FUSED_CR",     "PLIANT_NCP_FUSED_WARP",
                                       "PLIANT_NCP_FUSED_NARROW", "PLIANT_NCP_PHASE_PAIRS",
                                       "PLIANT_NCP_SCATTER_WARP", "PLIANT_NCP_ONE_KERNEL",
-                                      "PLIANT_NCP_UPDATE_GRAPH", "PLIANT_DEVICE_BRANCHES"};
+                                      "PLIANT_NCP_UPDATE_GRAPH", "PLIANT_DEVICE_BRANCHES",
+                                      "PLIANT_NCP_GRID_MIN"};
     for (size_t k = 0; k < sizeof env / sizeof env[0]; ++k) unsetenv(env[k]);
 }
 
