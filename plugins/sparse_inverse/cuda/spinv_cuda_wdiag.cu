@@ -11,10 +11,12 @@
  * node: at node i = the smallest of the walkers' current nodes, the entry
  * is v_i = sum of h_a S(i, c_a) over the walkers standing on i, which then
  * step to parent(i).  Paths that meet walk on together; no search, no
- * sort, n_path reads per unknown.  Deterministic: one thread per row, a
- * fixed order.  Rows with more than MAX_WALK unknowns per scalar row (no
- * contact row: a vertex-face or edge-edge row has 4) get a NaN, and the
- * caller's host path makes those. */
+ * sort, n_path reads per unknown.  The row's three coordinates share their
+ * unknowns (a contact row's vertices), so one walk over the union of their
+ * unknowns makes all three, each S(i, c_a) read once for the three.
+ * Deterministic: one thread per row, a fixed order.  Rows with more than
+ * MAX_WALK unknowns in all (no contact row: a vertex-face or edge-edge row
+ * has 4) get a NaN, and the caller's host path makes those. */
 #include "spinv_cuda_internal.h"
 
 #include <math.h>
@@ -23,41 +25,62 @@ namespace {
 
 enum { MAX_WALK = 16 };
 
+/* The union of row j's unknowns over its three coordinates into col (their
+ * columns of S) and h (coefficients, 3 a walker, 0 where a coordinate lacks
+ * it); the walkers' count, or -1 past MAX_WALK. */
+__device__ int row_walkers(int m, int j, const int *rp, const int *ru, const double *rx,
+                           const int *pos, int *col, double (*h)[3])
+{
+    int cnt = 0;
+    for (int k = 0; k < 3; ++k) {
+        const int r = k * m + j;
+        for (int e = rp[r]; e < rp[r + 1]; ++e) {
+            const int c = pos[ru[e]];
+            int t = 0;
+            while (t < cnt && col[t] != c) ++t;
+            if (t == cnt) {
+                if (cnt == MAX_WALK) return -1;
+                col[cnt] = c;
+                h[cnt][0] = h[cnt][1] = h[cnt][2] = 0.0;
+                ++cnt;
+            }
+            h[t][k] += rx[e];
+        }
+    }
+    return cnt;
+}
+
 template <typename T>
 __global__ void wdiag(int m, const int *rp, const int *ru, const double *rx, const int *pos,
                       const int *parent, const pl_spinv_cuda_rowmeta *meta, const T *val,
                       double *diag)
 {
     for (int j = blockIdx.x * blockDim.x + threadIdx.x; j < m; j += gridDim.x * blockDim.x) {
-        double s = 0.0;
-        for (int k = 0; k < 3; ++k) {
-            int r = k * m + j, a0 = rp[r], cnt = rp[r + 1] - a0;
-            if (cnt > MAX_WALK) {
-                s = NAN;
-                break;
-            }
-            int col[MAX_WALK], at[MAX_WALK];
-            double h[MAX_WALK];
-            for (int t = 0; t < cnt; ++t) {
-                col[t] = at[t] = pos[ru[a0 + t]];
-                h[t] = rx[a0 + t];
-            }
-            for (;;) {
-                int i = -1;
-                for (int t = 0; t < cnt; ++t)
-                    if (at[t] >= 0 && (i < 0 || at[t] < i)) i = at[t];
-                if (i < 0) break;
-                const pl_spinv_cuda_rowmeta mi = meta[i];
-                double v = 0.0;
-                for (int t = 0; t < cnt; ++t)
-                    if (at[t] == i) {
-                        v += h[t] * (double)val[mi.vbase + col[t]];
-                        at[t] = parent[i];
-                    }
-                s += v * v;
-            }
+        int col[MAX_WALK], at[MAX_WALK];
+        double h[MAX_WALK][3];
+        const int cnt = row_walkers(m, j, rp, ru, rx, pos, col, h);
+        if (cnt < 0) {
+            diag[j] = NAN;
+            continue;
         }
-        diag[j] = s;
+        for (int t = 0; t < cnt; ++t) at[t] = col[t];
+        double s[3] = {0.0, 0.0, 0.0};
+        for (;;) {
+            int i = -1;
+            for (int t = 0; t < cnt; ++t)
+                if (at[t] >= 0 && (i < 0 || at[t] < i)) i = at[t];
+            if (i < 0) break;
+            const pl_spinv_cuda_rowmeta mi = meta[i];
+            double v[3] = {0.0, 0.0, 0.0};
+            for (int t = 0; t < cnt; ++t)
+                if (at[t] == i) {
+                    const double sv = (double)val[mi.vbase + col[t]];
+                    for (int k = 0; k < 3; ++k) v[k] += h[t][k] * sv;
+                    at[t] = parent[i];
+                }
+            for (int k = 0; k < 3; ++k) s[k] += v[k] * v[k];
+        }
+        diag[j] = s[0] + s[1] + s[2];
     }
 }
 
