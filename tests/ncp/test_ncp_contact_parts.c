@@ -447,6 +447,56 @@ START_TEST(warm_start_matching_rule)
 }
 END_TEST
 
+/* The rule by brute force: each row in turn scans every old record in the
+ * old order (the matcher's hash chains must meet the same candidates in
+ * the same order, whatever the buckets). */
+static int brute_match(const pl_ncpc_key *now, int m, const pl_ncpc_key *old, int nold, double *lambda)
+{
+    int used[512] = {0}, matched = 0;
+    for (int j = 0; j < m; ++j) {
+        int best = -1;
+        double best_dot = 0.8660254037844386;
+        lambda[j] = 0.0;
+        for (int a = 0; a < nold; ++a) {
+            if (old[a].owner != now[j].owner || old[a].kind != now[j].kind || old[a].vertex != now[j].vertex ||
+                used[a])
+                continue;
+            double d = old[a].dir[0] * now[j].dir[0] + old[a].dir[1] * now[j].dir[1] + old[a].dir[2] * now[j].dir[2];
+            if (d > best_dot || (best < 0 && d >= best_dot)) best = a, best_dot = d;
+        }
+        if (best >= 0) used[best] = 1, lambda[j] = old[best].lambda, ++matched;
+    }
+    return matched;
+}
+
+START_TEST(warm_start_many_rows_as_brute_force)
+{
+    /* 500 old and 400 new rows over 2 owners, 2 kinds, 40 vertices and 3
+     * directions (one within 30 degrees of another): many rows share a key,
+     * many tie on the direction */
+    enum { NOLD = 500, NNEW = 400 };
+    static pl_ncpc_key old[NOLD], now[NNEW];
+    const double dirs[3][3] = {{0, 0, 1}, {0, 0.5, 0.8660254037844386}, {1, 0, 0}};
+    unsigned st = 12345;
+    for (int r = 0; r < NOLD + NNEW; ++r) {
+        unsigned v[4];
+        for (int t = 0; t < 4; ++t) st = st * 1103515245u + 12345u, v[t] = (st >> 16) & 0x7fff;
+        const double *d = dirs[v[3] % 3];
+        pl_ncpc_key k = key(v[0] % 2 ? 7 : 8, v[1] % 2 ? PL_ROW_NORMAL : PL_ROW_BILATERAL, (int)(v[2] % 40), -1,
+                            d[0], d[1], d[2], r < NOLD ? 1.0 + r : 0.0);
+        if (r < NOLD) old[r] = k;
+        else now[r - NOLD] = k;
+    }
+    double got[NNEW], want[NNEW];
+    pl_error err;
+    int n_got = ncpc_warm_start(now, NNEW, old, NOLD, got, &err);
+    int n_want = brute_match(now, NNEW, old, NOLD, want);
+    ck_assert_int_gt(n_want, 100);
+    ck_assert_int_eq(n_got, n_want);
+    for (int j = 0; j < NNEW; ++j) ck_assert_double_eq(got[j], want[j]);
+}
+END_TEST
+
 START_TEST(bad_rows_are_refused)
 {
     problem p;
@@ -477,6 +527,7 @@ int main(void)
     tcase_add_test(tc, delassus_matches_the_dense_reference);
     tcase_add_test(tc, delassus_auto_counts_its_work);
     tcase_add_test(tc, warm_start_matching_rule);
+    tcase_add_test(tc, warm_start_many_rows_as_brute_force);
     tcase_add_test(tc, bad_rows_are_refused);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
