@@ -242,8 +242,7 @@ static int alloc_step(const ncp_contact_solver *s, ncpc_ws *w, int m, pl_error *
         if (grow_f64(&w->lambda_all, all)) goto oom;
         w->cap_all = all;
     }
-    memset(w->lambda, 0, sizeof(double) * m1);
-    memset(w->keys, 0, sizeof *w->keys * m1);
+    memset(w->lambda, 0, sizeof(double) * m1); /* the keys: ncpc_keys_build writes each whole */
     memset(w->lambda_all, 0, sizeof(double) * all);
     return PL_OK;
 oom:
