@@ -21,7 +21,7 @@ enum { SERIES_CAP = 1024 };
  * kernel (2 us): a gain while the step iterates more than about m / 1.3
  * times.  PLIANT_NCP_DENSE_CORR=0: off (the comparison, tests), =N: N rows. */
 enum { DENSE_CORR_MAX_ROWS = 8, DENSE_CORR_CAP = 64 };
-/* The least capacity of rows whose CR loop runs over many blocks. */
+/* The least capacity of rows whose phases run over many blocks. */
 enum { GRID_MIN_ROWS = 4096 };
 
 int ncpc_device_fail(const pl_ncpc_device *g, pl_error *err, int code, const char *what)
@@ -92,8 +92,8 @@ pl_ncpc_device *ncpc_device_create(const pl_component *c, pl_error *err)
      * Only while the dense correction's rows fit the warp, so that a graph
      * replaying it with another step's m stays on the warp's path. */
     g->one_env = switch_on("PLIANT_NCP_ONE_KERNEL") && g->dense_max <= NCP_CUDA_WARP_MAX_ROWS;
-    /* CR over many blocks from GRID_MIN_ROWS rows of capacity (a single
-     * block's phase kernel is the cheaper below: docs/benchmarks.md);
+    /* the phases over many blocks from GRID_MIN_ROWS rows of capacity (a
+     * single block's phase kernel is the cheaper below: docs/benchmarks.md);
      * PLIANT_NCP_GRID_MIN=N sets the least capacity, 0 turns it off */
     const char *gm = getenv("PLIANT_NCP_GRID_MIN");
     g->grid_min = gm && *gm ? atoi(gm) : GRID_MIN_ROWS;

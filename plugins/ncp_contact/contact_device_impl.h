@@ -73,8 +73,8 @@ struct pl_ncpc_device {
     unsigned long update_epoch;
     int one_env;            /* PLIANT_NCP_ONE_KERNEL (on unless 0): see `one` */
     int one;                /* this step's: fused by the warp, dense: ncp_cuda_iterate_few */
-    int grid_min;           /* PLIANT_NCP_GRID_MIN: the least capacity of rows whose CR loop
-                               runs over many blocks (ncp_cuda_cr_grid) */
+    int grid_min;           /* PLIANT_NCP_GRID_MIN: the least capacity of rows whose phases
+                               run over many blocks (ncp_cuda_grid.cu) */
     int grid;               /* this step's: not fused, mcap >= grid_min */
     double *part;           /* NCP_CUDA_GRID_PART doubles on the device (V.part) */
     int mcap, nallcap;      /* capacities of rows and of all rows (doubled) */

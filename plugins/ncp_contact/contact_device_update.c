@@ -84,19 +84,19 @@ static int step_cr(pl_ncpc_device *g, int first, int last, pl_error *err)
     return phases(g, first ? PL_NCP_PHASE_D : PL_NCP_PHASE_F, 0, PL_NCP_PHASE_E, last, err);
 }
 
+/* UPDATE (after the line search's product, or G). */
+static int step_update(pl_ncpc_device *g, pl_error *err)
+{
+    if (g->grid) return grid_rc(g, ncp_cuda_grid_update(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
+    return phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+}
+
 /* G, then UPDATE (no line search: no product between them). */
 static int step_g_update(pl_ncpc_device *g, pl_error *err)
 {
     if (!g->grid) return phases(g, PL_NCP_PHASE_G, 0, PL_NCP_PHASE_UPDATE, 0, err);
     int rc = step_rows(g, PL_NCP_PHASE_G, -1, err);
-    return rc ? rc : grid_rc(g, ncp_cuda_grid_update(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
-}
-
-/* UPDATE after the line search's product. */
-static int step_update(pl_ncpc_device *g, pl_error *err)
-{
-    if (g->grid) return grid_rc(g, ncp_cuda_grid_update(g->stream, g->in_dev, g->mcap, &g->V, &g->P), err);
-    return phase(g, PL_NCP_PHASE_UPDATE, 0, err);
+    return rc ? rc : step_update(g, err);
 }
 
 /* The constraint update: dlambda (CR), step length, lambda, projection. */

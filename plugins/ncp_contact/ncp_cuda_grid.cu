@@ -25,6 +25,7 @@ constexpr int kMax = NCP_CUDA_GRID_MAX_BLOCKS;
  * the line search's five merits (step 0, 1, 1/2, 1/4, 1/8) */
 enum { SLOT_RAR, SLOT_APAP, SLOT_RR, SLOT_PHIN, SLOT_BB, SLOT_M0, NSLOTS = SLOT_M0 + 5 };
 static_assert(NCP_CUDA_GRID_PART >= NSLOTS * kMax + 2, "NCP_CUDA_GRID_PART");
+static_assert(kMax <= kThreads, "combine: a thread a block's partial");
 constexpr int PART_FLAG = NSLOTS * kMax;      /* e3: 0 CR had stopped, 1 running, 2 a zero step */
 constexpr int PART_ALPHA = NSLOTS * kMax + 1; /* the update's step length */
 
