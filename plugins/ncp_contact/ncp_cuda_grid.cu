@@ -137,7 +137,8 @@ __global__ void __launch_bounds__(kThreads)
         a += ar * ar;
     }
     block_reduce2<kThreads>(s, a, rd);
-    if (threadIdx.x == 0) V.part[SLOT_RAR * kMax + blockIdx.x] = s, V.part[SLOT_APAP * kMax + blockIdx.x] = a;
+    put(V.part, SLOT_RAR, s);
+    put(V.part, SLOT_APAP, a);
 }
 
 /* F, first half: Ar from tmp2; partials of r.Ar (the new rAr). */
@@ -155,8 +156,7 @@ __global__ void __launch_bounds__(kThreads)
         V.cr_Ar[j] = ar;
         s += V.cr_r[j] * ar;
     }
-    s = block_reduce<kThreads>(s, 0, rd);
-    if (threadIdx.x == 0) V.part[SLOT_RAR * kMax + blockIdx.x] = s;
+    put(V.part, SLOT_RAR, block_reduce<kThreads>(s, 0, rd));
 }
 
 /* F, second half: beta = new rAr / old (sc->rAr, written by e4 only), p,
@@ -176,8 +176,7 @@ __global__ void __launch_bounds__(kThreads)
         V.cr_Ap[j] = ap;
         a += ap * ap;
     }
-    a = block_reduce<kThreads>(a, 0, rd);
-    if (threadIdx.x == 0) V.part[SLOT_APAP * kMax + blockIdx.x] = a;
+    put(V.part, SLOT_APAP, block_reduce<kThreads>(a, 0, rd));
 }
 
 /* E, first half: alpha = rAr / Ap.Ap, x and r; partials of r.r; the flag. */
@@ -205,8 +204,7 @@ __global__ void __launch_bounds__(kThreads)
         V.cr_r[j] = r;
         ss += r * r;
     }
-    ss = block_reduce<kThreads>(ss, 0, rd);
-    if (threadIdx.x == 0) V.part[SLOT_RR * kMax + blockIdx.x] = ss;
+    put(V.part, SLOT_RR, block_reduce<kThreads>(ss, 0, rd));
     if (t0) V.part[PART_FLAG] = 1.0;
 }
 
