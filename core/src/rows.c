@@ -53,12 +53,9 @@ static int grow_rows(pl_rows *r)
     return 0;
 }
 
-int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
+void pl_rows_put(pl_rows *r, int k, pl_row_kind kind, const pl_component *owner, int first)
 {
-    if (r->n == r->cap && grow_rows(r) != 0) return -1;
-    int k = r->n++;
-    r->start[k] = r->nent;
-    r->start[k + 1] = r->nent;
+    r->start[k] = first;
     r->kind[k] = kind;
     r->d[k] = 0.0;
     r->compliance[k] = 0.0;
@@ -67,18 +64,39 @@ int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
     r->pair[k] = -1;
     r->mu[k] = 0.0;
     r->owner[k] = owner;
+}
+
+int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
+{
+    if (r->n == r->cap && grow_rows(r) != 0) return -1;
+    int k = r->n++;
+    pl_rows_put(r, k, kind, owner, r->nent);
+    r->start[k + 1] = r->nent;
     return k;
+}
+
+static int grow_entries(pl_rows *r, int need)
+{
+    int cap = r->cap_ent ? 2 * r->cap_ent : 256;
+    while (cap < need) cap *= 2;
+    GROW(r->vertex, cap);
+    GROW(r->coef, 3 * cap);
+    r->cap_ent = cap;
+    return 0;
+}
+
+int pl_rows_reserve(pl_rows *r, int rows, int entries)
+{
+    while (r->cap < r->n + rows)
+        if (grow_rows(r) != 0) return -1;
+    if (r->nent + entries > r->cap_ent && grow_entries(r, r->nent + entries) != 0) return -1;
+    return 0;
 }
 
 int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz)
 {
     if (r->n == 0) return -1;
-    if (r->nent == r->cap_ent) {
-        int cap = r->cap_ent ? 2 * r->cap_ent : 256;
-        GROW(r->vertex, cap);
-        GROW(r->coef, 3 * cap);
-        r->cap_ent = cap;
-    }
+    if (r->nent == r->cap_ent && grow_entries(r, r->nent + 1) != 0) return -1;
     int e = r->nent++;
     r->vertex[e] = vertex;
     r->coef[3 * e] = cx;

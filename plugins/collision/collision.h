@@ -223,7 +223,7 @@ int collision_emit_pair(pl_rows *rows, const pl_component *owner, const pl_conta
                            double contact_distance, double t1[3], double t2[3]);
 
 /* collision_emit_pair in two halves, so that threads can prepare contacts
- * and one thread append their rows in order: collision_pair_prepare merges
+ * and their rows land in the contacts' order: collision_pair_prepare merges
  * the sides, orders the entries and makes the tangents and the three rows'
  * right-hand sides (0, or -2 when no entry is left); collision_pair_append
  * appends the prepared rows (the normal row's index, or -1). */
@@ -238,6 +238,13 @@ int collision_pair_prepare(pl_pair_rows *pr, const pl_contact_side *a, const pl_
                            const double n[3], double contact_distance);
 int collision_pair_append(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
                           double mu);
+/* The entries of the three rows (3 x the nonzero coefficients), and the
+ * rows written at rows rn .. rn + 2 and entries e on, room reserved
+ * (pl_rows_reserve): what collision_pair_append does at the end, for an
+ * emitter that places many pairs in parallel. */
+int collision_pair_entries(const pl_pair_rows *pr);
+void collision_pair_write(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
+                          double mu, int rn, int e);
 
 /* Fills lambda and force of the contacts from the multipliers of their rows
  * (3 per contact in emission order, lambda[0..3 ncontacts-1]). */

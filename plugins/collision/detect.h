@@ -206,6 +206,7 @@ typedef struct pl_side_hints {
     unsigned long long *key;
     int *keyed;          /* per slot: its proximity in items (for exact key comparison) */
     pl_proximity *items; /* the proximities given, copied once */
+    unsigned long long *hash; /* per item: its identity's hash */
     int nitems, capitems;
     struct pl_side_vf *vf; /* the vertex-face ones, sorted by models and vertex */
     int nvf, capvf;
@@ -215,6 +216,9 @@ void side_hints_init(pl_side_hints *h);
 void side_hints_free(pl_side_hints *h);
 /* Clears h and inserts the given proximities.  PL_OK or PL_EINTERNAL. */
 int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n);
+/* The same over proximities `stride` bytes apart (each the first member of
+ * a larger record: the pipeline's contacts, copied once, into h). */
+int side_hints_build_strided(pl_side_hints *h, const pl_proximity *first, size_t stride, int n);
 /* The remembered proximity with the same kind, models and vertices (NULL
  * when none): its normal, and for vertex-face ones its side. */
 const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *p);

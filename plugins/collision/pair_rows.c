@@ -45,18 +45,22 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static int add_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind, const pl_pair_rows *m,
-                   const double c[3], double d)
+/* Row r of kind `kind` along c from entry *e on (room reserved): m's
+ * nonzero coefficients in their order. */
+static void write_row(pl_rows *rows, const pl_component *owner, pl_row_kind kind,
+                      const pl_pair_rows *m, const double c[3], double d, int r, int *e)
 {
-    int r = pl_rows_begin(rows, kind, owner);
-    if (r < 0) return -1;
+    pl_rows_put(rows, r, kind, owner, *e);
     for (int k = 0; k < m->n; ++k) {
         double w = m->coef[k];
         if (w == 0.0) continue;
-        if (pl_rows_add(rows, m->vertex[k], w * c[0], w * c[1], w * c[2]) != 0) return -1;
+        rows->vertex[*e] = m->vertex[k];
+        rows->coef[3 * *e] = w * c[0];
+        rows->coef[3 * *e + 1] = w * c[1];
+        rows->coef[3 * *e + 2] = w * c[2];
+        ++*e;
     }
     rows->d[r] = d;
-    return r;
 }
 
 int collision_pair_prepare(pl_pair_rows *pr, const pl_contact_side *a, const pl_contact_side *b,
@@ -82,19 +86,34 @@ int collision_pair_prepare(pl_pair_rows *pr, const pl_contact_side *a, const pl_
     return 0;
 }
 
+int collision_pair_entries(const pl_pair_rows *pr)
+{
+    int n = 0;
+    for (int k = 0; k < pr->n; ++k) n += pr->coef[k] != 0.0;
+    return 3 * n;
+}
+
+void collision_pair_write(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
+                          double mu, int rn, int e)
+{
+    write_row(rows, owner, PL_ROW_NORMAL, pr, pr->normal, pr->d[0], rn, &e);
+    write_row(rows, owner, PL_ROW_FRICTION, pr, pr->t1, pr->d[1], rn + 1, &e);
+    write_row(rows, owner, PL_ROW_FRICTION, pr, pr->t2, pr->d[2], rn + 2, &e);
+    rows->mu[rn] = mu;
+    rows->pair[rn] = rn + 1;
+    rows->pair[rn + 1] = rn;
+    rows->pair[rn + 2] = rn;
+}
+
 int collision_pair_append(pl_rows *rows, const pl_component *owner, const pl_pair_rows *pr,
                           double mu)
 {
-    int rn = add_row(rows, owner, PL_ROW_NORMAL, pr, pr->normal, pr->d[0]);
-    if (rn < 0) return -1;
-    int r1 = add_row(rows, owner, PL_ROW_FRICTION, pr, pr->t1, pr->d[1]);
-    if (r1 < 0) return -1;
-    int r2 = add_row(rows, owner, PL_ROW_FRICTION, pr, pr->t2, pr->d[2]);
-    if (r2 < 0) return -1;
-    rows->mu[rn] = mu;
-    rows->pair[rn] = r1;
-    rows->pair[r1] = rn;
-    rows->pair[r2] = rn;
+    int ne = collision_pair_entries(pr), rn = rows->n;
+    if (pl_rows_reserve(rows, 3, ne)) return -1;
+    collision_pair_write(rows, owner, pr, mu, rn, rows->nent);
+    rows->n += 3;
+    rows->nent += ne;
+    rows->start[rows->n] = rows->nent;
     return rn;
 }
 

@@ -147,7 +147,6 @@ static void cp_workspace_free(const pl_component *c, void *ws)
     free(w->struck);
     proximities_free(&w->prox);
     side_hints_free(&w->hints);
-    free(w->prev);
     free(w->emit);
     free(w->work);
     coll_detect_ws_free(w);

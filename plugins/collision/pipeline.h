@@ -52,8 +52,6 @@ typedef struct coll_ws {
     double *struck;                /* nmodels x nmodels: speed at which model j strikes k [m/s] */
     pl_proximities prox;
     pl_side_hints hints;           /* sides of the previous step's contacts */
-    pl_proximity *prev;            /* their proximities (copied out of the state) */
-    int capprev;
     coll_contact_record *work;
     int nwork, capwork;
     struct emit_item *emit;        /* the contacts prepared for emission (pipeline_step.c) */

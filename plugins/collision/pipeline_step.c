@@ -115,14 +115,7 @@ static int build_hints(const collision_pipeline *p, coll_ws *w, const pl_data *d
 {
     const coll_contact_record *items;
     int n = coll_pipeline_contacts(&p->base, d, &items);
-    if (n > w->capprev) {
-        pl_proximity *prev = realloc(w->prev, (size_t)n * sizeof *prev);
-        if (!prev) return PL_EINTERNAL;
-        w->prev = prev;
-        w->capprev = n;
-    }
-    for (int k = 0; k < n; ++k) w->prev[k] = items[k].prox;
-    return side_hints_build(&w->hints, w->prev, n);
+    return side_hints_build_strided(&w->hints, n > 0 ? &items[0].prox : NULL, sizeof *items, n);
 }
 
 /* Whether models k and l are a pair to detect. */
@@ -296,18 +289,17 @@ static int make_side(const pipe_model *m, int nv, const int *v, const double *w,
     return PL_OK;
 }
 
-static coll_contact_record *push_record(coll_ws *w)
+/* Room for `more` records after the w->nwork kept. */
+static int fit_records(coll_ws *w, int more)
 {
-    if (w->nwork == w->capwork) {
-        int cap = w->capwork ? 2 * w->capwork : 256;
-        coll_contact_record *grown = realloc(w->work, (size_t)cap * sizeof *grown);
-        if (!grown) return NULL;
-        w->work = grown;
-        w->capwork = cap;
-    }
-    coll_contact_record *r = &w->work[w->nwork++];
-    memset(r, 0, sizeof *r);
-    return r;
+    if (w->nwork + more <= w->capwork) return 0;
+    int cap = w->capwork ? 2 * w->capwork : 256;
+    while (cap < w->nwork + more) cap *= 2;
+    coll_contact_record *grown = realloc(w->work, (size_t)cap * sizeof *grown);
+    if (!grown) return 1;
+    w->work = grown;
+    w->capwork = cap;
+    return 0;
 }
 
 /* What emit_prepare found for a contact. */
@@ -320,6 +312,7 @@ typedef struct emit_item {
     double pa[3], pb[3];
     int status;                /* EMIT_* */
     int bad_model, bad_vertex; /* EMIT_OUTSIDE's */
+    int row, entry, record;    /* EMIT_ROWS': where its rows and record go */
 } emit_item;
 
 /* Contact k's sides and rows, prepared without touching anything shared. */
@@ -349,8 +342,26 @@ static void emit_prepare(const collision_pipeline *p, const coll_ws *w, const pl
  * more than preparing them). */
 #define EMIT_PAR_MIN 2048
 
-/* The contacts' rows and records: prepared by the threads, then appended
- * in the contacts' order by this one (the rows are the serial loop's). */
+/* Contact k's rows and record, written where the ordered pass put them. */
+static void emit_write(const collision_pipeline *p, coll_ws *w, const emit_item *e,
+                       const pl_proximity *x, pl_rows *rows)
+{
+    const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
+    collision_pair_write(rows, &p->base, &e->pr, pair_mu(p, ma->g.mu, mb->g.mu), e->row,
+                         e->entry);
+    coll_contact_record *r = &w->work[e->record];
+    memset(r, 0, sizeof *r);
+    r->prox = *x;
+    memcpy(r->point_a, e->pa, sizeof e->pa);
+    memcpy(r->point_b, e->pb, sizeof e->pb);
+    memcpy(r->t1, e->pr.t1, sizeof e->pr.t1);
+    memcpy(r->t2, e->pr.t2, sizeof e->pr.t2);
+}
+
+/* The contacts' rows and records: prepared by the threads; then one pass in
+ * the contacts' order gives each its rows, entries and record (and stops
+ * at the first bad one); then the threads write them there.  The rows are
+ * the serial append's, in its order (collision_pair_append), bitwise. */
 int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system *sys,
                        pl_rows *rows, pl_error *err)
 {
@@ -364,9 +375,9 @@ int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system 
     emit_item *items = w->emit;
 #pragma omp parallel for schedule(dynamic, 64) if (n > EMIT_PAR_MIN)
     for (int k = 0; k < n; ++k) emit_prepare(p, w, sys, k, &items[k]);
+    int row = rows->n, entry = rows->nent, record = w->nwork;
     for (int k = 0; k < n; ++k) {
-        const pl_proximity *x = &w->prox.items[k];
-        const emit_item *e = &items[k];
+        emit_item *e = &items[k];
         if (e->status == EMIT_TOO_MANY)
             return pl_component_fail(&p->base, err, PL_EINTERNAL,
                                      "a contact touches more than %d DOFs", PL_CONTACT_SIDE_MAX);
@@ -376,17 +387,19 @@ int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system 
                                      "system (%d vertices)",
                                      w->models[e->bad_model].c->name, e->bad_vertex, sys->nverts);
         if (e->status == EMIT_NONE) continue;
-        const pipe_model *ma = &w->models[x->model_a], *mb = &w->models[x->model_b];
-        double mu = pair_mu(p, ma->g.mu, mb->g.mu);
-        if (collision_pair_append(rows, &p->base, &e->pr, mu) < 0)
-            return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
-        coll_contact_record *r = push_record(w);
-        if (!r) return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
-        r->prox = *x;
-        memcpy(r->point_a, e->pa, sizeof e->pa);
-        memcpy(r->point_b, e->pb, sizeof e->pb);
-        memcpy(r->t1, e->pr.t1, sizeof e->pr.t1);
-        memcpy(r->t2, e->pr.t2, sizeof e->pr.t2);
+        e->row = row, e->entry = entry, e->record = record++;
+        row += 3;
+        entry += collision_pair_entries(&e->pr);
     }
+    if (pl_rows_reserve(rows, row - rows->n, entry - rows->nent) ||
+        fit_records(w, record - w->nwork))
+        return pl_component_fail(&p->base, err, PL_EINTERNAL, "out of memory");
+#pragma omp parallel for schedule(dynamic, 64) if (n > EMIT_PAR_MIN)
+    for (int k = 0; k < n; ++k)
+        if (items[k].status == EMIT_ROWS) emit_write(p, w, &items[k], &w->prox.items[k], rows);
+    rows->n = row;
+    rows->nent = entry;
+    if (rows->start) rows->start[row] = entry; /* no start: no row was ever reserved */
+    w->nwork = record;
     return PL_OK;
 }

@@ -21,6 +21,7 @@ void side_hints_free(pl_side_hints *h)
     free(h->key);
     free(h->keyed);
     free(h->items);
+    free(h->hash);
     free(h->vf);
     side_hints_init(h);
 }
@@ -86,6 +87,57 @@ static int cmp_vf(const void *x, const void *y)
     return (p->item > q->item) - (p->item < q->item);
 }
 
+/* Merges the sorted runs src[b[r]] .. src[b[r + 1]] pairwise into dst until
+ * one is left; returns the array that holds it (src or dst). */
+static struct pl_side_vf *merge_runs(struct pl_side_vf *src, struct pl_side_vf *dst, int *b,
+                                     int runs)
+{
+    while (runs > 1) {
+        int out = 0;
+        for (int r = 0; r < runs; r += 2) {
+            /* runs r and r + 1 (the last one alone when runs is odd) */
+            int i = b[r], mid = b[r + 1], end = r + 2 <= runs ? b[r + 2] : mid, o = i, j = mid;
+            while (i < mid && j < end) dst[o++] = cmp_vf(&src[j], &src[i]) < 0 ? src[j++] : src[i++];
+            while (i < mid) dst[o++] = src[i++];
+            while (j < end) dst[o++] = src[j++];
+            b[out++] = b[r];
+        }
+        b[out] = b[runs];
+        runs = out;
+        struct pl_side_vf *t = src;
+        src = dst;
+        dst = t;
+    }
+    return src;
+}
+
+/* Sorts h->vf by cmp_vf, a total order (so any sort gives these records in
+ * this order).  They come nearly sorted (the previous step's contacts in
+ * detection's order: a few runs), so the runs are found and merged
+ * pairwise, O(n log runs), instead of a qsort from scratch. */
+static int sort_vf(pl_side_hints *h)
+{
+    int n = h->nvf, runs = 1;
+    for (int k = 1; k < n; ++k) runs += cmp_vf(&h->vf[k - 1], &h->vf[k]) > 0;
+    if (n < 2 || runs == 1) return PL_OK;
+    int *b = malloc(sizeof *b * (size_t)(runs + 1));
+    struct pl_side_vf *tmp = malloc(sizeof *tmp * (size_t)n);
+    if (!b || !tmp) {
+        free(b);
+        free(tmp);
+        return PL_EINTERNAL;
+    }
+    b[0] = 0;
+    for (int k = 1, r = 1; k < n; ++k)
+        if (cmp_vf(&h->vf[k - 1], &h->vf[k]) > 0) b[r++] = k;
+    b[runs] = n;
+    struct pl_side_vf *sorted = merge_runs(h->vf, tmp, b, runs);
+    if (sorted != h->vf) memcpy(h->vf, sorted, sizeof *tmp * (size_t)n);
+    free(b);
+    free(tmp);
+    return PL_OK;
+}
+
 static int build_vf(pl_side_hints *h)
 {
     const pl_proximity *items = h->items;
@@ -104,8 +156,7 @@ static int build_vf(pl_side_hints *h)
             h->vf[h->nvf++] = (struct pl_side_vf){p->model_a, p->model_b, p->a[0],
                                                   {p->b[0], p->b[1], p->b[2]}, k};
         }
-    if (h->nvf > 1) qsort(h->vf, (size_t)h->nvf, sizeof *h->vf, cmp_vf);
-    return PL_OK;
+    return sort_vf(h);
 }
 
 static int shared_vertices(const int a[3], const int b[3])
@@ -138,7 +189,10 @@ const pl_proximity *side_hints_find_near(const pl_side_hints *h, const pl_proxim
     return best;
 }
 
-int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
+/* Hashed by the threads from this many proximities on. */
+#define HINTS_PAR_MIN 2048
+
+int side_hints_build_strided(pl_side_hints *h, const pl_proximity *first, size_t stride, int n)
 {
     int cap = 64;
     while (cap < 2 * n) cap *= 2;
@@ -155,26 +209,43 @@ int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
     }
     if (n > h->capitems) {
         pl_proximity *it = realloc(h->items, (size_t)n * sizeof *it);
-        if (!it) return PL_EINTERNAL;
-        h->items = it;
+        unsigned long long *hx = realloc(h->hash, (size_t)n * sizeof *hx);
+        if (it) h->items = it;
+        if (hx) h->hash = hx;
+        if (!it || !hx) return PL_EINTERNAL;
         h->capitems = n;
     }
-    if (n > 0) memcpy(h->items, items, (size_t)n * sizeof *items);
+    const char *src = (const char *)first;
+    /* the copies and the hashes by the threads; the inserts in order */
+#pragma omp parallel for schedule(static) if (n >= HINTS_PAR_MIN)
+    for (int k = 0; k < n; ++k) {
+        h->items[k] = *(const pl_proximity *)(src + (size_t)k * stride);
+        int id[10];
+        ident(&h->items[k], id);
+        h->hash[k] = hash(id);
+    }
     h->nitems = n;
     memset(h->key, 0, (size_t)cap * sizeof *h->key);
     h->n = 0;
     for (int k = 0; k < n; ++k) {
-        int id[10];
-        ident(&h->items[k], id);
-        unsigned long long x = hash(id);
+        unsigned long long x = h->hash[k];
         size_t s = (size_t)x & (size_t)(cap - 1);
-        while (h->key[s] != 0 && !(h->key[s] == x && same_id(&h->items[h->keyed[s]], id)))
-            s = (s + 1) & (size_t)(cap - 1);
+        if (h->key[s] != 0) { /* probe: compare identities only where the hashes meet */
+            int id[10];
+            ident(&h->items[k], id);
+            while (h->key[s] != 0 && !(h->key[s] == x && same_id(&h->items[h->keyed[s]], id)))
+                s = (s + 1) & (size_t)(cap - 1);
+        }
         if (h->key[s] == 0) h->n++;
         h->key[s] = x;
         h->keyed[s] = k; /* a repeated identity: the last one given */
     }
     return build_vf(h);
+}
+
+int side_hints_build(pl_side_hints *h, const pl_proximity *items, int n)
+{
+    return side_hints_build_strided(h, items, sizeof *items, n);
 }
 
 const pl_proximity *side_hints_find(const pl_side_hints *h, const pl_proximity *p)

@@ -7,7 +7,9 @@
  *  (the sides kept at thin sheets' borders, from step to step and from the
  *  predicted end of a step: test_collision_sides.c)
  *  - the rows of a contact between two sides (collision_emit_pair):
- *    +w n on A, -w n on B, merged vertices, d and d_f from fixed parts.
+ *    +w n on A, -w n on B, merged vertices, d and d_f from fixed parts;
+ *    written at offsets in any order (collision_pair_write) they are the
+ *    rows appended one by one.
  * (Split from test_collision_detect.c, which keeps detection's
  * completeness against brute force and an independent reference.) */
 #include <check.h>
@@ -306,6 +308,70 @@ START_TEST(test_pair_rows)
 }
 END_TEST
 
+/* Same rows, compared array by array. */
+static void same_rows(const pl_rows *a, const pl_rows *b)
+{
+    ck_assert_int_eq(a->n, b->n);
+    ck_assert_int_eq(a->nent, b->nent);
+    ck_assert(!memcmp(a->start, b->start, sizeof(int) * (size_t)(a->n + 1)));
+    ck_assert(!memcmp(a->vertex, b->vertex, sizeof(int) * (size_t)a->nent));
+    ck_assert(!memcmp(a->coef, b->coef, 3 * sizeof(double) * (size_t)a->nent));
+    for (int r = 0; r < a->n; ++r) {
+        ck_assert_int_eq(a->kind[r], b->kind[r]);
+        ck_assert_int_eq(a->pair[r], b->pair[r]);
+        ck_assert(a->owner[r] == b->owner[r]);
+        ck_assert(a->d[r] == b->d[r] && a->mu[r] == b->mu[r]);
+        ck_assert(a->compliance[r] == b->compliance[r]);
+        ck_assert(a->lo[r] == b->lo[r] && a->hi[r] == b->hi[r]);
+    }
+}
+
+/* Pairs written at offsets, in any order, after room was reserved
+ * (collision_pair_write: the pipeline's parallel emission) give the rows of
+ * collision_pair_append one by one, after a row another component began. */
+START_TEST(test_pairs_written_at_offsets_are_the_appended_rows)
+{
+    enum { NP = 40 };
+    pl_pair_rows pr[NP];
+    for (int k = 0; k < NP; ++k) {
+        pl_contact_side a = {0}, b = {0};
+        a.n = 1 + k % 3;
+        for (int j = 0; j < a.n; ++j) a.vertex[j] = 7 * k + j, a.weight[j] = 0.2 + 0.1 * j;
+        b.n = 1 + (k + 1) % 3;
+        for (int j = 0; j < b.n; ++j) b.vertex[j] = 300 + k + j, b.weight[j] = 0.5 - 0.1 * j;
+        if (k % 5 == 0) b.vertex[0] = a.vertex[0], b.weight[0] = a.weight[0]; /* cancels: 0 */
+        b.fixed[1] = 0.001 * k, b.fixed_v[0] = 0.1 * k;
+        double n[3] = {sin(k), cos(k), 0.0};
+        ck_assert_int_eq(collision_pair_prepare(&pr[k], &a, &b, n, 0.002), 0);
+    }
+    pl_component owner = {0}, cable = {0};
+    pl_rows ap, wr;
+    pl_rows_init(&ap);
+    pl_rows_init(&wr);
+    for (pl_rows *r = &ap; r; r = r == &ap ? &wr : NULL) { /* a row before the pairs */
+        ck_assert_int_eq(pl_rows_begin(r, PL_ROW_BILATERAL, &cable), 0);
+        ck_assert_int_eq(pl_rows_add(r, 3, 1.0, 2.0, 3.0), 0);
+        r->compliance[0] = 1e-3;
+    }
+    int entries = 0, at[NP];
+    for (int k = 0; k < NP; ++k) {
+        ck_assert_int_eq(collision_pair_append(&ap, &owner, &pr[k], 0.1 * k), 1 + 3 * k);
+        at[k] = wr.nent + entries;
+        entries += collision_pair_entries(&pr[k]);
+    }
+    ck_assert_int_eq(ap.nent, wr.nent + entries);
+    ck_assert_int_eq(pl_rows_reserve(&wr, 3 * NP, entries), 0);
+    for (int k = NP - 1; k >= 0; --k) /* the last first: no pair leans on the one before */
+        collision_pair_write(&wr, &owner, &pr[k], 0.1 * k, 1 + 3 * k, at[k]);
+    wr.n += 3 * NP;
+    wr.nent += entries;
+    wr.start[wr.n] = wr.nent;
+    same_rows(&ap, &wr);
+    pl_rows_free(&ap);
+    pl_rows_free(&wr);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("collision_push");
@@ -317,6 +383,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_point_beside_a_corner_keeps_its_contact);
     tcase_add_test(tc, test_edge_beside_a_cube_keeps_its_side);
     tcase_add_test(tc, test_pair_rows);
+    tcase_add_test(tc, test_pairs_written_at_offsets_are_the_appended_rows);
     suite_add_tcase(s, tc);
     return s;
 }

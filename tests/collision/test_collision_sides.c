@@ -120,6 +120,89 @@ static void hint_from_below(pl_side_hints *h, int b0, int b1, int b2)
     ck_assert_int_eq(side_hints_build(h, &prev, 1), PL_OK);
 }
 
+static void sort3(int b[3])
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+            if (b[j] < b[i]) {
+                int t = b[i];
+                b[i] = b[j];
+                b[j] = t;
+            }
+}
+
+/* Brute force of side_hints_find_near over items[0..n-1]: the same
+ * vertex's contact (kind, models, vertex) whose triangle shares the most
+ * vertices with p's (1 or 2) and has a side; ties: the smallest triangle
+ * (b in order), then the first given. */
+static const pl_proximity *near_brute(const pl_proximity *items, int n, const pl_proximity *p)
+{
+    const pl_proximity *best = NULL;
+    int shared = 0;
+    for (int k = 0; k < n; ++k) {
+        const pl_proximity *q = &items[k];
+        if (q->kind != PL_PROX_VERTEX_FACE || q->model_a != p->model_a ||
+            q->model_b != p->model_b || q->a[0] != p->a[0] || q->side == 0)
+            continue;
+        int s = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) s += q->b[i] == p->b[j];
+        if (s >= 3 || s < shared || s == 0) continue;
+        if (s == shared && memcmp(q->b, best->b, sizeof q->b) >= 0) continue;
+        best = q, shared = s;
+    }
+    return best;
+}
+
+/* Many hints given out of order (the build sorts them by merging runs and
+ * hashes them on the threads from 2048): every lookup is the brute force's,
+ * find_near's and find's (the last given with the same identity). */
+START_TEST(test_many_hints_out_of_order_as_brute_force)
+{
+    enum { N = 3000 };
+    pl_proximity *items = calloc(N, sizeof *items);
+    unsigned x = 12345u;
+    for (int k = 0; k < N; ++k) {
+        pl_proximity *q = &items[k];
+        x = x * 1103515245u + 12345u;
+        q->kind = (x >> 7) % 8 ? PL_PROX_VERTEX_FACE : PL_PROX_EDGE_EDGE;
+        q->model_a = (x >> 11) % 2, q->model_b = 2;
+        q->na = q->kind == PL_PROX_VERTEX_FACE ? 1 : 2, q->nb = q->na == 1 ? 3 : 2;
+        q->a[0] = (x >> 13) % 300, q->a[1] = q->na == 2 ? q->a[0] + 1 : 0;
+        for (int i = 0; i < q->nb; ++i) q->b[i] = (int)((x >> (16 + 2 * i)) % 12) + 4 * i;
+        q->side = (int)((x >> 24) % 3) - 1;
+        q->normal[2] = k;
+    }
+    pl_side_hints h;
+    side_hints_init(&h);
+    ck_assert_int_eq(side_hints_build(&h, items, N), PL_OK);
+    for (int k = 0; k < N; ++k) {
+        const pl_proximity *p = &items[k], *want = near_brute(items, N, p);
+        const pl_proximity *got = side_hints_find_near(&h, p);
+        if (p->kind != PL_PROX_VERTEX_FACE) want = NULL;
+        ck_assert_msg((got == NULL) == (want == NULL), "item %d: near %p, brute %p", k,
+                      (const void *)got, (const void *)want);
+        if (got) ck_assert_double_eq(got->normal[2], want->normal[2]);
+        const pl_proximity *f = side_hints_find(&h, p);
+        ck_assert_ptr_nonnull(f);
+        int last = -1; /* the last given with p's identity */
+        for (int j = 0; j < N; ++j) {
+            const pl_proximity *q = &items[j];
+            int b1[3] = {q->b[0], q->b[1], q->nb == 3 ? q->b[2] : -1};
+            int b2[3] = {p->b[0], p->b[1], p->nb == 3 ? p->b[2] : -1};
+            sort3(b1), sort3(b2); /* a triangle whatever vertex comes first */
+            if (q->kind == p->kind && q->model_a == p->model_a && q->model_b == p->model_b &&
+                q->a[0] == p->a[0] && (q->na > 1 ? q->a[1] : -1) == (p->na > 1 ? p->a[1] : -1) &&
+                !memcmp(b1, b2, sizeof b1))
+                last = j;
+        }
+        ck_assert_double_eq(f->normal[2], (double)last);
+    }
+    side_hints_free(&h);
+    free(items);
+}
+END_TEST
+
 /* A vertex under a thin sheet (in contact with triangle t1 from below last
  * step) that has slid under the neighbouring triangle t2 and a little
  * through it keeps its side: t2 takes the side of its neighbour t1. */
@@ -306,6 +389,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_blade_border_rule_looks_where_an_edge_crosses);
     tcase_add_test(tc, test_edge_wrapped_round_a_blade_border_keeps_its_row);
     tcase_add_test(tc, test_side_of_a_neighbouring_triangle);
+    tcase_add_test(tc, test_many_hints_out_of_order_as_brute_force);
     tcase_add_test(tc, test_edge_turning_about_its_end_gets_a_row);
     tcase_add_test(tc, test_vertex_under_a_sliding_sheet);
     tcase_add_test(tc, test_corner_under_cloth_layers_keeps_each);
