@@ -94,49 +94,47 @@ static int check_input(const pl_system *sys, const pl_rows *rows, pl_error *err)
     return PL_OK;
 }
 
-/* Pass 1: which rows are active; sizes of the entry lists. */
-static int mark_active(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows, int *nfree_ent,
+/* Pass 1: every row merged once, into fcol / fcoef at its raw offset
+ * (rows->start[i]: merge_free writes at most a row's entry count), its kept
+ * count in cnt[i]; which rows are active; the prescribed entries' count. */
+static int mark_active(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows, int *cnt,
                        int *npre_ent, pl_error *err)
 {
-    int N = rows->n, maxlen = 1;
+    int N = rows->n;
     for (int i = 0; i < N; ++i)
-        if (rows->start[i + 1] - rows->start[i] > maxlen) maxlen = rows->start[i + 1] - rows->start[i];
-    int *cols = malloc(sizeof *cols * (size_t)maxlen);
-    double *coefs = malloc(sizeof *coefs * 3 * (size_t)maxlen);
-    if (!cols || !coefs) {
-        free(cols);
-        free(coefs);
-        return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
-    }
-    /* sub[i] temporarily holds the merged free count */
-    for (int i = 0; i < N; ++i) r->sub[i] = merge_free(rows, i, sys->free_index, cols, coefs);
-    free(cols);
-    free(coefs);
+        cnt[i] = merge_free(rows, i, sys->free_index, r->fcol + rows->start[i],
+                            r->fcoef + 3 * (size_t)rows->start[i]);
     int m = 0;
-    *nfree_ent = *npre_ent = 0;
+    *npre_ent = 0;
     for (int i = 0; i < N; ++i) {
-        int ok = r->sub[i] > 0;
+        int ok = cnt[i] > 0;
         if (rows->kind[i] == PL_ROW_FRICTION) {
             int n = rows->pair ? rows->pair[i] : -1;
             if (n < 0 || n >= N || rows->kind[n] != PL_ROW_NORMAL)
                 return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
                                     "friction row %d: its pair %d is not a normal row", i, n);
-            ok = ok && r->sub[n] > 0;
+            ok = ok && cnt[n] > 0;
         }
         if (!ok) continue;
         r->full[m++] = i;
-        /* raw counts: merge_free writes up to the distinct count before
-         * dropping zero sums, so the lists get room for every entry */
-        for (int e = rows->start[i]; e < rows->start[i + 1]; ++e) {
-            int pre = sys->free_index[rows->vertex[e]] < 0;
-            *npre_ent += pre;
-            *nfree_ent += !pre;
-        }
+        for (int e = rows->start[i]; e < rows->start[i + 1]; ++e)
+            *npre_ent += sys->free_index[rows->vertex[e]] < 0;
     }
     r->m = m;
     for (int i = 0; i < N; ++i) r->sub[i] = -1;
     for (int j = 0; j < m; ++j) r->sub[r->full[j]] = j;
     return PL_OK;
+}
+
+/* Row i's merged entries from its raw offset down to entry `to` (to <=
+ * rows->start[i], rows in increasing order: nothing not yet moved is
+ * overwritten). */
+static void move_merged(pl_ncpc_rows *r, int from, int to, int n)
+{
+    for (int t = 0; t < n; ++t) {
+        r->fcol[to + t] = r->fcol[from + t];
+        for (int k = 0; k < 3; ++k) r->fcoef[3 * (to + t) + k] = r->fcoef[3 * (from + t) + k];
+    }
 }
 
 int ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
@@ -146,36 +144,46 @@ int ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
     int st = check_input(sys, rows, err);
     if (st != PL_OK) return st;
     int N = rows->n;
-    size_t N1 = (size_t)(N > 0 ? N : 1);
+    size_t N1 = (size_t)(N > 0 ? N : 1), E1 = (size_t)(N > 0 && rows->start[N] > 0 ? rows->start[N] : 1);
     r->nall = N;
     r->full = malloc(sizeof *r->full * N1);
     r->sub = malloc(sizeof *r->sub * N1);
-    if (!r->full || !r->sub) return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
-    int nf = 0, np = 0;
-    if ((st = mark_active(r, sys, rows, &nf, &np, err)) != PL_OK) return st;
+    /* room for every row's entries: pass 1 merges there, pass 2 packs */
+    r->fcol = malloc(sizeof(int) * E1);
+    r->fcoef = malloc(sizeof(double) * 3 * E1);
+    int *cnt = malloc(sizeof *cnt * N1), np = 0;
+    if (!r->full || !r->sub || !r->fcol || !r->fcoef || !cnt) {
+        free(cnt);
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
+    }
+    st = mark_active(r, sys, rows, cnt, &np, err);
     int m = r->m;
     size_t m1 = (size_t)(m > 0 ? m : 1);
-    r->fstart = malloc(sizeof(int) * (m1 + 1));
-    r->pstart = malloc(sizeof(int) * (m1 + 1));
-    r->fcol = malloc(sizeof(int) * (size_t)(nf > 0 ? nf : 1));
-    r->fcoef = malloc(sizeof(double) * 3 * (size_t)(nf > 0 ? nf : 1));
-    r->pvert = malloc(sizeof(int) * (size_t)(np > 0 ? np : 1));
-    r->pcoef = malloc(sizeof(double) * 3 * (size_t)(np > 0 ? np : 1));
-    r->offset = malloc(sizeof(double) * m1);
-    r->kind = malloc(sizeof(pl_row_kind) * m1);
-    r->pair = malloc(sizeof(int) * m1);
-    r->mu = malloc(sizeof(double) * m1);
-    r->compliance = malloc(sizeof(double) * m1);
-    r->lo = malloc(sizeof(double) * m1);
-    r->hi = malloc(sizeof(double) * m1);
-    if (!r->fstart || !r->pstart || !r->fcol || !r->fcoef || !r->pvert || !r->pcoef || !r->offset ||
-        !r->kind || !r->pair || !r->mu || !r->compliance || !r->lo || !r->hi)
-        return pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
+    if (st == PL_OK) {
+        r->fstart = malloc(sizeof(int) * (m1 + 1));
+        r->pstart = malloc(sizeof(int) * (m1 + 1));
+        r->pvert = malloc(sizeof(int) * (size_t)(np > 0 ? np : 1));
+        r->pcoef = malloc(sizeof(double) * 3 * (size_t)(np > 0 ? np : 1));
+        r->offset = malloc(sizeof(double) * m1);
+        r->kind = malloc(sizeof(pl_row_kind) * m1);
+        r->pair = malloc(sizeof(int) * m1);
+        r->mu = malloc(sizeof(double) * m1);
+        r->compliance = malloc(sizeof(double) * m1);
+        r->lo = malloc(sizeof(double) * m1);
+        r->hi = malloc(sizeof(double) * m1);
+        if (!r->fstart || !r->pstart || !r->pvert || !r->pcoef || !r->offset || !r->kind ||
+            !r->pair || !r->mu || !r->compliance || !r->lo || !r->hi)
+            st = pl_error_set(err, PL_EINTERNAL, NULL, 0, "ncp_contact", "out of memory");
+    }
+    if (st != PL_OK) {
+        free(cnt);
+        return st;
+    }
     r->fstart[0] = r->pstart[0] = 0;
     for (int j = 0; j < m; ++j) {
         int i = r->full[j];
-        int nfe = merge_free(rows, i, sys->free_index, r->fcol + r->fstart[j], r->fcoef + 3 * r->fstart[j]);
-        r->fstart[j + 1] = r->fstart[j] + nfe;
+        move_merged(r, rows->start[i], r->fstart[j], cnt[i]);
+        r->fstart[j + 1] = r->fstart[j] + cnt[i];
         int p = r->pstart[j];
         for (int e = rows->start[i]; e < rows->start[i + 1]; ++e)
             if (sys->free_index[rows->vertex[e]] < 0) {
@@ -194,6 +202,7 @@ int ncpc_rows_build(pl_ncpc_rows *r, const pl_system *sys, const pl_rows *rows,
         r->offset[j] = r->kind[j] == PL_ROW_FRICTION ? pl_rows_dot(rows, i, q_t) + sys->h * rows->d[i]
                                                      : rows->d[i];
     }
+    free(cnt);
     return PL_OK;
 }
 
