@@ -53,7 +53,9 @@
  * preemptions per frame).
  * 5.8: device ops version 5 (pl_device_ops.branch, PL_DEVICE_BRANCHES:
  * independent work, such as the local steps of different bodies, queued
- * side by side). */
+ * side by side).
+ * 5.9: pl_rows_reserve and pl_rows_put (rows.h: rows written by threads at
+ * offsets an ordered pass gave them). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 

@@ -46,13 +46,17 @@ PL_API void pl_rows_clear(pl_rows *r);
 PL_API int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner);
 /* Adds an entry (vertex, c) to the last row begun. */
 PL_API int pl_rows_add(pl_rows *r, int vertex, double cx, double cy, double cz);
+#if PL_ABI_TARGET_MINOR >= 9
 /* Room for `rows` more rows and `entries` more entries (0, or -1 on
  * allocation failure): for an emitter that writes rows in parallel at
- * offsets it computed (pl_rows_put), then sets n, nent and start[n]. */
+ * offsets it computed (pl_rows_put), then sets n, nent and start[n].
+ * Since ABI 5.9. */
 PL_API int pl_rows_reserve(pl_rows *r, int rows, int entries);
 /* Row k (room reserved) starting at entry `first`, with pl_rows_begin's
- * defaults; writes no other row and leaves n, nent and start[k + 1]. */
+ * defaults; writes no other row and leaves n, nent and start[k + 1].
+ * Since ABI 5.9. */
 PL_API void pl_rows_put(pl_rows *r, int k, pl_row_kind kind, const pl_component *owner, int first);
+#endif
 /* H q for one row, q an n x 3 row-major block over global vertices. */
 PL_API double pl_rows_dot(const pl_rows *r, int row, const double *q);
 /* y += alpha * H^T lambda over global vertices (y: n x 3). */
