@@ -312,6 +312,7 @@ typedef struct emit_item {
     double pa[3], pb[3];
     int status;                /* EMIT_* */
     int bad_model, bad_vertex; /* EMIT_OUTSIDE's */
+    int nent;                  /* EMIT_ROWS': its rows' entries (collision_pair_entries) */
     int row, entry, record;    /* EMIT_ROWS': where its rows and record go */
 } emit_item;
 
@@ -336,13 +337,15 @@ static void emit_prepare(const collision_pipeline *p, const coll_ws *w, const pl
                 return;
             }
     e->status = collision_pair_prepare(&e->pr, &sa, &sb, x->normal, p->contact);
+    e->nent = e->status == EMIT_ROWS ? collision_pair_entries(&e->pr) : 0;
 }
 
 /* Contacts emitted by one thread below this many (waking the team costs
  * more than preparing them). */
 #define EMIT_PAR_MIN 2048
 
-/* Contact k's rows and record, written where the ordered pass put them. */
+/* A contact's rows and record (x its proximity), written where the ordered
+ * pass put them. */
 static void emit_write(const collision_pipeline *p, coll_ws *w, const emit_item *e,
                        const pl_proximity *x, pl_rows *rows)
 {
@@ -389,7 +392,7 @@ int coll_pipeline_emit(const collision_pipeline *p, coll_ws *w, const pl_system 
         if (e->status == EMIT_NONE) continue;
         e->row = row, e->entry = entry, e->record = record++;
         row += 3;
-        entry += collision_pair_entries(&e->pr);
+        entry += e->nent;
     }
     if (pl_rows_reserve(rows, row - rows->n, entry - rows->nent) ||
         fit_records(w, record - w->nwork))

@@ -73,7 +73,15 @@ static int check_input(const pl_system *sys, const pl_rows *rows, pl_error *err)
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact", "incomplete system description");
     if (!rows || rows->n < 0 || (rows->n > 0 && (!rows->start || !rows->kind || !rows->d)))
         return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact", "incomplete constraint rows");
+    if (rows->n > 0 && rows->start[0] < 0)
+        return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact", "row 0 starts at entry %d",
+                            rows->start[0]);
     for (int i = 0; i < rows->n; ++i) {
+        /* entries in order: the build merges each row at its own offset */
+        if (rows->start[i + 1] < rows->start[i])
+            return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact",
+                                "row %d: its entries end (%d) before they start (%d)", i,
+                                rows->start[i + 1], rows->start[i]);
         if ((int)rows->kind[i] < PL_ROW_BILATERAL || (int)rows->kind[i] > PL_ROW_BOUNDED)
             return pl_error_set(err, PL_EINPUT, NULL, 0, "ncp_contact", "row %d: unknown kind %d", i,
                                 (int)rows->kind[i]);

@@ -19,6 +19,7 @@
 
 #include "collision.h"
 #include "detect.h"
+#include "rows_compare.h"
 
 /* One thin triangle (a knife blade in the x-y plane) and free points. */
 START_TEST(test_thin_triangle_keeps_each_side)
@@ -308,24 +309,6 @@ START_TEST(test_pair_rows)
 }
 END_TEST
 
-/* Same rows, compared array by array. */
-static void same_rows(const pl_rows *a, const pl_rows *b)
-{
-    ck_assert_int_eq(a->n, b->n);
-    ck_assert_int_eq(a->nent, b->nent);
-    ck_assert(!memcmp(a->start, b->start, sizeof(int) * (size_t)(a->n + 1)));
-    ck_assert(!memcmp(a->vertex, b->vertex, sizeof(int) * (size_t)a->nent));
-    ck_assert(!memcmp(a->coef, b->coef, 3 * sizeof(double) * (size_t)a->nent));
-    for (int r = 0; r < a->n; ++r) {
-        ck_assert_int_eq(a->kind[r], b->kind[r]);
-        ck_assert_int_eq(a->pair[r], b->pair[r]);
-        ck_assert(a->owner[r] == b->owner[r]);
-        ck_assert(a->d[r] == b->d[r] && a->mu[r] == b->mu[r]);
-        ck_assert(a->compliance[r] == b->compliance[r]);
-        ck_assert(a->lo[r] == b->lo[r] && a->hi[r] == b->hi[r]);
-    }
-}
-
 /* Pairs written at offsets, in any order, after room was reserved
  * (collision_pair_write: the pipeline's parallel emission) give the rows of
  * collision_pair_append one by one, after a row another component began. */
@@ -366,7 +349,7 @@ START_TEST(test_pairs_written_at_offsets_are_the_appended_rows)
     wr.n += 3 * NP;
     wr.nent += entries;
     wr.start[wr.n] = wr.nent;
-    same_rows(&ap, &wr);
+    same_rows(&ap, &wr, 1);
     pl_rows_free(&ap);
     pl_rows_free(&wr);
 }

@@ -514,6 +514,13 @@ START_TEST(bad_rows_are_refused)
     p.rows.pair[1] = 0;
     p.rows.coef[0] = NAN;
     ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
+    p.rows.coef[0] = 0.0;
+    int s4 = p.rows.start[4];
+    p.rows.start[4] = p.rows.start[5] + 1; /* row 3 longer, row 4 ends before it starts */
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_EINPUT);
+    ck_assert_ptr_nonnull(strstr(err.msg, "row 4: its entries end"));
+    p.rows.start[4] = s4;
+    ck_assert_int_eq(ncpc_rows_build(&r, &p.sys, &p.rows, p.qt, &err), PL_OK);
     ncpc_rows_free(&r);
     problem_free(&p);
 }
