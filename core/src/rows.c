@@ -36,9 +36,12 @@ void pl_rows_clear(pl_rows *r)
 #define GROW(ptr, count) \
     do { void *p_ = realloc((ptr), (size_t)(count) * sizeof *(ptr)); if (!p_) return -1; (ptr) = p_; } while (0)
 
-static int grow_rows(pl_rows *r)
+/* Room for at least `need` rows: the capacity doubled until it holds them,
+ * in one reallocation of each array. */
+static int grow_rows(pl_rows *r, int need)
 {
     int cap = r->cap ? 2 * r->cap : 64;
+    while (cap < need) cap *= 2;
     GROW(r->start, cap + 1);
     GROW(r->kind, cap);
     GROW(r->d, cap);
@@ -68,7 +71,7 @@ void pl_rows_put(pl_rows *r, int k, pl_row_kind kind, const pl_component *owner,
 
 int pl_rows_begin(pl_rows *r, pl_row_kind kind, const pl_component *owner)
 {
-    if (r->n == r->cap && grow_rows(r) != 0) return -1;
+    if (r->n == r->cap && grow_rows(r, r->n + 1) != 0) return -1;
     int k = r->n++;
     pl_rows_put(r, k, kind, owner, r->nent);
     r->start[k + 1] = r->nent;
@@ -87,8 +90,7 @@ static int grow_entries(pl_rows *r, int need)
 
 int pl_rows_reserve(pl_rows *r, int rows, int entries)
 {
-    while (r->cap < r->n + rows)
-        if (grow_rows(r) != 0) return -1;
+    if (r->cap < r->n + rows && grow_rows(r, r->n + rows) != 0) return -1;
     if (r->nent + entries > r->cap_ent && grow_entries(r, r->nent + entries) != 0) return -1;
     return 0;
 }
