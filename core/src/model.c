@@ -91,11 +91,16 @@ pl_data *pl_data_create(const pl_model *m)
     if (!d) return NULL;
     d->model = m;
     d->nslots = m->nslots;
-    d->slots = calloc((size_t)(m->nslots ? m->nslots : 1), sizeof *d->slots);
-    if (!d->slots) {
+    size_t ns = (size_t)(m->nslots ? m->nslots : 1);
+    d->slots = calloc(ns, sizeof *d->slots);
+    d->slot_version = calloc(ns, sizeof *d->slot_version);
+    d->slot_writers = calloc(ns, sizeof *d->slot_writers);
+    if (!d->slots || !d->slot_version || !d->slot_writers) {
+        free(d->slots), free(d->slot_version), free(d->slot_writers);
         free(d);
         return NULL;
     }
+    for (int k = 0; k < m->nslots; ++k) d->slot_version[k] = 1;
     for (int k = 0; k < m->nslots; ++k)
         if (resize(d, k, m->slots[k].initial_bytes) != 0 ||
             (m->slots[k].field && pl_input_fill(d, k) != PL_OK)) {
@@ -112,6 +117,8 @@ void pl_data_free(pl_data *d)
     free(d->workspaces);
     for (int k = 0; k < d->nslots; ++k) free(d->slots[k].ptr);
     free(d->slots);
+    free(d->slot_version);
+    free(d->slot_writers);
     free(d);
 }
 
@@ -174,10 +181,36 @@ void *pl_data_workspace(pl_data *d, const pl_component *c)
     return d->workspaces[k];
 }
 
-/* Resizes without asking whether the size is allowed. */
+/* ---- slot versions ---------------------------------------------------- */
+
+void pl_data_slot_touch(pl_data *d, int slot)
+{
+    if (slot < 0 || slot >= d->nslots) return;
+    if (++d->slot_version[slot] == 0) d->slot_version[slot] = 1; /* 0 means "open for writing" */
+}
+
+unsigned long pl_data_slot_version(const pl_data *d, int slot)
+{
+    if (slot < 0 || slot >= d->nslots || d->slot_writers[slot] > 0) return 0;
+    return d->slot_version[slot];
+}
+
+/* Opening and closing both make a new version: what was written while the
+ * view was open is not the contents an owner saw before. */
+void pl_data_slot_writers(pl_data *d, int slot, int delta)
+{
+    if (slot < 0 || slot >= d->nslots) return;
+    d->slot_writers[slot] += delta;
+    if (d->slot_writers[slot] < 0) d->slot_writers[slot] = 0;
+    pl_data_slot_touch(d, slot);
+}
+
+/* Resizes without asking whether the size is allowed; a new version of the
+ * slot (its contents are written from outside the owner, or may be). */
 static int resize(pl_data *d, int slot, size_t bytes)
 {
     pl_slot *s = &d->slots[slot];
+    pl_data_slot_touch(d, slot);
     if (bytes == s->bytes) return 0;
     /* never hand out a NULL pointer: an empty slot still owns one byte */
     void *p = realloc(s->ptr, bytes ? bytes : 1);

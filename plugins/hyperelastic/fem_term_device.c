@@ -8,19 +8,20 @@
  * each pl_data's workspace holds a device copy of the elements and of the
  * duals, the duals filled from the slot by the first project() of the step
  * and written back by end_step.  So save/restore/clone/reset and several
- * pl_data over one model work as on the CPU, at the price of one copy each
- * way per step (none for ARAP, which has no duals).  The copies go through a
- * page-locked mirror of the device duals (fast DMA instead of the driver's
- * staging of pageable memory), and the upload is skipped when the slot
- * still equals the mirror that end_step wrote: nothing restored or copied
- * into the data since, so the device copy is still the slot's (a memcmp
- * on the host instead of a copy over the bus; the small raptor's body:
- * 606 KB a step each way).  The local step's statistics (largest Newton
+ * pl_data over one model work as on the CPU, at the price of one copy back
+ * per step (none for ARAP, which has no duals).  The slot itself is
+ * page-locked (a fixed slot keeps its memory for the data's life), so the
+ * copies are DMA straight between it and the device, and the upload is
+ * skipped while the slot's version (model.h) is the one end_step saw: no
+ * restore, copy, load or writable view has touched it since, so the device
+ * copy is still the slot's.  (Before: a page-locked mirror, a memcpy of it
+ * into the slot at end_step and a memcmp against it at the next step, about
+ * 0.35 ms of host time a step for the 20k cloth's 1.9 MB of duals,
+ * docs/benchmarks.md.)  The local step's statistics (largest Newton
  * count, missed tolerances, the first element with a non-finite F) are read
  * once per step, at end_step. */
 #include <cuda_runtime_api.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "fem_term.h"
 #include "hyper_cuda.h"
@@ -33,8 +34,9 @@ typedef struct hyper_fem_gpu {
                                   branch's during the local step: local_global_device.c) */
     const pl_device_ops *ops;
     double *dual;              /* device n x 3d (ADMM materials), or NULL */
-    double *mirror;            /* page-locked host copy of dual, dual_bytes */
-    int mirror_same;           /* dual equals mirror (end_step copied it; no project since) */
+    void *pinned, *pin_failed; /* the duals' slot page-locked; a slot that could not be */
+    unsigned long seen;        /* the slot's version when end_step wrote it and the device
+                                  copy equalled it (0: they may differ) */
     size_t dual_bytes;
     int fresh;                 /* the device copy holds this step's duals */
     int used;                  /* a device project ran this step */
@@ -71,9 +73,7 @@ static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
         gpu->dual_bytes = (size_t)f->el.n * hyper_elements_dual_size(&f->el) * sizeof(double);
         size_t bytes = gpu->dual_bytes ? gpu->dual_bytes : 1;
         cudaError_t ce = cudaMalloc((void **)&gpu->dual, bytes);
-        if (ce == cudaSuccess) ce = cudaMallocHost((void **)&gpu->mirror, bytes);
         if (ce != cudaSuccess) {
-            if (gpu->dual) cudaFree(gpu->dual);
             hyper_cuda_destroy(gpu->g);
             free(gpu);
             return fail_cuda(f, err, ce, "device duals");
@@ -86,6 +86,21 @@ static int prepare(const hyper_fem *f, hyper_fem_gpu **out, pl_error *err)
 static struct CUstream_st *stream_of(const hyper_fem_gpu *gpu)
 {
     return gpu->ops->stream(gpu->dev);
+}
+
+/* The duals' slot page-locked (once per data: its memory never moves), so
+ * that its copies each way are DMA.  Where that fails (pages shared with
+ * memory page-locked already) the copies still work, staged by the driver. */
+static void pin_slot(hyper_fem_gpu *gpu, void *host)
+{
+    if (host == gpu->pinned || host == gpu->pin_failed || !gpu->ops->pin) return;
+    if (gpu->pinned) gpu->ops->unpin(gpu->dev, gpu->pinned);
+    gpu->pinned = NULL;
+    pl_error e;
+    if (gpu->ops->pin(gpu->dev, host, gpu->dual_bytes, &e) == PL_OK)
+        gpu->pinned = host;
+    else
+        gpu->pin_failed = host;
 }
 
 /* d's device copy (NULL if none was made). */
@@ -125,15 +140,16 @@ int hyper_fem_project_device(const hyper_fem *f, pl_data *d, int offset, double 
         if (pl_data_slot_bytes(d, f->dual_slot) != gpu->dual_bytes &&
             pl_data_resize_slot(d, f->dual_slot, gpu->dual_bytes) != 0)
             return pl_component_fail(&f->base, err, PL_EINTERNAL, "out of memory (duals)");
-        const void *host = pl_data_slot(d, f->dual_slot);
-        if (!gpu->mirror_same || memcmp(gpu->mirror, host, gpu->dual_bytes) != 0) {
-            memcpy(gpu->mirror, host, gpu->dual_bytes);
-            cudaError_t ce = cudaMemcpyAsync(gpu->dual, gpu->mirror, gpu->dual_bytes,
+        void *host = pl_data_slot(d, f->dual_slot);
+        unsigned long version = pl_data_slot_version(d, f->dual_slot);
+        if (version == 0 || version != gpu->seen) {
+            pin_slot(gpu, host);
+            cudaError_t ce = cudaMemcpyAsync(gpu->dual, host, gpu->dual_bytes,
                                              cudaMemcpyHostToDevice, stream_of(gpu));
             if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the device");
         }
     }
-    gpu->mirror_same = 0; /* the kernels below change dual */
+    gpu->seen = 0; /* the kernels below change dual: the slot differs until end_step */
     gpu->fresh = 1;
     gpu->used = 1;
     /* as the host: alpha from the step's second project on (the first is
@@ -173,8 +189,10 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     if (!gpu || !gpu->used) return PL_OK;
     gpu->used = 0;
     int back = gpu->dual && gpu->fresh;
-    if (back) {
-        cudaError_t ce = cudaMemcpyAsync(gpu->mirror, gpu->dual, gpu->dual_bytes,
+    if (back) { /* straight into the slot (project sized it) */
+        void *host = pl_data_slot(d, f->dual_slot);
+        pin_slot(gpu, host);
+        cudaError_t ce = cudaMemcpyAsync(host, gpu->dual, gpu->dual_bytes,
                                          cudaMemcpyDeviceToHost, stream_of(gpu));
         if (ce != cudaSuccess) return fail_cuda(f, err, ce, "duals to the host");
     }
@@ -187,10 +205,8 @@ int hyper_fem_device_end_step(const hyper_fem *f, pl_data *d, pl_error *err)
     if (hyper_cuda_step_stats(gpu->g, stream_of(gpu), stats, w ? &w->prox : NULL, &e) != PL_OK)
         return pl_component_fail(&f->base, err, e.code ? e.code : PL_EINTERNAL,
                                  "local step on the device, step %ld: %s", d->step, e.msg);
-    if (back) { /* the wait above covered the copy into the mirror */
-        memcpy(pl_data_slot(d, f->dual_slot), gpu->mirror, gpu->dual_bytes);
-        gpu->mirror_same = 1;
-    }
+    if (back) /* the wait above covered the copy: slot and device copy are equal */
+        gpu->seen = pl_data_slot_version(d, f->dual_slot);
     if (stats[1] > 0)
         pl_log_debug("%s: %d local solves stopped before their tolerance (this step)",
                      f->base.name, stats[1]);
@@ -217,7 +233,7 @@ void hyper_fem_device_free(hyper_fem_gpu **slot)
     hyper_cuda_destroy(gpu->g);
     hyper_cuda_grad_destroy(gpu->grad);
     if (gpu->dual) cudaFree(gpu->dual);
-    if (gpu->mirror) cudaFreeHost(gpu->mirror);
+    if (gpu->pinned) gpu->ops->unpin(gpu->dev, gpu->pinned); /* before pl_data frees the slot */
     free(gpu);
     *slot = NULL;
 }

@@ -47,6 +47,9 @@ static int view_getbuffer(pl_py_view *v, Py_buffer *b, int flags)
     size_t bytes = pl_data_slot_bytes(d, v->slot);
     b->buf = pl_data_slot(d, v->slot);
     b->obj = Py_NewRef((PyObject *)v);
+    /* the owner of the slot (a device copy of it) learns that it may be
+     * written at any time until the buffer is released */
+    if (v->writable) pl_data_slot_writers(d, v->slot, +1);
     b->len = (Py_ssize_t)bytes;
     b->readonly = !v->writable;
     b->itemsize = sizeof(double);
@@ -60,6 +63,7 @@ static int view_getbuffer(pl_py_view *v, Py_buffer *b, int flags)
         /* shape lives in the Py_buffer's internal storage */
         Py_ssize_t *shape = PyMem_Malloc(2 * sizeof *shape);
         if (!shape) {
+            if (v->writable) pl_data_slot_writers(d, v->slot, -1);
             Py_CLEAR(b->obj);
             PyErr_NoMemory();
             return -1;
@@ -75,7 +79,7 @@ static int view_getbuffer(pl_py_view *v, Py_buffer *b, int flags)
 
 static void view_releasebuffer(pl_py_view *v, Py_buffer *b)
 {
-    (void)v;
+    if (v->writable) pl_data_slot_writers(pl_py_data(v->sim), v->slot, -1);
     PyMem_Free(b->internal);
 }
 

@@ -1,7 +1,7 @@
 /* test_state.c - model apart from state: save/restore round-trips exactly,
  * reset returns to the loaded state, two states step over one model, input
  * fields live in each state, workspaces are per state and remade after a
- * model change. */
+ * model change, slot versions follow writes from outside a slot's owner. */
 #include <check.h>
 #include <math.h>
 #include <pliant/pliant.h>
@@ -197,6 +197,70 @@ START_TEST(input_fields_live_in_each_data)
 }
 END_TEST
 
+/* Slot versions (ABI 5.10): what an owner keeping a device copy of its slot
+ * relies on to skip re-reading it.  Every write from outside the owner makes
+ * a new version; an open writable view reads 0; closing it is a new one. */
+START_TEST(slot_versions_change_with_every_write_from_outside)
+{
+    pl_sim *s = load();
+    pl_error err;
+    pl_data *d = pl_sim_data(s);
+    int pos = pl_model_find_slot(pl_sim_model(s), "root/body/dofs.position");
+    int acc = pl_model_find_slot(pl_sim_model(s), "root/mover.acceleration");
+    ck_assert_int_ge(pos, 0);
+    ck_assert_int_ge(acc, 0);
+    ck_assert_uint_eq(pl_data_slot_version(d, -1), 0);
+    ck_assert_uint_eq(pl_data_slot_version(d, d->nslots), 0);
+    unsigned long v = pl_data_slot_version(d, pos), w;
+    ck_assert_uint_ne(v, 0);
+    ck_assert_uint_eq(pl_data_slot_version(d, pos), v); /* reading makes none */
+    pl_data_slot_touch(d, pos);
+    ck_assert_uint_ne(w = pl_data_slot_version(d, pos), 0);
+    ck_assert_uint_ne(w, v);
+    /* reset and restore copy into every slot */
+    ck_assert_int_eq(pl_sim_step(s, 2, &err), PL_OK);
+    v = pl_data_slot_version(d, pos);
+    ck_assert_int_eq(pl_sim_reset(s), PL_OK);
+    ck_assert_uint_ne(w = pl_data_slot_version(d, pos), v);
+    ck_assert_uint_ne(w, 0);
+    char path[1024];
+    int fd = test_tmp_file(path, sizeof path, "versions");
+    ck_assert_int_ge(fd, 0);
+    FILE *f = fdopen(fd, "wb");
+    ck_assert_int_eq(pl_data_save(d, f, &err), PL_OK);
+    fclose(f);
+    v = pl_data_slot_version(d, pos);
+    ck_assert_int_eq(pl_sim_restore_state(s, path, &err), PL_OK);
+    ck_assert_uint_ne(pl_data_slot_version(d, pos), v);
+    unlink(path);
+    /* an input set from outside (pl_data_store underneath) */
+    v = pl_data_slot_version(d, acc);
+    ck_assert_int_eq(pl_sim_set(s, "mover.acceleration", "0 0 0", &err), PL_OK);
+    ck_assert_uint_ne(pl_data_slot_version(d, acc), v);
+    /* a copy into another data makes new versions there, not in the source */
+    pl_data *other = pl_data_create(pl_sim_model(s));
+    ck_assert_ptr_nonnull(other);
+    v = pl_data_slot_version(other, pos);
+    w = pl_data_slot_version(d, pos);
+    ck_assert_int_eq(pl_data_copy(other, d), 0);
+    ck_assert_uint_ne(pl_data_slot_version(other, pos), v);
+    ck_assert_uint_eq(pl_data_slot_version(d, pos), w);
+    pl_data_free(other);
+    /* writable views: 0 while any is open, then a version not seen before */
+    v = pl_data_slot_version(d, pos);
+    pl_data_slot_writers(d, pos, +1);
+    pl_data_slot_writers(d, pos, +1);
+    ck_assert_uint_eq(pl_data_slot_version(d, pos), 0);
+    pl_data_slot_writers(d, pos, -1);
+    ck_assert_uint_eq(pl_data_slot_version(d, pos), 0);
+    ck_assert_uint_ne(pl_data_slot_version(d, acc), 0); /* other slots unaffected */
+    pl_data_slot_writers(d, pos, -1);
+    ck_assert_uint_ne(w = pl_data_slot_version(d, pos), 0);
+    ck_assert_uint_ne(w, v);
+    pl_sim_free(s);
+}
+END_TEST
+
 START_TEST(workspaces_are_per_data_and_remade_with_the_model)
 {
     pl_sim *s = load();
@@ -332,6 +396,7 @@ int main(void)
     tcase_add_test(tc, a_step_callback_drives_the_data_being_stepped);
     tcase_add_test(tc, an_input_field_must_be_numeric);
     tcase_add_test(tc, workspaces_are_per_data_and_remade_with_the_model);
+    tcase_add_test(tc, slot_versions_change_with_every_write_from_outside);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

@@ -18,7 +18,7 @@
 #define PL_API PL_EXPORT
 
 #define PL_ABI_MAJOR 5
-#define PL_ABI_MINOR 9
+#define PL_ABI_MINOR 10
 /* A plugin built for hosts from minor N on defines PL_ABI_TARGET_MINOR N
  * before including the SDK: what later minors added is then left out. */
 #ifndef PL_ABI_TARGET_MINOR

@@ -70,6 +70,11 @@ typedef struct pl_data {
     int nslots;
     void **workspaces;          /* model->ncomponents entries, NULL until asked for */
     unsigned long ws_generation; /* the model's generation they were made for */
+    /* Since ABI 5.10 (read them through pl_data_slot_version): per slot, a
+     * count of the writes that came from outside its owner, and how many
+     * writable views of it are open. */
+    unsigned long *slot_version;
+    int *slot_writers;
 } pl_data;
 
 /* Declares a FIXED-size state slot of `bytes` bytes owned by c (during
@@ -127,6 +132,26 @@ PL_API int pl_data_resize_slot(pl_data *d, int slot, size_t bytes);
 /* Resizes a slot to `bytes` and copies src into it (a per-step list such as
  * the contacts of a step); PL_OK or PL_EINTERNAL. */
 PL_API int pl_data_store(pl_data *d, int slot, const void *src, size_t bytes);
+
+#if PL_ABI_TARGET_MINOR >= 10
+/* A slot's version, for an owner that keeps a copy of its slot elsewhere
+ * (the device copy of ADMM duals): it changes whenever code other than the
+ * owner may have replaced the slot's contents (pl_data_copy into d, so
+ * restore and reset, pl_data_load, pl_data_store, pl_data_resize_slot,
+ * pl_data_slot_touch, a writable view opened or closed) and reads 0 while
+ * a writable view of the slot is open.  An owner that notes the version
+ * after its own last write of the slot may skip reading the slot back when
+ * the version is the same and not 0: nobody else has changed it.  Never 0
+ * otherwise.  Since ABI 5.10. */
+PL_API unsigned long pl_data_slot_version(const pl_data *d, int slot);
+/* Tells the slot's owner that its contents were written from outside (a
+ * new version).  Since ABI 5.10. */
+PL_API void pl_data_slot_touch(pl_data *d, int slot);
+/* A writable view of the slot opens (delta +1) or closes (-1): code that
+ * hands out the slot's memory for writing at times it does not control
+ * (the Python binding's views).  Since ABI 5.10. */
+PL_API void pl_data_slot_writers(pl_data *d, int slot, int delta);
+#endif
 
 /* Binary save/restore of a whole state (time, step, every slot by name).
  * Restoring treats the file as untrusted input: it must belong to a model

@@ -55,7 +55,11 @@
  * independent work, such as the local steps of different bodies, queued
  * side by side).
  * 5.9: pl_rows_reserve and pl_rows_put (rows.h: rows written by threads at
- * offsets an ordered pass gave them). */
+ * offsets an ordered pass gave them).
+ * 5.10: slot versions (model.h: pl_data_slot_version, pl_data_slot_touch,
+ * pl_data_slot_writers; pl_data's slot_version and slot_writers at its end):
+ * an owner keeping a device copy of its slot knows, without reading it,
+ * that nobody else wrote it. */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 
