@@ -281,18 +281,48 @@ void pl_dynamics_motion(const pl_dynamics *d, const pl_dyn_work *w, double *out)
             out[i] = w->q_t[i] + h * w->v_t[i] + h * h * d->gravity[i];
 }
 
-void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
+/* With Rayleigh stiffness damping, sn += h rS M'^-1 L q_t: the damping's
+ * right-hand side h rS L q_t (vertices without mass are prescribed: their
+ * rows are not solved). */
+static void add_damping_prediction(const pl_dynamics *d, pl_dyn_work *w)
 {
     double h = d->h, rs = d->scheme.rayleigh_stiffness;
-    pl_dynamics_motion(d, w, w->sn);
     if (!(rs > 0)) return;
-    /* the damping's right-hand side h rS L q_t, as sn += h rS M'^-1 L q_t
-     * (vertices without mass are prescribed: their rows are not solved) */
     memset(w->rhs, 0, (size_t)d->n * 3 * sizeof(double));
     pl_dynamics_add_Lq(d, w->q_t, h * rs, w->rhs);
     for (int i = 0; i < d->n; ++i)
         if (d->inertia[i] > 0)
             for (int c = 0; c < 3; ++c) w->sn[3 * i + c] += w->rhs[3 * i + c] / d->inertia[i];
+}
+
+void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w)
+{
+    pl_dynamics_motion(d, w, w->sn);
+    add_damping_prediction(d, w);
+}
+
+void pl_dynamics_begin(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, int guess)
+{
+    const double h = d->h, hv = d->scheme.first_order ? 0.0 : h;
+    for (int k = 0; k < d->nstates; ++k) {
+        const pl_state_ops *ops = state_ops(d->states[k]);
+        pl_buffer x = ops->positions(d->states[k], data), v = ops->velocities(d->states[k], data);
+        size_t base = 3 * (size_t)ops->offset(d->states[k]), cnt = 3 * x.rows;
+        if (!cnt) continue;
+        const double *px = x.data, *pv = v.data, *g = &d->gravity[base]; /* one g a state */
+        double *qt = w->q_t + base, *vt = w->v_t + base, *sn = w->sn + base, *q = w->q + base;
+        /* pl_dynamics_motion's expressions, term by term (bitwise the same) */
+        double hg[3], h2g[3];
+        for (int c = 0; c < 3; ++c) hg[c] = h * g[c], h2g[c] = h * h * g[c];
+        for (size_t i = 0; i < cnt; i += 3)
+            for (int c = 0; c < 3; ++c) {
+                double xi = px[i + c], vi = pv[i + c];
+                double m = d->scheme.first_order ? xi + hg[c] : xi + h * vi + h2g[c];
+                qt[i + c] = xi, vt[i + c] = vi, sn[i + c] = m;
+                q[i + c] = guess ? xi + hv * vi : m;
+            }
+    }
+    add_damping_prediction(d, w); /* q_t is complete now */
 }
 
 int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, double t,

@@ -78,6 +78,16 @@ void pl_dynamics_motion(const pl_dynamics *d, const pl_dyn_work *w, double *out)
 /* sn <- q_t + h v_t + h^2 g (first order: q_t + h g), plus
  * h rS M'^-1 L q_t with Rayleigh stiffness damping. */
 void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w);
+/* A step's start in one pass over the states: pl_dynamics_gather, then
+ * pl_dynamics_predict, then the first iterate q^0 (initialGuess): guess 0
+ * the motion, i.e. the prediction sn (the paper) without the damping's term
+ * (with Rayleigh stiffness sn also carries h rS M'^-1 L q_t, which is no
+ * position: L q_t is not zero at rest), guess 1 q_t + h v_t (first order:
+ * q_t), where a supported body at rest already is.  The values are those of
+ * the separate passes, bitwise.  One pass instead of four over n x 3 arrays: on the
+ * device path, where the host does little else, they cost about 0.1 ms of
+ * a 20k-vertex step (docs/benchmarks.md, session 17). */
+void pl_dynamics_begin(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, int guess);
 /* out (n x 3) += scale L q; nothing without L (no Rayleigh stiffness). */
 void pl_dynamics_add_Lq(const pl_dynamics *d, const double *q, double scale, double *out);
 /* Writes the prescribed vertices' positions at time t into q (n x 3). */

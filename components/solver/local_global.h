@@ -141,7 +141,5 @@ int pl_lg_residual(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,
 /* Its record in the timings, with the iterations done. */
 void pl_lg_record_residual(const local_global_solver *s, pl_ctx *ctx, double residual,
                            int iterations);
-/* w->q <- q^0 of the step (initialGuess), before the prescribed vertices. */
-void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w);
 
 #endif

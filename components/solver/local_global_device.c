@@ -468,9 +468,7 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     const pl_component *c = &s->base;
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
     int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
-    pl_dynamics_gather(d, w, ctx->data);
-    pl_dynamics_predict(d, w);
-    pl_lg_initial_guess(s, w);
+    pl_dynamics_begin(d, w, ctx->data, s->initial_guess); /* gather, predict, first guess */
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (!rc) rc = prepare_rows(s, g, err);
     if (rc) return rc;

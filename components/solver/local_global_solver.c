@@ -296,23 +296,6 @@ static int local_step(const local_global_solver *s, pl_dyn_work *w, pl_ctx *ctx,
     return PL_OK;
 }
 
-/* q^0: the prediction sn (the paper), or q_t + h v_t without gravity's
- * h^2 g, which is where a supported body at rest already is.  Shared with
- * the device path (local_global.h). */
-void pl_lg_initial_guess(const local_global_solver *s, pl_dyn_work *w)
-{
-    const pl_dynamics *d = &s->dyn;
-    if (s->initial_guess == 0) {
-        /* not sn: with Rayleigh stiffness sn also carries the damping's
-         * right-hand side h rS M'^-1 L q_t, which is no position (L q_t is
-         * not zero at rest) and would start the iterations far away */
-        pl_dynamics_motion(d, w, w->q);
-        return;
-    }
-    double hv = d->scheme.first_order ? 0.0 : d->h; /* first order: no velocity */
-    for (int i = 0; i < 3 * d->n; ++i) w->q[i] = w->q_t[i] + hv * w->v_t[i];
-}
-
 /* The force residual [N] at the current iterate w.q with the contact
  * solver's current multipliers (cs NULL: no constraint force); timed as
  * "Residual".  Shared with the device path (local_global.h). */
@@ -357,9 +340,7 @@ static int lg_step(const pl_component *c, pl_ctx *ctx, double dt, pl_error *err)
     if (s->gpu.dev) return pl_lg_device_step(s, ws, ctx, err);
     pl_dyn_work *w = &ws->w;
     const pl_global_solver_ops *gs = pl_component_role(s->solver, PL_ROLE_GLOBAL_SOLVER);
-    pl_dynamics_gather(d, w, ctx->data);
-    pl_dynamics_predict(d, w);
-    pl_lg_initial_guess(s, w);
+    pl_dynamics_begin(d, w, ctx->data, s->initial_guess); /* gather, predict, first guess */
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (rc) return rc;
     int nrows = 0;
