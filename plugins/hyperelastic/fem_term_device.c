@@ -93,7 +93,8 @@ static struct CUstream_st *stream_of(const hyper_fem_gpu *gpu)
  * memory page-locked already) the copies still work, staged by the driver. */
 static void pin_slot(hyper_fem_gpu *gpu, void *host)
 {
-    if (host == gpu->pinned || host == gpu->pin_failed || !gpu->ops->pin) return;
+    if (host == gpu->pinned || host == gpu->pin_failed || !gpu->ops->pin || !gpu->dual_bytes)
+        return;
     if (gpu->pinned) gpu->ops->unpin(gpu->dev, gpu->pinned);
     gpu->pinned = NULL;
     pl_error e;
