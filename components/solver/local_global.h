@@ -20,6 +20,12 @@ typedef struct lg_device {
     int *term_branch;          /* nterms (host): the device branch of each local term's
                                   project (its state's), NULL: all on the main stream */
     int nbranch;               /* the branches used (states; 0 without term_branch) */
+    /* the step's start and end on the device (local_global_device_state.c) */
+    int on_device;             /* the model allows the states to go up and down, with
+                                  q_t, sn and q on the device only */
+    double *gravity;           /* n x 3 */
+    int npres;                 /* prescribed vertices, each once (the last component's) */
+    int *pres_host, *pres_map; /* npres: their vertices, on the host and on the device */
 } lg_device;
 
 /* One data's device vectors (float64, n x 3 unless said) and graph, in the
@@ -46,6 +52,12 @@ typedef struct lg_device_ws {
     int nrows;                 /* constraint rows of the step being taken */
     double *pinned_q, *pinned_sn; /* the host vectors page-locked (NULL: not) */
     int prepared;              /* the global solver's device W path was prepared */
+    /* on_device (local_global_device_state.c): the states' positions and
+     * velocities (n x 3), q_t, the prescribed positions (npres x 3), a
+     * non-finite flag (device int); the states' slots page-locked */
+    double *x, *v, *q_t, *pres;
+    int *bad;
+    void **pinned_slots;       /* 2 nstates: positions, velocities (NULL: not pinned) */
 } lg_device_ws;
 
 /* The workspace (pl_data_workspace): what a step of one data writes. */
@@ -128,6 +140,24 @@ int pl_lg_device_residual_ws_alloc(const local_global_solver *s, lg_device_ws *g
 void pl_lg_device_residual_ws_free(lg_device_ws *g);
 int pl_lg_device_residual_queue(const local_global_solver *s, lg_device_ws *g, pl_ctx *ctx,
                                 pl_error *err);
+/* local_global_device_state.c: a step's start and end on the device, for
+ * steps whose vectors the host needs for nothing else (no rows, no host
+ * residual, energy, tolerance or Rayleigh damping; device ops version 6).
+ * setup at reinit sets gpu.on_device (the model allows it) and uploads the
+ * model's part; state_now says whether this step may (run-time fields); ws_alloc
+ * and ws_free the data's; begin uploads the states and queues q_t, sn and
+ * q (the host has written the prescribed vertices into w->q); end queues
+ * the states' new values, copies them into the data (the wait) and fails
+ * naming a vertex whose position is not finite. */
+int pl_lg_device_state_setup(local_global_solver *s, pl_error *err);
+int pl_lg_device_state_now(const local_global_solver *s);
+void pl_lg_device_state_free(lg_device *g);
+int pl_lg_device_state_ws_alloc(const local_global_solver *s, lg_device_ws *g, pl_error *err);
+void pl_lg_device_state_ws_free(lg_device_ws *g);
+int pl_lg_device_state_begin(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,
+                             pl_error *err);
+int pl_lg_device_state_end(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, double damping,
+                           pl_error *err);
 /* The step's constraint rows and the contact solver's begin (host, q_t):
  * the number of rows, or minus an error code.  local_global_solver.c. */
 int pl_lg_begin_constraints(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx,

@@ -270,6 +270,7 @@ static int allocate(local_global_solver *s, pl_error *err)
     if (!rc) rc = g->ops->sync(g->dev, err); /* the host arrays above may go */
     if (!rc) rc = pl_lg_device_residual_setup(s, err);
     if (!rc) rc = plan_branches(d, g, err);
+    if (!rc) rc = pl_lg_device_state_setup(s, err);
     return rc;
 }
 
@@ -297,6 +298,7 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     if (g->ops->version >= 3 && g->ops->loop)
         g->loop = dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
     if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
+    if (!rc) rc = pl_lg_device_state_ws_alloc(s, g, err);
     if (rc) {
         pl_lg_device_ws_free(ws);
         return rc;
@@ -326,6 +328,7 @@ void pl_lg_device_ws_free(lg_ws *ws)
     void *bufs[] = {g->q, g->sn, g->rhs, g->b_free, g->q_free, g->change, g->loop};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     pl_lg_device_residual_ws_free(g);
+    pl_lg_device_state_ws_free(g);
     if (g->pinned_q) o->unpin(g->dev, g->pinned_q);
     if (g->pinned_sn) o->unpin(g->dev, g->pinned_sn);
     memset(g, 0, sizeof *g);
@@ -371,6 +374,7 @@ void pl_lg_device_free(local_global_solver *s)
     void *bufs[] = {g->mass, g->free_vertex, g->A_fp.p, g->A_fp.j, g->A_fp.x};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) o->free(g->dev, bufs[k]);
     pl_lg_device_residual_free(g);
+    pl_lg_device_state_free(g);
     free(g->term_branch);
     memset(g, 0, sizeof *g);
 }
@@ -468,7 +472,8 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     const pl_component *c = &s->base;
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
     int flags = o->flags ? o->flags(g->dev) : 0; /* graph / profile may change at run time */
-    pl_dynamics_begin(d, w, ctx->data, s->initial_guess); /* gather, predict, first guess */
+    int on_device = pl_lg_device_state_now(s); /* the start and end on the device */
+    if (!on_device) pl_dynamics_begin(d, w, ctx->data, s->initial_guess); /* gather, predict, q */
     int rc = pl_dynamics_prescribe(d, w, ctx->data, ctx->data->time + d->h, w->q, err);
     if (!rc) rc = prepare_rows(s, g, err);
     if (rc) return rc;
@@ -484,8 +489,12 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     double scale = s->tolerance > 0 ? pl_dynamics_bbox_diagonal(w->q_t, d->n) : 1.0;
     if (s->compute_energy)
         pl_series_push(ctx->timers, "energy0", pl_dynamics_energy(d, w, ctx->data, w->q));
-    rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
-    if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
+    if (on_device) {
+        rc = pl_lg_device_state_begin(s, ws, ctx, err);
+    } else {
+        rc = o->copy(g->dev, g->sn, PL_DEVICE, w->sn, PL_HOST, n3, err);
+        if (!rc) rc = o->copy(g->dev, g->q, PL_DEVICE, w->q, PL_HOST, n3, err);
+    }
     int done = 0;
     double residual = NAN;
     pl_timer_start(ctx->timers, s->t_queue);
@@ -493,9 +502,16 @@ int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_e
     pl_timer_stop(ctx->timers, s->t_queue);
     /* the copy waits for the queued iterations: the time the host idles */
     pl_timer_start(ctx->timers, s->t_wait);
-    if (!rc) rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
+    if (!rc && on_device) /* the states' new values straight into the data */
+        rc = pl_lg_device_state_end(s, ws, ctx, pl_input_double(ctx->data, c, &s->damping), err);
+    else if (!rc)
+        rc = o->copy(g->dev, w->q, PL_HOST, g->q, PL_DEVICE, n3, err);
     pl_timer_stop(ctx->timers, s->t_wait);
     if (rc) return rc;
+    if (on_device) { /* checked and scattered by state_end; no host residual here */
+        pl_lg_record_residual(s, ctx, residual, done);
+        return PL_OK;
+    }
     for (int f = 0; f < d->nfree; ++f) {
         const double *x = &w->q[3 * d->free_vertex[f]];
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))

@@ -277,6 +277,20 @@ static int dev_scale_rows_zero(pl_component *c, int n, const double *s, const do
                     err);
 }
 
+static int dev_step_begin(pl_component *c, int n3, double h, int first_order, int guess,
+                          double hv, const double *x, const double *v, const double *g,
+                          double *q_t, double *sn, double *q, pl_error *err)
+{
+    return launched(c, cuda_step_begin(STREAM(c), n3, h, first_order, guess, hv, x, v, g, q_t, sn, q),
+                    "step_begin", err);
+}
+
+static int dev_step_end(pl_component *c, int n3, double h, double scale, const double *q,
+                        const double *q_t, double *x, double *v, int *bad, pl_error *err)
+{
+    return launched(c, cuda_step_end(STREAM(c), n3, h, scale, q, q_t, x, v, bad), "step_end", err);
+}
+
 static int dev_capture_begin(pl_component *c, pl_error *err)
 {
     CK(c, cudaStreamBeginCapture(STREAM(c), cudaStreamCaptureModeThreadLocal),
@@ -366,4 +380,6 @@ const pl_device_ops pl_cuda_device_ops = {
     .scale_rows_zero = dev_scale_rows_zero,
     .residual_max_csr = dev_residual_max_csr,
     .branch = dev_branch,
+    .step_begin = dev_step_begin,
+    .step_end = dev_step_end,
 };

@@ -246,7 +246,61 @@ __global__ void k_scale_rows_zero(int n, const double *__restrict__ s,
     if (i < n) scale_row((size_t)i, s, x, y);
 }
 
+/* pl_dynamics_begin's values for coordinate i, each operation rounded as
+ * written (__dmul_rn / __dadd_rn: nvcc would otherwise contract x + h v
+ * into a fused multiply-add, one rounding less than the host's). */
+__global__ void k_step_begin(int n3, double h, int first_order, int guess, double hv,
+                             const double *__restrict__ x, const double *__restrict__ v,
+                             const double *__restrict__ g, double *__restrict__ q_t,
+                             double *__restrict__ sn, double *__restrict__ q)
+{
+    PL_CUDA_GRID_WAIT(); /* first: before any global access (cuda_launch.h) */
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n3) return;
+    const double xi = x[i], vi = v[i], gi = g[i];
+    const double m = first_order ? __dadd_rn(xi, __dmul_rn(h, gi))
+                                 : __dadd_rn(__dadd_rn(xi, __dmul_rn(h, vi)),
+                                             __dmul_rn(__dmul_rn(h, h), gi));
+    q_t[i] = xi;
+    sn[i] = m;
+    q[i] = guess ? __dadd_rn(xi, __dmul_rn(hv, vi)) : m;
+}
+
+/* pl_dynamics_scatter's values for coordinate i, rounded as written. */
+__global__ void k_step_end(int n3, double h, double scale, const double *__restrict__ q,
+                           const double *__restrict__ q_t, double *__restrict__ x,
+                           double *__restrict__ v, int *__restrict__ bad)
+{
+    PL_CUDA_GRID_WAIT();
+    PL_CUDA_LAUNCH_DEPENDENTS();
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n3) return;
+    const double qi = q[i];
+    if (!isfinite(qi)) *bad = 1;
+    v[i] = __ddiv_rn(__dmul_rn(scale, __dsub_rn(qi, q_t[i])), h);
+    x[i] = qi;
+}
+
 } // namespace
+
+extern "C" int cuda_step_begin(struct CUstream_st *st, int n3, double h, int first_order,
+                               int guess, double hv, const double *x, const double *v,
+                               const double *g, double *q_t, double *sn, double *q)
+{
+    if (n3 <= 0) return 0;
+    pl_cuda_launch(k_step_begin, blocks(n3), kThreads, 0, st, n3, h, first_order, guess, hv, x, v,
+                   g, q_t, sn, q);
+    return (int)cudaGetLastError();
+}
+
+extern "C" int cuda_step_end(struct CUstream_st *st, int n3, double h, double scale,
+                             const double *q, const double *q_t, double *x, double *v, int *bad)
+{
+    if (n3 <= 0) return 0;
+    pl_cuda_launch(k_step_end, blocks(n3), kThreads, 0, st, n3, h, scale, q, q_t, x, v, bad);
+    return (int)cudaGetLastError();
+}
 
 extern "C" int cuda_residual_max(struct CUstream_st *st, int m, const int *map, const double *s,
                                  double h2, const double *x, const double *y, const double *g,

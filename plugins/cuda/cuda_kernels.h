@@ -43,6 +43,17 @@ int cuda_residual_max_csr(struct CUstream_st *st, int m, const int *map, const d
 int cuda_scale_rows_zero(struct CUstream_st *st, int n, const double *s, const double *x,
                          double *y, void *z, size_t bytes);
 
+/* A time step's start: q_t = x, sn = x + h v + h^2 g (first_order: x + h g),
+ * q = guess ? x + hv v : sn, i < n3, without fused multiply-adds (the host's
+ * pl_dynamics_begin, bitwise) */
+int cuda_step_begin(struct CUstream_st *st, int n3, double h, int first_order, int guess,
+                    double hv, const double *x, const double *v, const double *g, double *q_t,
+                    double *sn, double *q);
+/* Its end: v = scale (q - q_t) / h, x = q, i < n3 (pl_dynamics_scatter,
+ * bitwise); *bad = 1 where a q is not finite */
+int cuda_step_end(struct CUstream_st *st, int n3, double h, double scale, const double *q,
+                  const double *q_t, double *x, double *v, int *bad);
+
 #ifdef __cplusplus
 }
 #endif

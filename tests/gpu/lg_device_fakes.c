@@ -165,6 +165,33 @@ static int hd_residual_max_csr(pl_component *c, int m, const int *map, const dou
     }
     return PL_OK;
 }
+/* version 6: a step's start and end (roles.h), in the host's order of
+ * operations: pl_dynamics_begin's and pl_dynamics_scatter's values */
+static int hd_step_begin(pl_component *c, int n3, double h, int first_order, int guess, double hv,
+                         const double *x, const double *v, const double *g, double *q_t,
+                         double *sn, double *q, pl_error *err)
+{
+    (void)err;
+    ((host_device *)c)->calls++;
+    for (int i = 0; i < n3; ++i) {
+        double m = first_order ? x[i] + h * g[i] : x[i] + h * v[i] + h * h * g[i];
+        q_t[i] = x[i], sn[i] = m;
+        q[i] = guess ? x[i] + hv * v[i] : m;
+    }
+    return PL_OK;
+}
+static int hd_step_end(pl_component *c, int n3, double h, double scale, const double *q,
+                       const double *q_t, double *x, double *v, int *bad, pl_error *err)
+{
+    (void)err;
+    ((host_device *)c)->calls++;
+    for (int i = 0; i < n3; ++i) {
+        if (!isfinite(q[i])) *bad = 1;
+        v[i] = scale * (q[i] - q_t[i]) / h;
+        x[i] = q[i];
+    }
+    return PL_OK;
+}
 static int hd_no_graphs(pl_component *c, pl_error *err)
 {
     return pl_component_fail(c, err, PL_EINTERNAL, "HostDevice records no graphs");
@@ -214,6 +241,8 @@ static const pl_device_ops HD_OPS = {
     HD_OPS_V3_MEMBERS,
     .scale_rows_zero = hd_scale_rows_zero,
     .residual_max_csr = hd_residual_max_csr,
+    .step_begin = hd_step_begin,
+    .step_end = hd_step_end,
 };
 
 /* The same service as a version 3 table (without the version 4 members):

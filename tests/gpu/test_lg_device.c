@@ -157,8 +157,9 @@ START_TEST(device_path_equals_cpu_path_bitwise)
     assert_moved(&cpu, &start);
     assert_same(&dev, &cpu);
     /* the loop did run on the device service: 3 kernels per iteration (M sn,
-     * gather_sub_csr, scatter), 6 iterations, 8 steps */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * 6 * 3);
+     * gather_sub_csr, scatter), 6 iterations, 8 steps; and 3 a step for its
+     * start and end (step_begin, the prescribed vertices' scatter, step_end) */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 8 * (6 * 3 + 3));
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
@@ -266,8 +267,9 @@ START_TEST(constant_force_field_on_the_device_equals_the_cpu_bitwise)
     double d = 0;
     for (size_t i = 0; i < cpu.m; ++i) d = fmax(d, fabs(cpu.x[i] - plain_cpu.x[i]));
     ck_assert_msg(d > 1e-4, "the force moved nothing (%g m)", d);
-    /* 4 kernels per iteration: M sn, the force's sub_csr, gather_sub_csr, scatter */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 6 * 6 * 4);
+    /* 4 kernels per iteration: M sn, the force's sub_csr, gather_sub_csr,
+     * scatter; 3 a step for its start and end */
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 6 * (6 * 4 + 3));
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
     pl_registry_free(r);
@@ -322,7 +324,7 @@ START_TEST(two_data_on_the_device_interleave_exactly)
     for (size_t i = 0; i < alone[0].m; ++i) diff = fmax(diff, fabs(alone[0].x[i] - alone[1].x[i]));
     ck_assert_msg(diff > 1e-3, "the inputs changed nothing (%g m)", diff);
     /* each data made its own device vectors: both ran on the device */
-    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 2 * 6 * 6 * 4);
+    ck_assert_int_eq(fake_device_calls(pl_sim_component(sim, "dev")), 2 * 6 * (6 * 4 + 3));
     pl_data_free(d[1]); /* its device vectors go back to the device */
     pl_sim_free(sim);
     ck_assert_int_eq(fake_device_leaks, 0);
@@ -541,6 +543,57 @@ START_TEST(device_loop_reports_a_nan_at_the_cpus_iteration)
 }
 END_TEST
 
+/* A step's start and end on the device (device ops version 6,
+ * local_global_device_state.c) against the host's (PLIANT_DEVICE_STATE=0):
+ * the same values bitwise, 3 calls a step more on the device, and a NaN
+ * found at the end of a step reported with the same vertex, leaving the
+ * state as the step before left it. */
+START_TEST(step_start_and_end_on_the_device_equal_the_hosts)
+{
+    pl_registry *r = registry();
+    static result on, off, two;
+    long calls[2];
+    setup s = plain("cuda");
+    for (int k = 0; k < 2; ++k) {
+        if (k) setenv("PLIANT_DEVICE_STATE", "0", 1);
+        pl_sim *sim;
+        run(r, &s, 8, k ? &off : &on, &sim);
+        calls[k] = fake_device_calls(pl_sim_component(sim, "dev"));
+        pl_sim_free(sim);
+    }
+    unsetenv("PLIANT_DEVICE_STATE");
+    assert_same(&on, &off);
+    ck_assert_int_eq(calls[0] - calls[1], 8 * 3);
+    /* a NaN in the last steps' positions (fixed iteration count: the loop
+     * does not look at them; the step's end does) */
+    char msgs[2][sizeof(((pl_error *)0)->msg)];
+    run(r, &s, 2, &two, NULL);
+    for (int k = 0; k < 2; ++k) {
+        if (k) setenv("PLIANT_DEVICE_STATE", "0", 1);
+        setup n = s;
+        n.springs_ok = "1\" nanCall=\"15"; /* step 3, iteration 3 */
+        char msg[1024];
+        pl_sim *sim = load(r, &n, msg, sizeof msg);
+        ck_assert_msg(sim != NULL, "load failed: %s", msg);
+        pl_error err;
+        ck_assert_int_eq(pl_sim_step(sim, 2, &err), PL_OK);
+        ck_assert_int_ne(pl_sim_step(sim, 1, &err), PL_OK);
+        snprintf(msgs[k], sizeof msgs[k], "%s", err.msg);
+        ck_assert_msg(strstr(err.msg, "became NaN/inf during step 3 (vertex "), "%s", err.msg);
+        pl_component *c = pl_sim_component(sim, "bar/dofs");
+        const pl_state_ops *ops = pl_component_role(c, PL_ROLE_STATE);
+        pl_buffer x = ops->positions(c, pl_sim_data(sim));
+        ck_assert_msg(!memcmp(x.data, two.x, two.m * sizeof(double)),
+                      "a failed step changed the state");
+        pl_sim_free(sim);
+    }
+    unsetenv("PLIANT_DEVICE_STATE");
+    ck_assert_str_eq(msgs[0], msgs[1]);
+    ck_assert_int_eq(fake_device_leaks, 0);
+    pl_registry_free(r);
+}
+END_TEST
+
 int main(void)
 {
     Suite *su = suite_create("lg_device");
@@ -557,6 +610,7 @@ int main(void)
     tcase_add_test(tc, force_tolerance_on_the_device_stops_where_the_cpu_stops);
     tcase_add_test(tc, device_loop_stops_where_the_cpu_stops);
     tcase_add_test(tc, device_loop_reports_a_nan_at_the_cpus_iteration);
+    tcase_add_test(tc, step_start_and_end_on_the_device_equal_the_hosts);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);
     srunner_run_all(sr, CK_NORMAL);

@@ -297,7 +297,12 @@ typedef struct pl_animation_loop_ops {
  * components queue their own kernels on stream(), asked for at each call.
  * The vector kernels work on float64 n x 3 row-major blocks (a row = a
  * vertex's xyz). */
-#if PL_ABI_TARGET_MINOR >= 8
+#if PL_ABI_TARGET_MINOR >= 10
+#include "device_loop.h"
+/* 2: residual_max; 3: loop, gather_sub_csr; 4: scale_rows_zero, residual_max_csr;
+ * 5: branch; 6: step_begin, step_end */
+#define PL_DEVICE_OPS_VERSION 6
+#elif PL_ABI_TARGET_MINOR >= 8
 #include "device_loop.h"
 /* 2: residual_max; 3: loop, gather_sub_csr; 4: scale_rows_zero, residual_max_csr;
  * 5: branch */
@@ -429,6 +434,26 @@ typedef struct pl_device_ops {
      * closes them with branch(c, 0) before it captures, replays, copies to
      * the host or waits. */
     int (*branch)(pl_component *c, int k, pl_error *err);
+#endif
+#if PL_ABI_TARGET_MINOR >= 10
+    /* version 6, optional (NULL: the caller does both on the host): a time
+     * step's start and end on the device, for a step whose vectors the host
+     * needs for nothing else (components/solver/local_global_device_state.c).
+     * step_begin, for i < n3 (x, v: the states' positions and velocities,
+     * g: gravity, all n x 3):
+     *     q_t[i] = x[i];
+     *     sn[i] = first_order ? x[i] + h g[i] : x[i] + h v[i] + h^2 g[i];
+     *     q[i] = guess ? x[i] + hv v[i] : sn[i];
+     * with pl_dynamics_begin's operations in its order and no contraction
+     * into fused multiply-adds: the host's values, bitwise. */
+    int (*step_begin)(pl_component *c, int n3, double h, int first_order, int guess, double hv,
+                      const double *x, const double *v, const double *g, double *q_t,
+                      double *sn, double *q, pl_error *err);
+    /* version 6, optional: for i < n3, v[i] = scale (q[i] - q_t[i]) / h and
+     * x[i] = q[i] (pl_dynamics_scatter's operations, bitwise); *bad (a device
+     * int) = 1 where a q[i] is not finite, else left as it is. */
+    int (*step_end)(pl_component *c, int n3, double h, double scale, const double *q,
+                    const double *q_t, double *x, double *v, int *bad, pl_error *err);
 #endif
 } pl_device_ops;
 #if PL_ABI_TARGET_MINOR >= 8
