@@ -23,6 +23,9 @@
  * solver's workspace, so several data step over one model on the device.
  *   copy:   q back to the host once, then v = (q - q_t) / h and the
  *           scatter into the states on the host.
+ * Or, for a step whose vectors the host needs for nothing else (no rows,
+ * host residual, energy, tolerance or Rayleigh damping), the start and the
+ * end on the device: local_global_device_state.c.
  * Without the device loop q comes back every iteration only when
  * tolerance > 0 (the change, one number) or computeEnergy is set (all of
  * q, for the energy).
