@@ -59,7 +59,8 @@
  * 5.10: slot versions (model.h: pl_data_slot_version, pl_data_slot_touch,
  * pl_data_slot_writers; pl_data's slot_version and slot_writers at its end):
  * an owner keeping a device copy of its slot knows, without reading it,
- * that nobody else wrote it. */
+ * that nobody else wrote it; device ops version 6 (pl_device_ops.step_begin,
+ * step_end: a time step's start and end on the device). */
 #ifndef PLIANT_PLUGIN_H
 #define PLIANT_PLUGIN_H
 
