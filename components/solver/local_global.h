@@ -57,7 +57,8 @@ typedef struct lg_device_ws {
      * non-finite flag (device int); the states' slots page-locked */
     double *x, *v, *q_t, *pres;
     int *bad;
-    void **pinned_slots;       /* 2 nstates: positions, velocities (NULL: not pinned) */
+    void **slot_tried;         /* 2 nstates + 1: the states' slots met, up to a NULL */
+    void **pinned_slots;       /* for each of them: itself if page-locked, else NULL */
 } lg_device_ws;
 
 /* The workspace (pl_data_workspace): what a step of one data writes. */

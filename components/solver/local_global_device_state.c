@@ -123,7 +123,8 @@ int pl_lg_device_state_ws_alloc(const local_global_solver *s, lg_device_ws *g, p
                      : NULL;
     g->bad = g->pres ? g->ops->alloc(g->dev, sizeof(int), err) : NULL;
     g->pinned_slots = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
-    if (!g->bad || !g->pinned_slots) {
+    g->slot_tried = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
+    if (!g->bad || !g->pinned_slots || !g->slot_tried) {
         if (!err->code) pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
         return err->code;
     }
@@ -135,20 +136,25 @@ void pl_lg_device_state_ws_free(lg_device_ws *g)
     void *bufs[] = {g->x, g->v, g->q_t, g->pres, g->bad};
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k)
         if (bufs[k]) g->ops->free(g->dev, bufs[k]);
-    for (int k = 0; g->pinned_slots && g->pinned_slots[k]; ++k)
-        g->ops->unpin(g->dev, g->pinned_slots[k]);
+    for (int k = 0; g->slot_tried && g->slot_tried[k]; ++k)
+        if (g->pinned_slots[k]) g->ops->unpin(g->dev, g->pinned_slots[k]);
     free(g->pinned_slots);
-    g->x = g->v = g->q_t = g->pres = NULL, g->bad = NULL, g->pinned_slots = NULL;
+    free(g->slot_tried);
+    g->x = g->v = g->q_t = g->pres = NULL, g->bad = NULL;
+    g->pinned_slots = g->slot_tried = NULL;
 }
 
 /* A state slot page-locked once per data (a fixed slot keeps its memory):
- * its copies each way are then DMA.  The list ends at the first NULL; a
- * slot that cannot be page-locked is copied through the driver's staging. */
+ * its copies each way are then DMA.  slot_tried lists the slots tried (up
+ * to the first NULL), pinned_slots those page-locked; one that cannot be
+ * (pages shared with memory page-locked already) is not tried again and is
+ * copied through the driver's staging. */
 static void pin_once(const lg_device_ws *g, void *host, size_t bytes)
 {
     int k = 0;
-    for (; g->pinned_slots[k]; ++k)
-        if (g->pinned_slots[k] == host) return;
+    for (; g->slot_tried[k]; ++k)
+        if (g->slot_tried[k] == host) return;
+    g->slot_tried[k] = host;
     pl_error e;
     if (bytes && g->ops->pin && g->ops->pin(g->dev, host, bytes, &e) == PL_OK)
         g->pinned_slots[k] = host;
