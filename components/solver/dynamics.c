@@ -42,7 +42,7 @@ static const pl_state_ops *state_ops(const pl_component *s)
     return pl_component_role(s, PL_ROLE_STATE);
 }
 
-static int find_state_offset(const pl_dynamics *d, const pl_component *s)
+int pl_dynamics_state_offset(const pl_dynamics *d, const pl_component *s)
 {
     for (int k = 0; k < d->nstates; ++k)
         if (d->states[k] == s) return state_ops(s)->offset(s);
@@ -83,7 +83,7 @@ static int add_masses(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
     for (int k = 0; k < nm; ++k) {
         const pl_mass_ops *ops = pl_component_role(masses[k], PL_ROLE_MASS);
         pl_component *s = ops->state(masses[k]);
-        int off = s ? find_state_offset(d, s) : -1;
+        int off = s ? pl_dynamics_state_offset(d, s) : -1;
         pl_error err;
         if (off < 0) continue; /* its state is outside this solver's subtree */
         if (ops->add_vertex_masses(masses[k], d->mass + off, state_ops(s)->count(s), &err)) {
@@ -101,7 +101,7 @@ static int mark_prescribed(pl_dynamics *d, pl_component *owner, pl_ctx *ctx)
     for (int i = 0; i < d->n; ++i) d->free_index[i] = 0;
     for (int k = 0; k < d->nprescribed; ++k) {
         const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
-        int off = find_state_offset(d, ops->state(d->prescribed[k]));
+        int off = pl_dynamics_state_offset(d, ops->state(d->prescribed[k]));
         const int *idx;
         int m = ops->indices(d->prescribed[k], &idx);
         for (int j = 0; off >= 0 && j < m; ++j) d->free_index[off + idx[j]] = -1;
@@ -194,7 +194,7 @@ int pl_dynamics_setup(pl_dynamics *d, pl_component *owner, pl_ctx *ctx, double h
     if (!d->term_offset) return pl_component_error(owner, ctx, PL_EINTERNAL, "out of memory");
     for (int k = 0; k < d->nterms; ++k) {
         const pl_local_term_ops *ops = pl_component_role(d->terms[k], PL_ROLE_LOCAL_TERM);
-        d->term_offset[k] = find_state_offset(d, ops->state(d->terms[k]));
+        d->term_offset[k] = pl_dynamics_state_offset(d, ops->state(d->terms[k]));
         if (d->term_offset[k] < 0)
             return pl_component_error(d->terms[k], ctx, PL_EINPUT,
                                       "its MechanicalObject is not below the solver %s",
@@ -330,7 +330,7 @@ int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *d
 {
     for (int k = 0; k < d->nprescribed; ++k) {
         const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
-        int off = find_state_offset(d, ops->state(d->prescribed[k]));
+        int off = pl_dynamics_state_offset(d, ops->state(d->prescribed[k]));
         const int *idx;
         int m = ops->indices(d->prescribed[k], &idx);
         if (off < 0 || m == 0) continue;

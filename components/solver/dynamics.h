@@ -90,6 +90,9 @@ void pl_dynamics_predict(const pl_dynamics *d, pl_dyn_work *w);
 void pl_dynamics_begin(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, int guess);
 /* out (n x 3) += scale L q; nothing without L (no Rayleigh stiffness). */
 void pl_dynamics_add_Lq(const pl_dynamics *d, const double *q, double scale, double *out);
+/* The first vertex of state s in the system, or -1 when s is not one of
+ * its states. */
+int pl_dynamics_state_offset(const pl_dynamics *d, const pl_component *s);
 /* Writes the prescribed vertices' positions at time t into q (n x 3). */
 int pl_dynamics_prescribe(const pl_dynamics *d, pl_dyn_work *w, const pl_data *data, double t,
                           double *q, pl_error *err);

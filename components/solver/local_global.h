@@ -113,6 +113,10 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
 void pl_lg_device_ws_free(lg_ws *ws);
 /* One time step with the iterations on the device. */
 int pl_lg_device_step(const local_global_solver *s, lg_ws *ws, pl_ctx *ctx, pl_error *err);
+/* `bytes` of device memory, unless *rc already holds an error; on failure
+ * NULL and the error code in *rc (a chain of allocations checked once). */
+void *pl_lg_dalloc(pl_component *dev, const pl_device_ops *ops, size_t bytes, int *rc,
+                   pl_error *err);
 /* y[f] = x[map[f]] - (A q)[f], f < m (A NULL: none): the service's
  * gather_sub_csr (version 3), else gather_rows and sub_csr. */
 int pl_lg_device_gather_sub(const lg_device_ws *g, int m, const int *map, const double *x,

@@ -138,8 +138,8 @@ static pl_component *find_device(local_global_solver *s, char *why, size_t size)
     return dev;
 }
 
-static void *dalloc(pl_component *dev, const pl_device_ops *ops, size_t bytes, int *rc,
-                    pl_error *err)
+void *pl_lg_dalloc(pl_component *dev, const pl_device_ops *ops, size_t bytes, int *rc,
+                   pl_error *err)
 {
     if (*rc) return NULL;
     void *p = ops->alloc(dev, bytes, err);
@@ -247,9 +247,9 @@ static int allocate(local_global_solver *s, pl_error *err)
     pl_dynamics *d = &s->dyn;
     lg_device *g = &s->gpu;
     int rc = PL_OK;
-    g->mass = dalloc(g->dev, g->ops, (size_t)d->n * sizeof(double), &rc, err);
+    g->mass = pl_lg_dalloc(g->dev, g->ops, (size_t)d->n * sizeof(double), &rc, err);
     g->free_vertex =
-        dalloc(g->dev, g->ops, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
+        pl_lg_dalloc(g->dev, g->ops, (size_t)(d->nfree ? d->nfree : 1) * sizeof(int), &rc, err);
     put(g, g->mass, d->inertia, (size_t)d->n * sizeof(double), &rc, err);
     put(g, g->free_vertex, d->free_vertex, (size_t)d->nfree * sizeof(int), &rc, err);
     if (rc) return rc;
@@ -263,9 +263,9 @@ static int allocate(local_global_solver *s, pl_error *err)
     int nnz = pl_csr_nnz(&R);
     g->fp_nnz = nnz;
     g->A_fp.nrows = R.nrows, g->A_fp.ncols = R.ncols;
-    g->A_fp.p = dalloc(g->dev, g->ops, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
-    g->A_fp.j = dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(int), &rc, err);
-    g->A_fp.x = dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(double), &rc, err);
+    g->A_fp.p = pl_lg_dalloc(g->dev, g->ops, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
+    g->A_fp.j = pl_lg_dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(int), &rc, err);
+    g->A_fp.x = pl_lg_dalloc(g->dev, g->ops, (size_t)(nnz ? nnz : 1) * sizeof(double), &rc, err);
     put(g, g->A_fp.p, R.p, ((size_t)R.nrows + 1) * sizeof(int), &rc, err);
     put(g, g->A_fp.j, R.j, (size_t)nnz * sizeof(int), &rc, err);
     put(g, g->A_fp.x, R.x, (size_t)nnz * sizeof(double), &rc, err);
@@ -288,18 +288,18 @@ int pl_lg_device_ws_alloc(const local_global_solver *s, lg_ws *ws, pl_error *err
     g->dev = s->gpu.dev;
     g->ops = s->gpu.ops;
     g->flags = g->ops->flags ? g->ops->flags(g->dev) : 0;
-    g->q = dalloc(g->dev, g->ops, n3, &rc, err);
-    g->sn = dalloc(g->dev, g->ops, n3, &rc, err);
-    g->rhs = dalloc(g->dev, g->ops, n3, &rc, err);
-    g->b_free = dalloc(g->dev, g->ops, f3, &rc, err);
-    g->q_free = dalloc(g->dev, g->ops, f3, &rc, err);
+    g->q = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->sn = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->rhs = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->b_free = pl_lg_dalloc(g->dev, g->ops, f3, &rc, err);
+    g->q_free = pl_lg_dalloc(g->dev, g->ops, f3, &rc, err);
     /* change, then with forceTolerance the residual and the gradient (n x 3):
      * one block, so that one memset clears them at the start of an iteration */
     int ftol = s->force_tolerance > 0;
     g->scalars = ftol ? 2 + (size_t)d->n * 3 : 1;
-    g->change = dalloc(g->dev, g->ops, g->scalars * sizeof(double), &rc, err);
+    g->change = pl_lg_dalloc(g->dev, g->ops, g->scalars * sizeof(double), &rc, err);
     if (g->ops->version >= 3 && g->ops->loop)
-        g->loop = dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
+        g->loop = pl_lg_dalloc(g->dev, g->ops, sizeof(pl_device_loop), &rc, err);
     if (!rc) rc = pl_lg_device_residual_ws_alloc(s, g, err);
     if (!rc) rc = pl_lg_device_state_ws_alloc(s, g, err);
     if (rc) {

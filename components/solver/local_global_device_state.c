@@ -29,11 +29,6 @@
 
 #include "local_global.h"
 
-static const pl_state_ops *state_ops(const pl_component *c)
-{
-    return pl_component_role(c, PL_ROLE_STATE);
-}
-
 /* The vertices prescribed at each step, each once, in pl_dynamics_prescribe's
  * order of writing (a vertex two components prescribe keeps the last one's
  * position, as on the host): npres and pres_host; -1 when out of memory. */
@@ -44,10 +39,7 @@ static int prescribed_vertices(const pl_dynamics *d, lg_device *g)
     for (int i = 0; i < d->n; ++i) last[i] = 0;
     for (int k = 0; k < d->nprescribed; ++k) {
         const pl_prescribed_ops *ops = pl_component_role(d->prescribed[k], PL_ROLE_PRESCRIBED);
-        const pl_component *st = ops->state(d->prescribed[k]);
-        int off = -1;
-        for (int j = 0; j < d->nstates; ++j)
-            if (d->states[j] == st) off = state_ops(st)->offset(st);
+        int off = pl_dynamics_state_offset(d, ops->state(d->prescribed[k]));
         const int *idx;
         int cnt = ops->indices(d->prescribed[k], &idx);
         for (int j = 0; off >= 0 && j < cnt; ++j)
@@ -78,9 +70,9 @@ int pl_lg_device_state_setup(local_global_solver *s, pl_error *err)
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
     if (prescribed_vertices(d, g) != 0)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-    g->gravity = o->alloc(g->dev, n3, err);
-    g->pres_map = o->alloc(g->dev, sizeof(int) * (size_t)(g->npres ? g->npres : 1), err);
-    int rc = g->gravity && g->pres_map ? PL_OK : (err->code ? err->code : PL_EINTERNAL);
+    int rc = PL_OK;
+    g->gravity = pl_lg_dalloc(g->dev, o, n3, &rc, err);
+    g->pres_map = pl_lg_dalloc(g->dev, o, sizeof(int) * (size_t)(g->npres ? g->npres : 1), &rc, err);
     if (!rc) rc = o->copy(g->dev, g->gravity, PL_DEVICE, d->gravity, PL_HOST, n3, err);
     if (!rc && g->npres)
         rc = o->copy(g->dev, g->pres_map, PL_DEVICE, g->pres_host, PL_HOST,
@@ -97,8 +89,7 @@ int pl_lg_device_state_setup(local_global_solver *s, pl_error *err)
 int pl_lg_device_state_now(const local_global_solver *s)
 {
     /* run-time fields: asked at each step */
-    return s->gpu.on_device && !s->report_residual && s->compute_residual != 1 &&
-           !s->compute_energy && !(s->tolerance > 0);
+    return s->gpu.on_device && !s->report_residual && !s->compute_energy && !(s->tolerance > 0);
 }
 
 void pl_lg_device_state_free(lg_device *g)
@@ -115,19 +106,18 @@ int pl_lg_device_state_ws_alloc(const local_global_solver *s, lg_device_ws *g, p
     const pl_dynamics *d = &s->dyn;
     if (!s->gpu.on_device) return PL_OK;
     size_t n3 = (size_t)d->n * 3 * sizeof(double);
-    g->x = g->ops->alloc(g->dev, n3, err);
-    g->v = g->x ? g->ops->alloc(g->dev, n3, err) : NULL;
-    g->q_t = g->v ? g->ops->alloc(g->dev, n3, err) : NULL;
-    g->pres = g->q_t ? g->ops->alloc(g->dev, 3 * sizeof(double) *
-                                                  (size_t)(s->gpu.npres ? s->gpu.npres : 1), err)
-                     : NULL;
-    g->bad = g->pres ? g->ops->alloc(g->dev, sizeof(int), err) : NULL;
+    size_t p3 = (size_t)(s->gpu.npres ? s->gpu.npres : 1) * 3 * sizeof(double);
+    int rc = PL_OK;
+    g->x = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->v = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->q_t = pl_lg_dalloc(g->dev, g->ops, n3, &rc, err);
+    g->pres = pl_lg_dalloc(g->dev, g->ops, p3, &rc, err);
+    g->bad = pl_lg_dalloc(g->dev, g->ops, sizeof(int), &rc, err);
+    if (rc) return rc;
     g->pinned_slots = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
     g->slot_tried = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
-    if (!g->bad || !g->pinned_slots || !g->slot_tried) {
-        if (!err->code) pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
-        return err->code;
-    }
+    if (!g->pinned_slots || !g->slot_tried)
+        return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     return PL_OK;
 }
 
@@ -168,7 +158,7 @@ static int copy_states(const local_global_solver *s, lg_device_ws *g, pl_data *d
     const pl_dynamics *d = &s->dyn;
     int rc = PL_OK;
     for (int k = 0; !rc && k < d->nstates; ++k) {
-        const pl_state_ops *ops = state_ops(d->states[k]);
+        const pl_state_ops *ops = pl_component_role(d->states[k], PL_ROLE_STATE);
         pl_buffer xb = ops->positions(d->states[k], data), vb = ops->velocities(d->states[k], data);
         size_t at = 3 * (size_t)ops->offset(d->states[k]), bytes = 3 * xb.rows * sizeof(double);
         double *px = pl_buffer_f64(&xb), *pv = pl_buffer_f64(&vb);

@@ -100,8 +100,7 @@ pl_data *pl_data_create(const pl_model *m)
         free(d);
         return NULL;
     }
-    for (int k = 0; k < m->nslots; ++k) d->slot_version[k] = 1;
-    for (int k = 0; k < m->nslots; ++k)
+    for (int k = 0; k < m->nslots; ++k) /* resize gives each slot its first version, 1 */
         if (resize(d, k, m->slots[k].initial_bytes) != 0 ||
             (m->slots[k].field && pl_input_fill(d, k) != PL_OK)) {
             pl_data_free(d);

@@ -226,9 +226,8 @@ START_TEST(slot_versions_change_with_every_write_from_outside)
     char path[1024];
     int fd = test_tmp_file(path, sizeof path, "versions");
     ck_assert_int_ge(fd, 0);
-    FILE *f = fdopen(fd, "wb");
-    ck_assert_int_eq(pl_data_save(d, f, &err), PL_OK);
-    fclose(f);
+    close(fd);
+    ck_assert_int_eq(pl_sim_save_state(s, path, &err), PL_OK);
     v = pl_data_slot_version(d, pos);
     ck_assert_int_eq(pl_sim_restore_state(s, path, &err), PL_OK);
     ck_assert_uint_ne(pl_data_slot_version(d, pos), v);
