@@ -33,7 +33,8 @@
 # end (`--export-every` of the whole run), OMP_WAIT_POLICY=PASSIVE.  The scenes
 # keep their own settings: 5 local-global and 10 CR iterations, h = 0.01 s, no
 # tolerance (all iterations run), except the raptors (h = 0.0025 s, 10 iterations:
-# the grasp slips at larger steps, tests/gripper/README.md).
+# the grasp slips at larger steps, tests/gripper/README.md), which are run a
+# second time with the paper's settings (rows NAME@paper: table3.py VARIANTS).
 set -u
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
@@ -76,7 +77,7 @@ meta() { # the run's context, once per call
 
 run_part() { # the runs of part $1
     $PY jobs "$1" "${SCENES:-}" > "$RES/jobs_$1.txt" || return 1
-    while read -r dev scene steps tmo; do
+    while read -r dev scene steps tmo file sets; do
         left=$(( LIMIT_S - ($(date +%s) - t0) ))
         if [ "$left" -lt $(( (tmo - 60) / 3 + 5 )) ]; then
             echo "skipped (time limit): $dev $scene" | tee -a "$RES/skipped.txt"
@@ -111,10 +112,11 @@ run_part() { # the runs of part $1
     rm -rf "$RES/out" "$RES"/slot* "$RES/failed"; mkdir -p "$RES/out"
 }
 
-one_run() { # one run of the loop's job ($dev $scene $steps $tmo $name args), prefixed by "$@"
-    local s0 rc
+one_run() { # one run of the loop's job ($dev $scene $steps $tmo $name $file $sets args), prefixed by "$@"
+    local s0 rc ovr=()
     s0=$(date +%s)
-    timeout "$tmo" "$@" "$P" run "scenes/$scene" -n "$steps" "${args[@]}" --timings "$RES/$name.json" \
+    for v in $sets; do ovr+=(--set "$v"); done # a row's own overrides (table3.py VARIANTS)
+    timeout "$tmo" "$@" "$P" run "scenes/$file" -n "$steps" "${args[@]}" "${ovr[@]}" --timings "$RES/$name.json" \
         --set solver.computeResidual=off --export-every "$steps" -o "$RES/out/$name" --progress 0 \
         > "$RES/$name.log" 2>&1
     rc=$?
