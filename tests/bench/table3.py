@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The paper's Table 3 at every size: the job list and the tables.
 
-    table3.py jobs PART [FILTER]   the runs of a part, one per line:
-                                   "device scene steps timeout_s" (table3.sh runs them)
+    table3.py jobs PART [FILTER]   the runs of a part, one per line: "device row steps
+                                   timeout_s scene-file [override...]" (table3.sh runs
+                                   them; a row NAME@V.xml is NAME.xml with VARIANTS[@V])
     table3.py plan                 every part with its estimated time
     table3.py table RES [--doc FILE] [--out FILE]
                                    the GPU and CPU tables from RES/<device>_<scene>.json
@@ -62,16 +63,17 @@ ROWS = [
     ("grabbing_raptor_10k.xml", ("Grabbing raptor", "10.3k", "34.7k", "Neo-Hookean", "0.14k", 21.49), 165, 55),
     ("grabbing_raptor_15k.xml", ("Grabbing raptor", "15.3k", "55.2k", "Neo-Hookean", "0.13k", 29.68), 280, 90),
     ("grabbing_raptor_20k.xml", ("Grabbing raptor", "20.4k", "77.8k", "Neo-Hookean", "0.14k", 38.62), 400, 125),
-    # the raptors again with the paper's settings (VARIANTS; estimates from session 18's runs)
-    ("grabbing_raptor_10k@paper.xml", ("Grabbing raptor", "10.3k", "34.7k", "Neo-Hookean", "0.14k", 21.49), 60, 12),
-    ("grabbing_raptor_15k@paper.xml", ("Grabbing raptor", "15.3k", "55.2k", "Neo-Hookean", "0.13k", 29.68), 90, 14),
-    ("grabbing_raptor_20k@paper.xml", ("Grabbing raptor", "20.4k", "77.8k", "Neo-Hookean", "0.14k", 38.62), 130, 16),
 ]
 # Rows run with other settings than their scene's own: NAME@paper.xml is scenes/NAME.xml
 # with the paper's h = 0.01 s and 5 local-global iterations (`--set` overrides; the
 # raptors' own 0.0025 s and 10 iterations hold the whole pick-and-place timeline,
-# these the lift: tests/gripper/README.md, "The paper's settings").
+# these the lift: tests/gripper/README.md, "The paper's settings"), the paper's row
+# beside it; estimated ms per step (CPU 16 threads, GPU) from session 18's runs.
 VARIANTS = {"@paper": ("root.dt=0.01", "solver.iterations=5")}
+PAPER_SETTINGS = {"grabbing_raptor_10k.xml": (60, 12), "grabbing_raptor_15k.xml": (90, 14),
+                  "grabbing_raptor_20k.xml": (130, 16)}
+ROWS += [(s[:-4] + "@paper.xml", paper, *PAPER_SETTINGS[s]) for s, paper, _c, _g in ROWS
+         if s in PAPER_SETTINGS]
 LOAD_S = 3          # load, start and write of one run, at most (2.6 s for the 20.8k bar)
 FRAME_S = 0.01      # a frame of the paper: 0.01 s of simulated time
 # The CPU runs are split in two so that each half of the whole stays under the
