@@ -5,6 +5,7 @@
                                    timeout_s scene-file [override...]" (table3.sh runs
                                    them; a row NAME@V.xml is NAME.xml with VARIANTS[@V])
     table3.py plan                 every part with its estimated time
+    table3.py selftest             the variant rows through jobs and table (ctest)
     table3.py table RES [--doc FILE] [--out FILE]
                                    the GPU and CPU tables from RES/<device>_<scene>.json
                                    (+ .log); --doc rewrites FILE's section between
@@ -332,8 +333,48 @@ def write_doc(doc, text):
         f.write(new)
 
 
+def selftest():
+    """The @paper rows through jobs and table on made-up runs (ctest table3_selftest)."""
+    import tempfile
+    lines = [j for j in jobs("gpu", "@paper")]
+    want = ["grabbing_raptor_10k@paper.xml", "grabbing_raptor_15k@paper.xml",
+            "grabbing_raptor_20k@paper.xml"]
+    if [j[1] for j in lines] != want:
+        sys.exit("selftest: @paper jobs %s" % [j[1] for j in lines])
+    if split_variant(want[0]) != ("grabbing_raptor_10k.xml", VARIANTS["@paper"]):
+        sys.exit("selftest: split_variant %s" % (split_variant(want[0]),))
+    if split_variant("sharp_corner.xml") != ("sharp_corner.xml", ()):
+        sys.exit("selftest: a plain row has overrides")
+    if steps_per_frame(want[0]) != 1 or steps_per_frame("grabbing_raptor_10k.xml") != 4:
+        sys.exit("selftest: steps per frame %d, %d" % (steps_per_frame(want[0]),
+                                                    steps_per_frame("grabbing_raptor_10k.xml")))
+    if lines[0][2] != frames_of(want[0]):
+        sys.exit("selftest: %d steps for %d frames" % (lines[0][2], frames_of(want[0])))
+    with tempfile.TemporaryDirectory() as d:
+        # 5 frames of one step: the first is left out; the most contacts (30) at
+        # frames 2 and 4 (first reached at 0.03 s), the slower of them without
+        # detection: Frame* = 8 - 0.5 (frame 2: 9 - 2)
+        frame, det, con = [50.0, 6.0, 9.0, 4.0, 8.0], [1.0, 1.0, 2.0, 1.0, 0.5], [0, 10, 30, 20, 30]
+        js = {"frames": {"count": 5, "Frame": frame, "Detection": det, "contacts max": con},
+              "stats": {"S device memory [MB]": 1.0}}
+        with open(os.path.join(d, "gpu_grabbing_raptor_10k@paper.json"), "w") as f:
+            json.dump(js, f)
+        with open(os.path.join(d, "gpu_grabbing_raptor_10k@paper.log"), "w") as f:
+            f.write("pliant: info: LocalGlobalSolver: 10328 vertices (10328 unknowns)\n"
+                    "pliant: info: material: 45289 tetrahedra, ADMM-PD (w = ...)\n")
+        r = row_of(d, "gpu", want[0], dict((x[0], x[1]) for x in ROWS)[want[0]])
+        if (r is None or r["star"] != 7.5 or r["contacts"] != "30" or r["at"] != "0.03"
+                or r["device"] != "GPU" or r["paper"] != 21.49 or r["vert"] != "10.3k"):
+            sys.exit("selftest: row %s" % r)
+        if "| grabbing_raptor_10k@paper | GPU |" not in "\n".join(table_lines(d, "gpu")):
+            sys.exit("selftest: the row is not in the table")
+    print("table3.py selftest: ok")
+
+
 def main(argv):
-    if len(argv) >= 2 and argv[1] == "jobs":
+    if len(argv) >= 2 and argv[1] == "selftest":
+        selftest()
+    elif len(argv) >= 2 and argv[1] == "jobs":
         for dev, scene, steps, tmo, _est in jobs(argv[2], argv[3] if len(argv) > 3 else ""):
             # the row's name, then what table3.sh runs: the scene file and its overrides
             f, sets = split_variant(scene)
