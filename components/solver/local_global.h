@@ -58,7 +58,7 @@ typedef struct lg_device_ws {
     double *x, *v, *q_t, *pres;
     int *bad;
     void **slot_tried;         /* 2 nstates + 1: the states' slots met, up to a NULL */
-    void **pinned_slots;       /* for each of them: itself if page-locked, else NULL */
+    unsigned char *slot_pinned; /* for each of them: 1 if page-locked */
 } lg_device_ws;
 
 /* The workspace (pl_data_workspace): what a step of one data writes. */

@@ -114,9 +114,9 @@ int pl_lg_device_state_ws_alloc(const local_global_solver *s, lg_device_ws *g, p
     g->pres = pl_lg_dalloc(g->dev, g->ops, p3, &rc, err);
     g->bad = pl_lg_dalloc(g->dev, g->ops, sizeof(int), &rc, err);
     if (rc) return rc;
-    g->pinned_slots = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
     g->slot_tried = calloc((size_t)(2 * d->nstates + 1), sizeof(void *));
-    if (!g->pinned_slots || !g->slot_tried)
+    g->slot_pinned = calloc((size_t)(2 * d->nstates + 1), 1);
+    if (!g->slot_tried || !g->slot_pinned)
         return pl_error_set(err, PL_EINTERNAL, NULL, 0, NULL, "out of memory");
     return PL_OK;
 }
@@ -127,16 +127,16 @@ void pl_lg_device_state_ws_free(lg_device_ws *g)
     for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k)
         if (bufs[k]) g->ops->free(g->dev, bufs[k]);
     for (int k = 0; g->slot_tried && g->slot_tried[k]; ++k)
-        if (g->pinned_slots[k]) g->ops->unpin(g->dev, g->pinned_slots[k]);
-    free(g->pinned_slots);
+        if (g->slot_pinned && g->slot_pinned[k]) g->ops->unpin(g->dev, g->slot_tried[k]);
     free(g->slot_tried);
+    free(g->slot_pinned);
     g->x = g->v = g->q_t = g->pres = NULL, g->bad = NULL;
-    g->pinned_slots = g->slot_tried = NULL;
+    g->slot_tried = NULL, g->slot_pinned = NULL;
 }
 
 /* A state slot page-locked once per data (a fixed slot keeps its memory):
  * its copies each way are then DMA.  slot_tried lists the slots tried (up
- * to the first NULL), pinned_slots those page-locked; one that cannot be
+ * to the first NULL), slot_pinned marks those page-locked; one that cannot be
  * (pages shared with memory page-locked already) is not tried again and is
  * copied through the driver's staging. */
 static void pin_once(const lg_device_ws *g, void *host, size_t bytes)
@@ -147,7 +147,7 @@ static void pin_once(const lg_device_ws *g, void *host, size_t bytes)
     g->slot_tried[k] = host;
     pl_error e;
     if (bytes && g->ops->pin && g->ops->pin(g->dev, host, bytes, &e) == PL_OK)
-        g->pinned_slots[k] = host;
+        g->slot_pinned[k] = 1;
 }
 
 /* Each state's positions and velocities between its slots and g->x, g->v

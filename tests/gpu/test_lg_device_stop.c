@@ -14,6 +14,21 @@
 
 #include "lg_device_scene.h"
 
+/* The device run stopped where the CPU's did: the same iteration count at
+ * each of the n steps, and the force residuals of the first nr steps to
+ * round-off (the device sums the gradient from zero and adds the inertia
+ * term after it, the CPU adds the gradient onto it). */
+static void assert_same_stops(const char *what, const double *it_dev, const double *it_cpu, int n,
+                              const double *res_dev, const double *res_cpu, int nr)
+{
+    ck_assert_msg(!memcmp(it_dev, it_cpu, (size_t)n * sizeof(double)),
+                  "%s: iteration counts differ", what);
+    for (int k = 0; k < nr; ++k)
+        ck_assert_msg(fabs(res_dev[k] - res_cpu[k]) <= 1e-12 * res_cpu[k],
+                      "%s, step %d: residual %.17g on the device, %.17g on the CPU", what, k,
+                      res_dev[k], res_cpu[k]);
+}
+
 START_TEST(tolerance_energy_and_profiling_agree)
 {
     pl_registry *r = registry();
@@ -71,13 +86,7 @@ START_TEST(force_tolerance_on_the_device_stops_where_the_cpu_stops)
     run(r, &s, 8, &dev, &sim);
     ck_assert_int_eq(series(sim, "iterations", it_dev, 64), n);
     ck_assert_int_eq(series(sim, "force residual", res_dev, 64), nr);
-    ck_assert_msg(!memcmp(it_dev, it_cpu, (size_t)n * sizeof(double)), "iteration counts differ");
-    /* the residuals to round-off: the device sums the gradient from zero and
-     * adds the inertia term after it, the CPU adds the gradient onto it */
-    for (int k = 0; k < nr; ++k)
-        ck_assert_msg(fabs(res_dev[k] - res_cpu[k]) <= 1e-12 * res_cpu[k],
-                      "step %d: residual %.17g on the device, %.17g on the CPU", k, res_dev[k],
-                      res_cpu[k]);
+    assert_same_stops("forceTolerance", it_dev, it_cpu, n, res_dev, res_cpu, nr);
     assert_same(&dev, &cpu);
     ck_assert_int_gt(fake_device_calls(pl_sim_component(sim, "dev")), 0);
     pl_sim_free(sim);
@@ -144,12 +153,9 @@ START_TEST(device_loop_stops_where_the_cpu_stops)
             int nd = series(sim, "force residual", res_dev, 64);
             if (k >= 2) ck_assert_int_eq(nd, nr);
             if (nd < nr) nr = nd;
-            ck_assert_msg(!memcmp(it_dev, it_cpu, (size_t)n * sizeof(double)),
-                          "case %d, loops %d: iteration counts differ", k, loops);
-            for (int j = 0; j < nr; ++j)
-                ck_assert_msg(fabs(res_dev[j] - res_cpu[j]) <= 1e-12 * res_cpu[j],
-                              "case %d step %d: residual %.17g, CPU %.17g", k, j, res_dev[j],
-                              res_cpu[j]);
+            char what[32];
+            snprintf(what, sizeof what, "case %d, loops %d", k, loops);
+            assert_same_stops(what, it_dev, it_cpu, n, res_dev, res_cpu, nr);
             assert_same(&dev, &cpu);
             long rules = fake_device_rules(pl_sim_component(sim, "dev"));
             ck_assert_int_eq(rules, k ? (loops ? (long)total : 0) : (loops == 2 ? 8 * 6 : 0));
